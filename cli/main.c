@@ -1,0 +1,3 @@
+#include "bvox.h"
+#include <stdio.h>
+int main(void) { printf("bvox %s\n", bvox_version()); return 0; }

@@ -1,0 +1,89 @@
+/*
+ * alloc.c — the one allocation seam for large buffers (voxel words, decoded
+ * images). It enforces the process-wide memory budget, so that a file header
+ * claiming 2^40 voxels gets a clear BVOX_ETOOBIG instead of an abort or the
+ * OOM killer, and it is where tests inject allocation failures.
+ */
+#include "internal.h"
+
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static atomic_size_t budget_bytes;   /* 0 = not yet set: default */
+static atomic_size_t in_use_bytes;
+static atomic_long fail_countdown;  /* test hook, 0 = off */
+
+static size_t default_budget(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES);
+    long page = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || page <= 0) return (size_t)4 << 30;
+    return (size_t)pages * (size_t)page / 2;
+}
+
+void bvox_set_memory_budget(size_t bytes) { atomic_store(&budget_bytes, bytes); }
+
+size_t bvox_memory_budget(void)
+{
+    size_t b = atomic_load(&budget_bytes);
+    return b ? b : default_budget();
+}
+
+size_t bvox_memory_in_use(void) { return atomic_load(&in_use_bytes); }
+
+void bvox__alloc_fail_after(long n) { atomic_store(&fail_countdown, n); }
+
+static void format_bytes(char *buf, size_t len, size_t bytes)
+{
+    const char *units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    double v = (double)bytes;
+    int u = 0;
+    while (v >= 1024.0 && u < 6) { v /= 1024.0; u++; }
+    snprintf(buf, len, u ? "%.1f %s" : "%.0f %s", v, units[u]);
+}
+
+void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
+{
+    if (!what) what = "buffer";
+    long c = atomic_load(&fail_countdown);
+    if (c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1) {
+        *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating the %s (injected)", what);
+        return NULL;
+    }
+    size_t budget = bvox_memory_budget();
+    size_t used = atomic_fetch_add(&in_use_bytes, bytes);
+    if (bytes > budget || used > budget - bytes) {
+        atomic_fetch_sub(&in_use_bytes, bytes);
+        char need[32], lim[32];
+        format_bytes(need, sizeof need, bytes);
+        format_bytes(lim, sizeof lim, budget);
+        *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
+                             what, need, lim);
+        return NULL;
+    }
+    size_t rounded = (bytes + 63) & ~(size_t)63;
+    if (rounded == 0) rounded = 64;
+    void *p = aligned_alloc(64, rounded);
+    if (!p) {
+        atomic_fetch_sub(&in_use_bytes, bytes);
+        char need[32];
+        format_bytes(need, sizeof need, bytes);
+        *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating %s for the %s", need, what);
+        return NULL;
+    }
+    if (zero) memset(p, 0, rounded);
+    *status = BVOX_OK;
+    return p;
+}
+
+void bvox__free(void *ptr, size_t bytes)
+{
+    if (!ptr) return;
+    atomic_fetch_sub(&in_use_bytes, bytes);
+    free(ptr);
+}
+
+void bvox_free(void *ptr) { free(ptr); }

@@ -1,0 +1,122 @@
+/*
+ * internal.h — private layout of bvox_volume and the bvox__ helpers shared by
+ * the files of src/. Not installed; outside users see only include/bvox.h.
+ *
+ * Packing (as the paper packs 8 slices per frame-buffer byte, but 64 per word):
+ * the voxels of one column (x, y) along z are bits of consecutive uint64_t
+ * words; voxel (x, y, z) is bit (z & 63) of words[col(x, y) * wpc + (z >> 6)]
+ * with col(x, y) = y * nx + x and wpc = ceil(nz / 64). The bits of the last
+ * word of each column beyond nz are ALWAYS zero: counts are plain popcounts
+ * and complements must mask them (tail_mask). bvox_volume_check verifies it.
+ */
+#ifndef BVOX_INTERNAL_H
+#define BVOX_INTERNAL_H
+
+#include "bvox.h"
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+struct bvox_volume {
+    int32_t nx, ny, nz;
+    size_t wpc;          /* words per column = ceil(nz / 64) */
+    size_t nwords;       /* nx * ny * wpc */
+    uint64_t tail_mask;  /* valid bits of the last word of a column */
+    uint64_t *words;     /* from bvox__alloc, 64-byte aligned */
+    bvox_geometry geom;
+};
+
+/* ---- status.c: error reporting ---- */
+/* Format the thread-local message and return status (for `return bvox__fail(...)`). */
+bvox_status bvox__fail(bvox_status status, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+/* Clear the message (at the start of public calls that may succeed). */
+void bvox__clear_error(void);
+/* Prefix the current message with "prefix: " (adds a file name to a codec error). */
+void bvox__error_prefix(const char *prefix);
+
+/* ---- alloc.c: the one allocation seam for large buffers ---- */
+/* Budget-checked, 64-byte aligned, zero-filled if zero != 0. On failure sets
+ * the message (what names the buffer) and returns NULL with *status set. */
+void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status);
+void bvox__free(void *ptr, size_t bytes);
+/* Test hook: make the n-th following bvox__alloc fail with BVOX_ENOMEM
+ * (n = 1: the next one); 0 disables. */
+void bvox__alloc_fail_after(long n);
+/* Overflow-safe a*b; returns false on overflow. */
+static inline bool bvox__mul_size(size_t a, size_t b, size_t *out)
+{
+    return !__builtin_mul_overflow(a, b, out);
+}
+
+/* ---- volume.c ---- */
+/* Validate dimensions and compute the word-array size; BVOX_EINVAL for a
+ * dimension outside 1..BVOX_MAX_DIM, BVOX_ETOOBIG over the budget. what names
+ * the source for the message (a file name, or NULL). */
+bvox_status bvox__check_dims(bvox_dims dims, const char *what, size_t *bytes);
+/* Create without zero-filling the words (caller writes every word). */
+bvox_status bvox__volume_create_uninit(bvox_dims dims, bvox_volume **out);
+
+static inline uint64_t *bvox__column(bvox_volume *v, int32_t x, int32_t y)
+{
+    return v->words + ((size_t)y * (size_t)v->nx + (size_t)x) * v->wpc;
+}
+static inline const uint64_t *bvox__column_c(const bvox_volume *v, int32_t x, int32_t y)
+{
+    return v->words + ((size_t)y * (size_t)v->nx + (size_t)x) * v->wpc;
+}
+/* Mask of bits [lo, hi) within one word, 0 <= lo <= hi <= 64. */
+static inline uint64_t bvox__bit_range(unsigned lo, unsigned hi)
+{
+    uint64_t upper = hi >= 64 ? ~0ull : ((1ull << hi) - 1);
+    uint64_t lower = lo >= 64 ? ~0ull : ((1ull << lo) - 1);
+    return upper & ~lower;
+}
+/* The 64 bits of a column starting at bit `start` (which may be negative or
+ * beyond the end: missing bits read as 0). Used to shift columns along z. */
+static inline uint64_t bvox__extract_bits(const uint64_t *col, size_t nwords, int64_t start)
+{
+    int64_t w = start >> 6; /* arithmetic shift: floor division */
+    unsigned s = (unsigned)(start & 63);
+    uint64_t lo = (w >= 0 && (size_t)w < nwords) ? col[w] : 0;
+    if (s == 0) return lo;
+    uint64_t hi = (w + 1 >= 0 && (size_t)(w + 1) < nwords) ? col[w + 1] : 0;
+    return (lo >> s) | (hi << (64 - s));
+}
+/* Set (value) or clear bits z0..z1-1 of one column. */
+void bvox__column_fill(uint64_t *col, int32_t z0, int32_t z1, int value);
+
+/* ---- parallel.c: split a range over the worker threads ---- */
+/* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n). Runs inline
+ * when n < min_per_thread * 2 or one thread is configured. fn must not fail. */
+typedef void (*bvox__range_fn)(void *ctx, int64_t begin, int64_t end);
+void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, void *ctx);
+
+/* ---- simd/dispatch.c: word kernels chosen at run time ---- */
+typedef struct bvox__kernels {
+    uint64_t (*popcount)(const uint64_t *w, size_t n);
+    uint64_t (*popcount_and)(const uint64_t *a, const uint64_t *b, size_t n);
+    /* dst[i] = dst[i] OP src[i] for the four csg ops (not REPLACE) */
+    void (*op_or)(uint64_t *dst, const uint64_t *src, size_t n);
+    void (*op_and)(uint64_t *dst, const uint64_t *src, size_t n);
+    void (*op_andnot)(uint64_t *dst, const uint64_t *src, size_t n);
+    void (*op_xor)(uint64_t *dst, const uint64_t *src, size_t n);
+    void (*op_not)(uint64_t *dst, size_t n);
+} bvox__kernels;
+const bvox__kernels *bvox__simd(void);
+extern const bvox__kernels bvox__kernels_generic;
+extern const bvox__kernels bvox__kernels_avx2;
+extern const bvox__kernels bvox__kernels_avx512;
+
+/* Popcount of one word, portable (no POPCNT needed). */
+static inline unsigned bvox__popcount64(uint64_t x)
+{
+    x = x - ((x >> 1) & 0x5555555555555555ull);
+    x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+    return (unsigned)((x * 0x0101010101010101ull) >> 56);
+}
+
+#endif /* BVOX_INTERNAL_H */

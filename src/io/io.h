@@ -1,0 +1,122 @@
+/*
+ * io.h — private interface shared by the file readers and writers of src/io/.
+ *
+ *  - A reader decodes its file into a bvox__gray (typed samples, x fastest,
+ *    then y, then z, as NIfTI, TIFF and raw store them) and hands it to
+ *    bvox__binarize, which applies the user's read options and packs 64 voxels
+ *    per word; binary formats (binvox) may build the volume directly.
+ *  - Every reader has a memory entry point (fuzzing needs it); paths are read
+ *    whole into memory with bvox__read_file first.
+ *  - Every writer writes through a bvox__sink: a temporary file in the target
+ *    folder, synced and renamed on commit, removed on abort.
+ *  - Sizes from a file are checked (bvox__check_dims, overflow-safe products,
+ *    the budget through bvox__alloc) before any allocation they drive.
+ */
+#ifndef BVOX_IO_H
+#define BVOX_IO_H
+
+#include "../internal.h"
+
+#include <stdio.h>
+
+/* ---- gray volumes and binarisation (binarize.c) ---- */
+
+typedef struct bvox__gray {
+    bvox_dims dims;
+    bvox_dtype dtype;
+    const void *data;    /* nx*ny*nz samples, x fastest; may point into `owned`
+                            or into a caller's buffer */
+    void *owned;         /* from bvox__alloc, or NULL */
+    size_t owned_bytes;
+    bool byteswap;       /* samples are in the other byte order than the CPU's */
+    double slope, inter; /* real value = raw * slope + inter; slope 0 means 1 */
+    bvox_geometry geom;  /* given to the volume */
+} bvox__gray;
+
+/* Initialise: default geometry, slope 1, no data. */
+void bvox__gray_init(bvox__gray *g);
+/* Free `owned` (if any) and reset. */
+void bvox__gray_release(bvox__gray *g);
+/* Turn a gray volume into a binary one following `how` (NULL: nonzero).
+ * name is the file name for messages. The volume gets g->geom. */
+bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const char *name,
+                           bvox_volume **out);
+
+/* ---- whole files in memory, gzip (stream.c) ---- */
+
+typedef struct bvox__bytes {
+    uint8_t *data; /* from bvox__alloc */
+    size_t size;
+    size_t alloc_bytes; /* what to pass to bvox__free */
+} bvox__bytes;
+
+/* Read a whole regular file. BVOX_ENOTFOUND if missing, BVOX_EIO if a
+ * directory or unreadable, BVOX_ETOOBIG over the budget. Messages name path. */
+bvox_status bvox__read_file(const char *path, bvox__bytes *out);
+void bvox__bytes_release(bvox__bytes *b);
+/* 1 if the buffer starts with the gzip magic. */
+int bvox__is_gzip(const uint8_t *data, size_t size);
+/* Decompress a gzip buffer (concatenated members allowed) into out. The
+ * output is capped at max_bytes (0: the memory budget): a "zip bomb" gets
+ * BVOX_ETOOBIG, a truncated or corrupt stream BVOX_EFORMAT. */
+bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, size_t max_bytes,
+                         bvox__bytes *out);
+
+/* ---- output (stream.c) ---- */
+
+typedef struct bvox__sink {
+    FILE *file;
+    char *tmp_path;
+    char *final_path;
+    void *gz;      /* z_stream when compressing, else NULL */
+    bool failed;   /* a write failed: commit will refuse */
+    bvox_status status;
+} bvox__sink;
+
+/* Open a temporary file next to path (".name.XXXXXX" in the same folder).
+ * gzip != 0 compresses what is written (for .nii.gz). */
+bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s);
+bvox_status bvox__sink_write(bvox__sink *s, const void *data, size_t size);
+/* Flush, fsync, close and rename over path. On failure the temporary file is
+ * removed and an existing file at path is unchanged. Always releases s. */
+bvox_status bvox__sink_commit(bvox__sink *s);
+/* Close and remove the temporary file; releases s. Safe after a failed open. */
+void bvox__sink_abort(bvox__sink *s);
+/* Test hook: make the n-th following bvox__sink_write fail (1: the next). */
+void bvox__sink_fail_after(long n);
+
+/* Directory outputs (PNG slices): a temporary folder next to path, renamed
+ * over path on commit (an existing folder is replaced only then). */
+bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir);
+bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path);
+void bvox__dir_sink_abort(const char *tmp_dir);
+
+/* ---- the format table (format.c) ---- */
+
+typedef struct bvox__format {
+    const char *name;               /* "nifti", ... */
+    const char *const *extensions;  /* NULL-terminated, lower case, with dot: ".nii.gz" */
+    /* 1 if the first bytes identify the format (NULL: cannot tell) */
+    int (*sniff)(const uint8_t *data, size_t size);
+    bvox_status (*read_memory)(const uint8_t *data, size_t size, const char *name,
+                               const bvox_read_opts *opts, bvox_volume **out);
+    /* NULL: format.c reads the file whole and calls read_memory */
+    bvox_status (*read_path)(const char *path, const bvox_read_opts *opts, bvox_volume **out);
+    bvox_status (*write_path)(const char *path, const bvox_volume *vol,
+                              const bvox_write_opts *opts);
+} bvox__format;
+
+extern const bvox__format bvox__format_nifti;
+extern const bvox__format bvox__format_binvox;
+extern const bvox__format bvox__format_tiff;
+extern const bvox__format bvox__format_png;
+extern const bvox__format bvox__format_raw;
+
+/* Natural ("human") order of file names: "s2.png" < "s10.png". */
+int bvox__natural_compare(const char *a, const char *b);
+
+/* Decode whole-volume bits for writers: fill row (nx bytes, 0 or 1) of slice
+ * z, row y. Writers use it to produce x-fastest samples a row at a time. */
+void bvox__volume_row(const bvox_volume *vol, int32_t y, int32_t z, uint8_t *row);
+
+#endif

@@ -1,0 +1,106 @@
+/* harness.c — the runner behind harness.h (see there). */
+#include "harness.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <stdbool.h>
+#include <unistd.h>
+
+#define MAX_CASES 512
+
+static struct {
+    const char *name;
+    harness_fn fn;
+} cases[MAX_CASES];
+static int ncases;
+static char tmpdir[512];
+static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
+
+void harness_register(const char *name, harness_fn fn)
+{
+    if (ncases < MAX_CASES) cases[ncases++] = (typeof(cases[0])){name, fn};
+}
+
+const char *harness_tmpdir(void)
+{
+    if (!tmpdir[0]) {
+        const char *base = getenv("TMPDIR");
+        snprintf(tmpdir, sizeof tmpdir, "%s/bvox-test-XXXXXX", base && *base ? base : "/tmp");
+        if (!mkdtemp(tmpdir)) {
+            perror("mkdtemp");
+            exit(2);
+        }
+    }
+    return tmpdir;
+}
+
+const char *harness_path(const char *name)
+{
+    static char slots[8][1024];
+    static int next;
+    char *p = slots[next++ & 7];
+    snprintf(p, 1024, "%s/%s", harness_tmpdir(), name);
+    return p;
+}
+
+uint64_t harness_rand(void)
+{
+    uint64_t x = rng_state;
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    return rng_state = x;
+}
+
+const char *harness_data_dir(void)
+{
+#ifdef BVOX_TEST_DATA_DIR
+    return BVOX_TEST_DATA_DIR;
+#else
+    return "tests/data";
+#endif
+}
+
+static void remove_tree(const char *path)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", path);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", path);
+}
+
+static int run_case(int i)
+{
+    rng_state = 0x9e3779b97f4a7c15ull;
+    for (const char *c = cases[i].name; *c; c++) rng_state = rng_state * 31 + (uint8_t)*c;
+    int rc = cases[i].fn();
+    if (tmpdir[0]) {
+        if (rc == 0) remove_tree(tmpdir);
+        else fprintf(stderr, "scratch files kept in %s\n", tmpdir);
+        tmpdir[0] = '\0';
+    }
+    printf("%s %s\n", rc ? "FAIL" : "ok  ", cases[i].name);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1 && !strcmp(argv[1], "--list")) {
+        for (int i = 0; i < ncases; i++) printf("%s\n", cases[i].name);
+        return 0;
+    }
+    int failed = 0, ran = 0;
+    for (int i = 0; i < ncases; i++) {
+        bool wanted = argc <= 1;
+        for (int a = 1; a < argc; a++)
+            if (!strcmp(argv[a], cases[i].name)) wanted = true;
+        if (!wanted) continue;
+        ran++;
+        failed += run_case(i) != 0;
+    }
+    if (argc > 1 && ran == 0) {
+        fprintf(stderr, "no test case named %s\n", argv[1]);
+        return 2;
+    }
+    return failed ? 1 : 0;
+}

@@ -1,0 +1,89 @@
+/*
+ * harness.h — a tiny test runner. A test file defines cases with TEST(name)
+ * and returns 0 (pass) or 1 (fail) through the CHECK macros, which report the
+ * file, the line and both values. The runner lists cases (--list), runs one by
+ * name (so CTest registers each case as its own test) or runs all.
+ *
+ * Registration uses constructors: that is safe here because each case lives in
+ * the test executable's own object file, never in a static library.
+ */
+#ifndef BVOX_TEST_HARNESS_H
+#define BVOX_TEST_HARNESS_H
+
+#include "bvox.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+
+typedef int (*harness_fn)(void);
+void harness_register(const char *name, harness_fn fn);
+/* A fresh scratch directory for this case (created on first call). */
+const char *harness_tmpdir(void);
+/* Path inside the scratch directory (static buffer, rotates over 8 slots). */
+const char *harness_path(const char *name);
+/* Deterministic random numbers (xorshift), seeded per case. */
+uint64_t harness_rand(void);
+/* Folder with the test data files (tests/data). */
+const char *harness_data_dir(void);
+
+#define TEST(name)                                                                     \
+    static int test_##name(void);                                                      \
+    __attribute__((constructor)) static void register_##name(void)                     \
+    {                                                                                  \
+        harness_register(#name, test_##name);                                          \
+    }                                                                                  \
+    static int test_##name(void)
+
+#define CHECK(cond)                                                                    \
+    do {                                                                               \
+        if (!(cond)) {                                                                 \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);   \
+            return 1;                                                                  \
+        }                                                                              \
+    } while (0)
+
+#define CHECK_EQ(a, b)                                                                 \
+    do {                                                                               \
+        long long va_ = (long long)(a), vb_ = (long long)(b);                          \
+        if (va_ != vb_) {                                                              \
+            fprintf(stderr, "%s:%d: CHECK_EQ failed: %s == %s (%lld vs %lld)\n",       \
+                    __FILE__, __LINE__, #a, #b, va_, vb_);                             \
+            return 1;                                                                  \
+        }                                                                              \
+    } while (0)
+
+#define CHECK_NEAR(a, b, tol)                                                          \
+    do {                                                                               \
+        double va_ = (double)(a), vb_ = (double)(b);                                   \
+        if (!(fabs(va_ - vb_) <= (tol))) {                                             \
+            fprintf(stderr, "%s:%d: CHECK_NEAR failed: %s ~ %s (%.9g vs %.9g, tol %g)\n", \
+                    __FILE__, __LINE__, #a, #b, va_, vb_, (double)(tol));              \
+            return 1;                                                                  \
+        }                                                                              \
+    } while (0)
+
+/* Expect BVOX_OK; print the library's message otherwise. */
+#define CHECK_OK(expr)                                                                 \
+    do {                                                                               \
+        bvox_status st_ = (expr);                                                      \
+        if (st_ != BVOX_OK) {                                                          \
+            fprintf(stderr, "%s:%d: %s returned %s: %s\n", __FILE__, __LINE__, #expr,  \
+                    bvox_status_name(st_), bvox_errmsg());                             \
+            return 1;                                                                  \
+        }                                                                              \
+    } while (0)
+
+/* Expect a given failure status. */
+#define CHECK_STATUS(expr, want)                                                       \
+    do {                                                                               \
+        bvox_status st_ = (expr);                                                      \
+        if (st_ != (want)) {                                                           \
+            fprintf(stderr, "%s:%d: %s returned %s, wanted %s (%s)\n", __FILE__,       \
+                    __LINE__, #expr, bvox_status_name(st_), bvox_status_name(want),    \
+                    bvox_errmsg());                                                    \
+            return 1;                                                                  \
+        }                                                                              \
+    } while (0)
+
+#endif
