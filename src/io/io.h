@@ -115,8 +115,11 @@ extern const bvox__format bvox__format_raw;
 /* Natural ("human") order of file names: "s2.png" < "s10.png". */
 int bvox__natural_compare(const char *a, const char *b);
 
-/* Decode whole-volume bits for writers: fill row (nx bytes, 0 or 1) of slice
- * z, row y. Writers use it to produce x-fastest samples a row at a time. */
-void bvox__volume_row(const bvox_volume *vol, int32_t y, int32_t z, uint8_t *row);
+/* For writers (unpack.c): slices z0 .. z0+n-1 (z0 a multiple of 64, 1 <= n
+ * <= 64, z0 + n <= nz) as bytes, x fastest, then y, then z:
+ * dst[((z - z0) * ny + y) * nx + x] = voxel ? one : 0. Word-wise, through
+ * 64x64 bit transposes; dst holds n * nx * ny bytes. */
+void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t one,
+                         uint8_t *dst);
 
 #endif
