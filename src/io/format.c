@@ -1,0 +1,189 @@
+/*
+ * format.c — the explicit table of file formats and the public entry points
+ * bvox_read, bvox_read_memory and bvox_write that dispatch through it: by the
+ * forced format name, else by extension, else (reading) by content.
+ */
+#include "io.h"
+
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+static const bvox__format *const formats[] = {
+    &bvox__format_nifti, &bvox__format_binvox, &bvox__format_tiff,
+    &bvox__format_png,   &bvox__format_raw,
+};
+#define NFORMATS (sizeof formats / sizeof formats[0])
+
+const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw"; }
+
+static const bvox__format *by_name(const char *name)
+{
+    for (size_t i = 0; i < NFORMATS; i++)
+        if (!strcasecmp(formats[i]->name, name)) return formats[i];
+    /* common aliases */
+    if (!strcasecmp(name, "nii")) return &bvox__format_nifti;
+    if (!strcasecmp(name, "tif")) return &bvox__format_tiff;
+    return NULL;
+}
+
+static bool ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && !strcasecmp(s + n - m, suffix);
+}
+
+static const bvox__format *by_extension(const char *path)
+{
+    size_t len = strlen(path);
+    while (len > 1 && path[len - 1] == '/') len--;
+    char trimmed[4096];
+    if (len >= sizeof trimmed) return NULL;
+    memcpy(trimmed, path, len);
+    trimmed[len] = '\0';
+    for (size_t i = 0; i < NFORMATS; i++)
+        for (const char *const *e = formats[i]->extensions; e && *e; e++)
+            if (ends_with_ci(trimmed, *e)) return formats[i];
+    return NULL;
+}
+
+const char *bvox_format_for_path(const char *path)
+{
+    const bvox__format *f = by_extension(path);
+    return f ? f->name : NULL;
+}
+
+static bvox_status resolve(const char *forced, const char *path, const bvox__format **out)
+{
+    *out = NULL;
+    if (forced && *forced) {
+        *out = by_name(forced);
+        if (!*out)
+            return bvox__fail(BVOX_EINVAL, "unknown format '%s' (known: %s)", forced,
+                              bvox_format_list());
+        return BVOX_OK;
+    }
+    if (path) *out = by_extension(path);
+    return BVOX_OK;
+}
+
+static const bvox__format *sniff(const uint8_t *data, size_t size)
+{
+    for (size_t i = 0; i < NFORMATS; i++)
+        if (formats[i]->sniff && formats[i]->sniff(data, size)) return formats[i];
+    return NULL;
+}
+
+static bvox_status finish(bvox_status st, bvox_volume **out)
+{
+    if (st == BVOX_OK && *out) {
+        /* every reader must leave the invariants intact */
+        bvox_status chk = bvox_volume_check(*out);
+        if (chk) {
+            bvox_volume_destroy(*out);
+            *out = NULL;
+            return chk;
+        }
+    }
+    return st;
+}
+
+bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
+                             const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    bvox__clear_error();
+    bvox_read_opts defaults = BVOX_READ_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    if (!name) name = "input";
+    const bvox__format *f;
+    bvox_status st = resolve(opts->format, NULL, &f);
+    if (st) return st;
+    if (!f) f = sniff(data, size);
+    if (!f)
+        return bvox__fail(BVOX_EFORMAT, "%s: unrecognised content (give the format: %s)", name,
+                          bvox_format_list());
+    st = f->read_memory(data, size, name, opts, out);
+    return finish(st, out);
+}
+
+bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    bvox__clear_error();
+    bvox_read_opts defaults = BVOX_READ_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    const bvox__format *f;
+    bvox_status st = resolve(opts->format, path, &f);
+    if (st) return st;
+    struct stat sb;
+    if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
+    if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png; /* a folder of slices */
+    if (f && f->read_path) return finish(f->read_path(path, opts, out), out);
+    bvox__bytes file;
+    st = bvox__read_file(path, &file);
+    if (st) return st;
+    if (!f) f = sniff(file.data, file.size);
+    if (!f) {
+        bvox__bytes_release(&file);
+        return bvox__fail(BVOX_EFORMAT,
+                          "%s: unknown file type (extension not recognised and content not "
+                          "identified; give --format, one of: %s)",
+                          path, bvox_format_list());
+    }
+    st = f->read_memory(file.data, file.size, path, opts, out);
+    bvox__bytes_release(&file);
+    return finish(st, out);
+}
+
+bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts)
+{
+    bvox__clear_error();
+    bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    const bvox__format *f;
+    bvox_status st = resolve(opts->format, path, &f);
+    if (st) return st;
+    struct stat sb;
+    size_t len = strlen(path);
+    if (!f && ((len && path[len - 1] == '/') || (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))))
+        f = &bvox__format_png; /* a folder: PNG slices */
+    if (!f)
+        return bvox__fail(BVOX_EINVAL,
+                          "%s: cannot tell the output format from the extension (use one of "
+                          ".nii .nii.gz .binvox .tif .tiff .raw, a folder with --format png)",
+                          path);
+    if (!f->write_path)
+        return bvox__fail(BVOX_EUNSUPPORTED, "%s: writing %s is not supported", path, f->name);
+    return f->write_path(path, vol, opts);
+}
+
+/* ---------------------------------------------------------- dtypes */
+
+static const struct {
+    const char *name, *alias1, *alias2;
+    size_t size;
+} dtypes[BVOX_DT_COUNT] = {
+    [BVOX_DT_U8] = {"u8", "uint8", "ubyte", 1},    [BVOX_DT_I8] = {"i8", "int8", "byte", 1},
+    [BVOX_DT_U16] = {"u16", "uint16", "ushort", 2}, [BVOX_DT_I16] = {"i16", "int16", "short", 2},
+    [BVOX_DT_U32] = {"u32", "uint32", "uint", 4},  [BVOX_DT_I32] = {"i32", "int32", "int", 4},
+    [BVOX_DT_U64] = {"u64", "uint64", "ulong", 8}, [BVOX_DT_I64] = {"i64", "int64", "long", 8},
+    [BVOX_DT_F32] = {"f32", "float32", "float", 4}, [BVOX_DT_F64] = {"f64", "float64", "double", 8},
+};
+
+const char *bvox_dtype_name(bvox_dtype t)
+{
+    return (unsigned)t < BVOX_DT_COUNT ? dtypes[t].name : "?";
+}
+
+size_t bvox_dtype_size(bvox_dtype t) { return (unsigned)t < BVOX_DT_COUNT ? dtypes[t].size : 0; }
+
+int bvox_dtype_parse(const char *name)
+{
+    if (!name) return -1;
+    for (int i = 0; i < BVOX_DT_COUNT; i++)
+        if (!strcasecmp(name, dtypes[i].name) || !strcasecmp(name, dtypes[i].alias1) ||
+            !strcasecmp(name, dtypes[i].alias2))
+            return i;
+    return -1;
+}

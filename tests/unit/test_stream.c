@@ -1,0 +1,200 @@
+/* test_stream.c — whole-file reads, gzip with its size cap, and the output
+ * sink: a failed or aborted write leaves no temporary file and the old file
+ * unchanged. */
+#include "harness.h"
+#include "io/io.h"
+
+#include <dirent.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <zlib.h>
+
+static int count_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
+    closedir(d);
+    return n;
+}
+
+static int write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f) return 0;
+    fputs(text, f);
+    return fclose(f) == 0;
+}
+
+static size_t gzip_buffer(const void *in, size_t n, uint8_t *out, size_t cap)
+{
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY);
+    z.next_in = (Bytef *)in;
+    z.avail_in = (uInt)n;
+    z.next_out = out;
+    z.avail_out = (uInt)cap;
+    deflate(&z, Z_FINISH);
+    size_t got = cap - z.avail_out;
+    deflateEnd(&z);
+    return got;
+}
+
+TEST(read_file_errors)
+{
+    bvox__bytes b;
+    CHECK_STATUS(bvox__read_file(harness_path("missing.nii"), &b), BVOX_ENOTFOUND);
+    CHECK(strstr(bvox_errmsg(), "missing.nii") != NULL);
+    CHECK_STATUS(bvox__read_file(harness_tmpdir(), &b), BVOX_EIO);
+    CHECK(write_text(harness_path("a.txt"), "hello"));
+    CHECK_OK(bvox__read_file(harness_path("a.txt"), &b));
+    CHECK_EQ(b.size, 5);
+    CHECK(memcmp(b.data, "hello", 5) == 0);
+    bvox__bytes_release(&b);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
+TEST(gunzip_roundtrip_cap_and_corruption)
+{
+    static uint8_t plain[200000], packed[300000];
+    for (size_t i = 0; i < sizeof plain; i++) plain[i] = (uint8_t)(i * 7 / 1000);
+    size_t n = gzip_buffer(plain, sizeof plain, packed, sizeof packed);
+    CHECK(n > 20);
+    bvox__bytes out;
+    CHECK_OK(bvox__gunzip(packed, n, "x.gz", 0, &out));
+    CHECK_EQ(out.size, sizeof plain);
+    CHECK(memcmp(out.data, plain, sizeof plain) == 0);
+    bvox__bytes_release(&out);
+    /* exactly at the cap is fine, one byte under is a bomb */
+    CHECK_OK(bvox__gunzip(packed, n, "x.gz", sizeof plain, &out));
+    bvox__bytes_release(&out);
+    CHECK_STATUS(bvox__gunzip(packed, n, "x.gz", sizeof plain - 1, &out), BVOX_ETOOBIG);
+    CHECK(out.data == NULL);
+    /* truncated and corrupt */
+    CHECK_STATUS(bvox__gunzip(packed, n / 2, "x.gz", 0, &out), BVOX_EFORMAT);
+    CHECK(strstr(bvox_errmsg(), "truncated") != NULL);
+    packed[n / 2] ^= 0xff;
+    packed[n / 2 + 1] ^= 0x55;
+    bvox_status st = bvox__gunzip(packed, n, "x.gz", 0, &out);
+    CHECK(st == BVOX_EFORMAT);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
+TEST(gunzip_concatenated_members)
+{
+    uint8_t a[64], packed[512];
+    memset(a, 'a', sizeof a);
+    size_t n1 = gzip_buffer(a, sizeof a, packed, sizeof packed);
+    memset(a, 'b', sizeof a);
+    size_t n2 = gzip_buffer(a, sizeof a, packed + n1, sizeof packed - n1);
+    bvox__bytes out;
+    CHECK_OK(bvox__gunzip(packed, n1 + n2, "cat.gz", 0, &out));
+    CHECK_EQ(out.size, 128);
+    CHECK_EQ(out.data[0], 'a');
+    CHECK_EQ(out.data[127], 'b');
+    bvox__bytes_release(&out);
+    return 0;
+}
+
+TEST(sink_commit_replaces_atomically)
+{
+    const char *path = harness_path("out.bin");
+    CHECK(write_text(path, "old"));
+    bvox__sink s;
+    CHECK_OK(bvox__sink_open(path, 0, &s));
+    CHECK_OK(bvox__sink_write(&s, "new content", 11));
+    /* until commit the old file is intact */
+    bvox__bytes b;
+    CHECK_OK(bvox__read_file(path, &b));
+    CHECK_EQ(b.size, 3);
+    bvox__bytes_release(&b);
+    CHECK_EQ(count_entries(harness_tmpdir()), 2);
+    CHECK_OK(bvox__sink_commit(&s));
+    CHECK_OK(bvox__read_file(path, &b));
+    CHECK_EQ(b.size, 11);
+    bvox__bytes_release(&b);
+    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    return 0;
+}
+
+TEST(sink_injected_failure_keeps_old_file)
+{
+    const char *path = harness_path("keep.bin");
+    CHECK(write_text(path, "precious"));
+    for (long nth = 1; nth <= 3; nth++) {
+        bvox__sink s;
+        CHECK_OK(bvox__sink_open(path, 0, &s));
+        bvox__sink_fail_after(nth);
+        bvox_status st = BVOX_OK;
+        for (int i = 0; i < 3 && !st; i++) st = bvox__sink_write(&s, "xxxx", 4);
+        if (!st) st = bvox__sink_commit(&s);
+        else bvox__sink_commit(&s); /* commit after a failure must refuse and clean */
+        bvox__sink_fail_after(0);
+        CHECK_EQ(st, BVOX_EIO);
+        bvox__bytes b;
+        CHECK_OK(bvox__read_file(path, &b));
+        CHECK_EQ(b.size, 8);
+        CHECK(memcmp(b.data, "precious", 8) == 0);
+        bvox__bytes_release(&b);
+        CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    }
+    return 0;
+}
+
+TEST(sink_gzip_and_abort)
+{
+    const char *path = harness_path("z.gz");
+    bvox__sink s;
+    CHECK_OK(bvox__sink_open(path, 1, &s));
+    char text[1000];
+    memset(text, 'q', sizeof text);
+    CHECK_OK(bvox__sink_write(&s, text, sizeof text));
+    CHECK_OK(bvox__sink_commit(&s));
+    bvox__bytes f, out;
+    CHECK_OK(bvox__read_file(path, &f));
+    CHECK(bvox__is_gzip(f.data, f.size));
+    CHECK_OK(bvox__gunzip(f.data, f.size, path, 0, &out));
+    CHECK_EQ(out.size, sizeof text);
+    bvox__bytes_release(&f);
+    bvox__bytes_release(&out);
+    CHECK_OK(bvox__sink_open(harness_path("never.bin"), 0, &s));
+    CHECK_OK(bvox__sink_write(&s, "abc", 3));
+    bvox__sink_abort(&s);
+    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    /* a folder that does not exist */
+    CHECK_STATUS(bvox__sink_open(harness_path("nodir/x.bin"), 0, &s), BVOX_ENOTFOUND);
+    return 0;
+}
+
+TEST(dir_sink_replaces_folder)
+{
+    const char *target = harness_path("slices");
+    CHECK(mkdir(target, 0777) == 0);
+    char old_file[1100];
+    snprintf(old_file, sizeof old_file, "%s/old.png", target);
+    CHECK(write_text(old_file, "old"));
+    char *tmp;
+    CHECK_OK(bvox__dir_sink_open(target, &tmp));
+    char new_file[1100];
+    snprintf(new_file, sizeof new_file, "%s/new.png", tmp);
+    CHECK(write_text(new_file, "new"));
+    CHECK_OK(bvox__dir_sink_commit(tmp, target));
+    free(tmp);
+    CHECK_EQ(count_entries(target), 1);
+    snprintf(new_file, sizeof new_file, "%s/new.png", target);
+    struct stat sb;
+    CHECK(stat(new_file, &sb) == 0);
+    CHECK_EQ(count_entries(harness_tmpdir()), 1); /* no leftovers beside it */
+    CHECK_OK(bvox__dir_sink_open(target, &tmp));
+    bvox__dir_sink_abort(tmp);
+    free(tmp);
+    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    return 0;
+}
