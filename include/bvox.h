@@ -320,6 +320,30 @@ const char *bvox_format_for_path(const char *path);
 /* Comma-separated list of format names. */
 const char *bvox_format_list(void);
 
+/* ------------------------------------------------------------------- demo */
+
+/* The built-in sample specimen (src/demo.c), an "embryo"-like object made of
+ * shapes, as a reconstruction from thick serial sections would give it:
+ * 256 x 256 x 128 voxels of 10 x 10 x 25 um. Deterministic. *out is owned by
+ * the caller (bvox_volume_destroy). Returns BVOX_ETOOBIG/BVOX_ENOMEM on
+ * allocation failure. */
+bvox_status bvox_demo_specimen(bvox_volume **out);
+
+/* -------------------------------------------------------------- morphology */
+
+/* Dilation and erosion with the 6-, 18- or 26-neighbourhood (conn), out of
+ * place: *out gets the same geometry. Voxels outside the volume count as 0, so
+ * erosion removes 1-voxels on the border (as scipy.ndimage does by default).
+ * Works on whole words: shifts along z within a word, whole-column ORs (ANDs)
+ * along x and whole-row ones along y. BVOX_EINVAL for another conn. */
+bvox_status bvox_morph_dilate(const bvox_volume *in, int conn, bvox_volume **out);
+bvox_status bvox_morph_erode(const bvox_volume *in, int conn, bvox_volume **out);
+/* With a ball (an ellipsoid in voxels when the voxels are anisotropic) of the
+ * given radius in physical units; a voxel offset (i, j, k) is in the ball when
+ * (i*sx)^2 + (j*sy)^2 + (k*sz)^2 <= radius^2. */
+bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius, bvox_volume **out);
+bvox_status bvox_morph_erode_ball(const bvox_volume *in, double radius, bvox_volume **out);
+
 #ifdef __cplusplus
 }
 #endif
