@@ -344,6 +344,33 @@ bvox_status bvox_morph_erode(const bvox_volume *in, int conn, bvox_volume **out)
 bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius, bvox_volume **out);
 bvox_status bvox_morph_erode_ball(const bvox_volume *in, double radius, bvox_volume **out);
 
+/* ------------------------------------------------------ connected components */
+
+typedef struct bvox_component {
+    int64_t voxels;
+    double volume;  /* voxels * voxel volume, in unit^3 */
+    bvox_box bbox;  /* tight, half-open */
+} bvox_component;
+
+/* The components of a volume: found by labelling runs of set bits along z
+ * (never single voxels) with a union-find over overlapping runs of
+ * neighbouring columns. Opaque; destroy with bvox_components_destroy. */
+typedef struct bvox_components bvox_components;
+
+/* conn is 6, 18 or 26. Components are sorted largest first (ties: the one
+ * whose first voxel comes first in column order). */
+bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_components **out);
+void bvox_components_destroy(bvox_components *comps);
+int64_t bvox_components_count(const bvox_components *comps);
+/* Component i (0 = largest), or NULL when out of range. */
+const bvox_component *bvox_components_get(const bvox_components *comps, int64_t i);
+/* A volume (same dims and geometry as the one labelled) holding the n
+ * largest components (all if n >= count). */
+bvox_status bvox_components_keep(const bvox_components *comps, int64_t n, bvox_volume **out);
+/* Labels as x-fastest uint32 samples (nx*ny*nz of them): 0 background,
+ * i + 1 for component i. dst must hold nx*ny*nz values. */
+void bvox_components_labels(const bvox_components *comps, uint32_t *dst);
+
 #ifdef __cplusplus
 }
 #endif

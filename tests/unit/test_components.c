@@ -1,0 +1,155 @@
+/* test_components.c — run-based labelling against a voxel flood fill, and
+ * hand-built cases whose component counts differ by connectivity. */
+#include "harness.h"
+#include "ref/voxref.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int adjacent(int dx, int dy, int dz, int conn)
+{
+    int k = abs(dx) + abs(dy) + abs(dz);
+    if (k == 0) return 0;
+    if (conn == 6) return k == 1;
+    if (conn == 18) return k <= 2;
+    return 1;
+}
+
+/* Reference: BFS flood fill, labels in scan order (z slowest). Returns count;
+ * sizes[i] = voxels of label i+1. */
+static int64_t ref_label(const voxref *r, int conn, int32_t *labels, int64_t *sizes)
+{
+    size_t n = (size_t)r->nx * r->ny * r->nz;
+    memset(labels, 0, n * sizeof *labels);
+    size_t *queue = malloc(n * sizeof *queue);
+    int64_t count = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!r->v[i] || labels[i]) continue;
+        count++;
+        sizes[count - 1] = 0;
+        size_t head = 0, tail = 0;
+        queue[tail++] = i;
+        labels[i] = (int32_t)count;
+        while (head < tail) {
+            size_t p = queue[head++];
+            sizes[count - 1]++;
+            int x = (int)(p % (size_t)r->nx), y = (int)(p / (size_t)r->nx % (size_t)r->ny),
+                z = (int)(p / ((size_t)r->nx * r->ny));
+            for (int dz = -1; dz <= 1; dz++)
+                for (int dy = -1; dy <= 1; dy++)
+                    for (int dx = -1; dx <= 1; dx++) {
+                        if (!adjacent(dx, dy, dz, conn)) continue;
+                        if (!voxref_get(r, x + dx, y + dy, z + dz)) continue;
+                        size_t q = (size_t)(voxref_at(r, x + dx, y + dy, z + dz) - r->v);
+                        if (labels[q]) continue;
+                        labels[q] = (int32_t)count;
+                        queue[tail++] = q;
+                    }
+        }
+    }
+    free(queue);
+    return count;
+}
+
+static int cmp_desc(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return x < y ? 1 : x > y ? -1 : 0;
+}
+
+TEST(random_against_flood_fill)
+{
+    static const int sizes[][3] = {{1, 1, 1}, {7, 5, 1}, {6, 7, 63}, {5, 6, 64}, {7, 3, 65},
+                                   {4, 5, 130}, {16, 16, 16}};
+    const int conns[3] = {6, 18, 26};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++)
+        for (unsigned density = 2; density <= 5; density += 3) {
+            const int *s = sizes[si];
+            voxref *r = voxref_create(s[0], s[1], s[2]);
+            voxref_random(r, density, 10, harness_rand);
+            bvox_volume *v = voxref_to_volume(r);
+            size_t n = (size_t)s[0] * s[1] * s[2];
+            int32_t *labels = malloc(n * sizeof *labels);
+            int64_t *ref_sizes = malloc((n + 1) * sizeof *ref_sizes);
+            uint32_t *ours = malloc(n * sizeof *ours);
+            for (int c = 0; c < 3; c++) {
+                int64_t want = ref_label(r, conns[c], labels, ref_sizes);
+                bvox_components *comps;
+                CHECK_OK(bvox_components_find(v, conns[c], &comps));
+                CHECK_EQ(bvox_components_count(comps), want);
+                qsort(ref_sizes, (size_t)want, sizeof *ref_sizes, cmp_desc);
+                int64_t total = 0;
+                for (int64_t i = 0; i < want; i++) {
+                    CHECK_EQ(bvox_components_get(comps, i)->voxels, ref_sizes[i]);
+                    total += ref_sizes[i];
+                }
+                CHECK_EQ(total, voxref_count(r));
+                CHECK(bvox_components_get(comps, want) == NULL);
+                /* the partition is the same: labels map one to one */
+                bvox_components_labels(comps, ours);
+                int64_t *map = calloc((size_t)want + 2, sizeof *map);
+                for (size_t i = 0; i < n; i++) {
+                    CHECK_EQ(ours[i] != 0, labels[i] != 0);
+                    if (!labels[i]) continue;
+                    if (!map[labels[i]]) map[labels[i]] = ours[i];
+                    CHECK_EQ(map[labels[i]], ours[i]);
+                }
+                free(map);
+                /* keep the largest one */
+                if (want > 0) {
+                    bvox_volume *k;
+                    CHECK_OK(bvox_components_keep(comps, 1, &k));
+                    CHECK_EQ(bvox_volume_count(k), ref_sizes[0]);
+                    CHECK_OK(bvox_volume_check(k));
+                    bvox_volume_destroy(k);
+                }
+                bvox_components_destroy(comps);
+            }
+            free(labels);
+            free(ref_sizes);
+            free(ours);
+            bvox_volume_destroy(v);
+            voxref_destroy(r);
+        }
+    return 0;
+}
+
+TEST(constructed_cases_by_connectivity)
+{
+    /* two voxels touching by a face, an edge, a corner: 6/18/26 counts */
+    static const int offs[3][3] = {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
+    static const int want[3][3] = {{1, 1, 1}, {2, 1, 1}, {2, 2, 1}};
+    const int conns[3] = {6, 18, 26};
+    for (int o = 0; o < 3; o++) {
+        bvox_volume *v;
+        CHECK_OK(bvox_volume_create((bvox_dims){4, 4, 130}, &v));
+        CHECK_OK(bvox_volume_set(v, 1, 1, 63, 1));
+        CHECK_OK(bvox_volume_set(v, 1 + offs[o][0], 1 + offs[o][1], 63 + offs[o][2], 1));
+        for (int c = 0; c < 3; c++) {
+            bvox_components *comps;
+            CHECK_OK(bvox_components_find(v, conns[c], &comps));
+            CHECK_EQ(bvox_components_count(comps), want[o][c]);
+            bvox_components_destroy(comps);
+        }
+        bvox_volume_destroy(v);
+    }
+    /* a full column of 130 voxels across three words is one run */
+    bvox_volume *v;
+    CHECK_OK(bvox_volume_create((bvox_dims){3, 3, 130}, &v));
+    bvox_volume_fill_box(v, (bvox_box){1, 1, 0, 2, 2, 130}, 1);
+    CHECK_OK(bvox_volume_set_spacing(v, 2, 2, 0.5, "mm"));
+    bvox_components *comps;
+    CHECK_OK(bvox_components_find(v, 6, &comps));
+    CHECK_EQ(bvox_components_count(comps), 1);
+    const bvox_component *c0 = bvox_components_get(comps, 0);
+    CHECK_EQ(c0->voxels, 130);
+    CHECK_NEAR(c0->volume, 130 * 2.0, 1e-9);
+    CHECK_EQ(c0->bbox.x0, 1);
+    CHECK_EQ(c0->bbox.z1, 130);
+    bvox_components_destroy(comps);
+    comps = (bvox_components *)1;
+    CHECK_STATUS(bvox_components_find(v, 4, &comps), BVOX_EINVAL);
+    CHECK(comps == NULL);
+    bvox_volume_destroy(v);
+    return 0;
+}
