@@ -54,7 +54,7 @@ static void shifted_rows(void *ctx, int64_t begin, int64_t end)
     for (int64_t y = begin; y < end; y++) {
         int64_t sy = y - j->oy;
         for (int32_t x = 0; x < d->nx; x++) {
-            int64_t sx = x - j->ox;
+            int64_t sx = (int64_t)x - j->ox; /* int32 - INT32_MIN overflows int */
             uint64_t *dc = bvox__column(d, x, (int32_t)y);
             bool under = sy >= 0 && sy < s->ny && sx >= 0 && sx < s->nx && fz0 < fz1;
             if (!under) {
