@@ -29,7 +29,15 @@ void bvox_set_memory_budget(size_t bytes) { atomic_store(&budget_bytes, bytes); 
 size_t bvox_memory_budget(void)
 {
     size_t b = atomic_load(&budget_bytes);
-    return b ? b : default_budget();
+    if (b) return b;
+    /* physical memory does not change: ask the system once */
+    static atomic_size_t cached_default;
+    b = atomic_load(&cached_default);
+    if (!b) {
+        b = default_budget();
+        atomic_store(&cached_default, b);
+    }
+    return b;
 }
 
 size_t bvox_memory_in_use(void) { return atomic_load(&in_use_bytes); }

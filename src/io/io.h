@@ -112,6 +112,10 @@ extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
 
+/* The TIFF writer, in its own file (tiff_write.c) beside the reader (tiff.c). */
+bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,
+                             const bvox_write_opts *opts);
+
 /* Natural ("human") order of file names: "s2.png" < "s10.png". */
 int bvox__natural_compare(const char *a, const char *b);
 
