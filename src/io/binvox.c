@@ -288,7 +288,7 @@ static bvox_status binvox_read_memory(const uint8_t *data, size_t size, const ch
     (void)opts; /* binvox is binary already: binarisation options do not apply */
     *out = NULL;
     if (!name) name = "binvox";
-    header h;
+    header h = {0};
     bvox_status st = parse_header(data, size, name, &h);
     if (st) return st;
     for (int a = 0; a < 3; a++) {

@@ -261,8 +261,8 @@ static bvox_status list_pngs(const char *dir, char ***out, size_t *count)
 
 static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox_volume **out)
 {
-    char **names;
-    size_t n;
+    char **names = NULL;
+    size_t n = 0;
     bvox_status st = list_pngs(dir, &names, &n);
     if (st) return st;
     bvox__gray g;

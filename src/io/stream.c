@@ -355,9 +355,14 @@ bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
 }
 
 static void remove_dir_tree(const char *dir);
+static bool sync_dir_files(const char *dir);
 
 bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
 {
+    /* the files must be on disk before the folder is renamed into place */
+    if (!sync_dir_files(tmp_dir))
+        return bvox__fail(BVOX_EIO, "%s: cannot sync the written files: %s", path,
+                          strerror(errno));
     size_t len = strlen(path);
     while (len > 1 && path[len - 1] == '/') len--;
     char *target = strndup(path, len);
@@ -394,6 +399,23 @@ bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
 }
 
 #include <dirent.h>
+
+static bool sync_dir_files(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return false;
+    bool ok = true;
+    struct dirent *e;
+    while (ok && (e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        int fd = openat(dirfd(d), e->d_name, O_RDONLY | O_CLOEXEC);
+        if (fd < 0 || fsync(fd) != 0) ok = false;
+        if (fd >= 0) close(fd);
+    }
+    if (ok && fsync(dirfd(d)) != 0) ok = false;
+    closedir(d);
+    return ok;
+}
 
 static void remove_dir_tree(const char *dir)
 {
