@@ -370,6 +370,33 @@ bvox_status bvox_components_keep(const bvox_components *comps, int64_t n, bvox_v
 /* Labels as x-fastest uint32 samples (nx*ny*nz of them): 0 background,
  * i + 1 for component i. dst must hold nx*ny*nz values. */
 void bvox_components_labels(const bvox_components *comps, uint32_t *dst);
+/* Index (0 = largest) of the component holding voxel (x, y, z), or -1 if
+ * that voxel is 0 or outside. */
+int64_t bvox_components_index_at(const bvox_components *comps, int32_t x, int32_t y, int32_t z);
+/* A volume holding the components for which keep(component, index, ctx)
+ * returns non-zero. */
+bvox_status bvox_components_keep_if(const bvox_components *comps,
+                                    int (*keep)(const bvox_component *c, int64_t index,
+                                                void *ctx),
+                                    void *ctx, bvox_volume **out);
+
+/* -------------------------------------------------- derived morphology */
+
+/* Opening (erode then dilate) and closing (dilate then erode). radius > 0
+ * uses a ball of that physical radius, otherwise the conn neighbourhood.
+ * Closing works on a padded copy so that the volume's border does not eat
+ * into the object (ITK's "safe border"); opening erodes at the border. */
+bvox_status bvox_morph_open(const bvox_volume *in, int conn, double radius, bvox_volume **out);
+bvox_status bvox_morph_close(const bvox_volume *in, int conn, double radius, bvox_volume **out);
+/* Fill cavities: 0-voxels not 6-connected to the border become 1. */
+bvox_status bvox_morph_fill_holes(const bvox_volume *in, bvox_volume **out);
+/* The shell of the object: its voxels within `thickness` (physical units) of
+ * the background, i.e. in minus its erosion by a ball of that radius; the
+ * outside of the volume counts as background. */
+bvox_status bvox_morph_hollow(const bvox_volume *in, double thickness, bvox_volume **out);
+/* Remove components (conn-connected) of fewer than min_voxels voxels. */
+bvox_status bvox_morph_remove_islands(const bvox_volume *in, int conn, int64_t min_voxels,
+                                      bvox_volume **out);
 
 #ifdef __cplusplus
 }

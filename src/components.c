@@ -240,17 +240,14 @@ const bvox_component *bvox_components_get(const bvox_components *c, int64_t i)
     return i >= 0 && i < c->count ? &c->items[i] : NULL;
 }
 
+static int keep_first_n(const bvox_component *comp, int64_t index, void *ctx)
+{
+    return index < *(const int64_t *)ctx;
+}
+
 bvox_status bvox_components_keep(const bvox_components *c, int64_t n, bvox_volume **out)
 {
-    bvox_status st = bvox_volume_create(c->dims, out);
-    if (st) return st;
-    (*out)->geom = c->geom;
-    for (size_t col = 0; col < c->ncol; col++)
-        for (size_t i = c->col_start[col]; i < c->col_start[col + 1]; i++)
-            if ((int64_t)c->rank[i] < n)
-                bvox__column_fill((*out)->words + col * (*out)->wpc, c->runs[i].z0,
-                                  c->runs[i].z1, 1);
-    return BVOX_OK;
+    return bvox_components_keep_if(c, keep_first_n, &n, out);
 }
 
 void bvox_components_labels(const bvox_components *c, uint32_t *dst)
@@ -261,4 +258,35 @@ void bvox_components_labels(const bvox_components *c, uint32_t *dst)
         for (size_t i = c->col_start[col]; i < c->col_start[col + 1]; i++)
             for (int32_t z = c->runs[i].z0; z < c->runs[i].z1; z++)
                 dst[(size_t)z * plane + col] = c->rank[i] + 1;
+}
+
+int64_t bvox_components_index_at(const bvox_components *c, int32_t x, int32_t y, int32_t z)
+{
+    if (x < 0 || y < 0 || z < 0 || x >= c->dims.nx || y >= c->dims.ny || z >= c->dims.nz)
+        return -1;
+    size_t col = (size_t)y * (size_t)c->dims.nx + (size_t)x;
+    for (size_t i = c->col_start[col]; i < c->col_start[col + 1]; i++)
+        if (z >= c->runs[i].z0 && z < c->runs[i].z1) return c->rank[i];
+    return -1;
+}
+
+bvox_status bvox_components_keep_if(const bvox_components *c,
+                                    int (*keep)(const bvox_component *, int64_t, void *),
+                                    void *ctx, bvox_volume **out)
+{
+    *out = NULL;
+    uint8_t *flags = malloc(c->count ? (size_t)c->count : 1);
+    if (!flags) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    for (int64_t i = 0; i < c->count; i++) flags[i] = keep(&c->items[i], i, ctx) != 0;
+    bvox_status st = bvox_volume_create(c->dims, out);
+    if (!st) {
+        (*out)->geom = c->geom;
+        for (size_t col = 0; col < c->ncol; col++)
+            for (size_t i = c->col_start[col]; i < c->col_start[col + 1]; i++)
+                if (flags[c->rank[i]])
+                    bvox__column_fill((*out)->words + col * (*out)->wpc, c->runs[i].z0,
+                                      c->runs[i].z1, 1);
+    }
+    free(flags);
+    return st;
 }
