@@ -1,3 +1,89 @@
-#include "bvox.h"
-#include <stdio.h>
-int main(void) { printf("bvox %s\n", bvox_version()); return 0; }
+/*
+ * main.c — the `bvox` command: a table of subcommands {name, run, summary}
+ * from which dispatch, `bvox --help` and `bvox help CMD` are all derived, plus
+ * --version. Each subcommand lives in its own cmd_<name>.c and is a thin
+ * wrapper over one library call.
+ */
+#include "cli.h"
+
+#include <string.h>
+
+static const cli_command commands[] = {
+    {"info", cmd_info, "print dimensions, voxel size, count, volume and bounding box"},
+    {"convert", cmd_convert, "convert between formats (binarising gray/label images)"},
+    {"demo", cmd_demo, "build the sample specimen, print its info, optionally write it"},
+};
+#define NCOMMANDS (sizeof commands / sizeof commands[0])
+
+static const cli_command *find(const char *name)
+{
+    for (size_t i = 0; i < NCOMMANDS; i++)
+        if (!strcmp(commands[i].name, name)) return &commands[i];
+    return NULL;
+}
+
+static void help(FILE *f)
+{
+    fputs("Usage: bvox COMMAND [options]\n"
+          "\n"
+          "Binary voxel models: read, measure, convert.\n"
+          "\n"
+          "Commands:\n",
+          f);
+    for (size_t i = 0; i < NCOMMANDS; i++)
+        fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
+    fprintf(f, "\n"
+               "Global options:\n"
+               "  --help, -h     show this help ('bvox COMMAND --help' for a command)\n"
+               "  --version      show the version and the SIMD level in use\n"
+               "\n"
+               "Formats: %s\n"
+               "Exit status: 0 success, 1 failure, 2 wrong command line.\n",
+            bvox_format_list());
+}
+
+static void version(void)
+{
+    bvox_simd level = bvox_simd_active();
+    printf("bvox %s (simd: %s, threads: %d)\n", bvox_version(), bvox_simd_name(level),
+           bvox_threads());
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        help(stderr);
+        return CLI_USAGE;
+    }
+    const char *name = argv[1];
+    if (!strcmp(name, "--help") || !strcmp(name, "-h")) {
+        help(stdout);
+        return CLI_OK;
+    }
+    if (!strcmp(name, "--version") || !strcmp(name, "-V")) {
+        version();
+        return CLI_OK;
+    }
+    if (!strcmp(name, "help")) {
+        if (argc < 3) {
+            help(stdout);
+            return CLI_OK;
+        }
+        const cli_command *c = find(argv[2]);
+        if (!c) return cli_usage_error(NULL, "unknown command '%s'", argv[2]);
+        char *sub[] = {argv[2], "--help", NULL};
+        return c->run(2, sub);
+    }
+    const cli_command *c = find(name);
+    if (!c) {
+        if (name[0] == '-') return cli_usage_error(NULL, "unknown option '%s'", name);
+        return cli_usage_error(NULL, "unknown command '%s'", name);
+    }
+    int rc = c->run(argc - 1, argv + 1);
+    /* A full disk or closed pipe on stdout is a failure too. */
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        if (rc == CLI_OK) fprintf(stderr, "bvox: error writing the output\n");
+        return rc == CLI_OK ? CLI_FAIL : rc;
+    }
+    return rc;
+}

@@ -1,0 +1,41 @@
+/*
+ * cli.h — what the files of the `bvox` command share: the command table's
+ * entry type, the subcommands' entry points and the exit-code convention.
+ * Each cmd_<name>.c parses its arguments, makes one library call, prints the
+ * result and maps the status to an exit code; no algorithm lives in cli/.
+ */
+#ifndef BVOX_CLI_H
+#define BVOX_CLI_H
+
+#include "bvox.h"
+
+#include <stdio.h>
+
+/* Exit codes: 0 success, 1 the operation failed (message from bvox_errmsg()),
+ * 2 the command line was wrong. */
+enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
+
+/* argv[0] is the subcommand's name; argv[argc] is NULL. */
+typedef int (*cli_run_fn)(int argc, char **argv);
+
+typedef struct cli_command {
+    const char *name;
+    cli_run_fn run;
+    const char *summary;
+} cli_command;
+
+int cmd_info(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
+int cmd_demo(int argc, char **argv);
+
+/* "bvox: <message>" on stderr for a failed library call; returns CLI_FAIL. */
+int cli_fail(void);
+/* "bvox: <cmd>: <message> (see 'bvox <cmd> --help')" on stderr; returns CLI_USAGE. */
+int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* report.c: the result of bvox_info_compute, as aligned text or one JSON
+ * object. source (a file name) and format may be NULL. */
+void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, const char *format);
+void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format);
+
+#endif
