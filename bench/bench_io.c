@@ -80,7 +80,7 @@ static long long path_bytes(const char *path)
     DIR *d = opendir(path);
     if (!d) return -1;
     long long total = 0;
-    char buf[4096];
+    char buf[4096 + 512];
     for (struct dirent *e; (e = readdir(d));) {
         if (e->d_name[0] == '.') continue;
         snprintf(buf, sizeof buf, "%s/%s", path, e->d_name);
@@ -123,7 +123,7 @@ static void skipped(const format_case *fc, int n, const char *stage, bvox_status
 static void bench_format(const format_case *fc, const char *dir, const bvox_volume *vol, int n,
                          int runs)
 {
-    char path[4096];
+    char path[4096 + 512];
     snprintf(path, sizeof path, "%s/%s", dir, fc->file);
     bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
     wo.format = fc->format;
