@@ -80,7 +80,7 @@ static long long path_bytes(const char *path)
     DIR *d = opendir(path);
     if (!d) return -1;
     long long total = 0;
-    char buf[4096 + 512];
+    char buf[8192];
     for (struct dirent *e; (e = readdir(d));) {
         if (e->d_name[0] == '.') continue;
         snprintf(buf, sizeof buf, "%s/%s", path, e->d_name);
