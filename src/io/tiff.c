@@ -168,7 +168,12 @@ static double res_to_spacing(TIFF *tif, ttag_t tag, bool *have)
 {
     float r = 0;
     *have = TIFFGetField(tif, tag, &r) && isfinite(r) && r > 0;
-    return *have ? 1.0 / (double)r : 1.0;
+    if (!*have) return 1.0;
+    /* libtiff hands the RATIONAL tag over as a float, so 1/0.1f gives
+     * 9.99999985: keep only the 7 significant digits a float carries. */
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.7g", 1.0 / (double)r);
+    return strtod(buf, NULL);
 }
 
 static bvox_status read_geometry(TIFF *tif, const char *name, bvox_geometry *g, long *images)
