@@ -1,0 +1,184 @@
+/*
+ * measure.c — bvox_measure: the integer sums of one scan (measure_scan.c)
+ * turned into physical measures, plus the topology that needs labelling.
+ *
+ * Units: positions are origin + index * spacing (direction is not applied,
+ * as for shapes, so a shape drawn at c measures its centroid at c). Moments
+ * treat voxels as point masses at their centres; they are exact integer sums
+ * until the central moments N*sum(xx) - sum(x)^2 are formed, so no
+ * cancellation is lost however far the object is from the origin.
+ *
+ * Topology: the Euler number of the 26-connected object comes from the scan;
+ * components (26) and cavities (6-connected background components that do
+ * not reach the border) come from run labelling (components.c). A background
+ * component reaches the outside exactly when its bounding box touches the
+ * volume's border, so the complement is labelled as is, with no padding
+ * (padding would fail for a 65535-wide volume and cost a bigger copy).
+ */
+#include "measure.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations:
+ * on return val holds the eigenvalues and the columns of vec the unit
+ * eigenvectors. Converges quadratically; 3x3 needs a handful of sweeps. */
+static void jacobi3(const double in[9], double val[3], double vec[9])
+{
+    double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    memcpy(a, in, sizeof a);
+    for (int sweep = 0; sweep < 64; sweep++) {
+        double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (off == 0 || off <= 1e-36 * diag) break;
+        for (int p = 0; p < 2; p++)
+            for (int q = p + 1; q < 3; q++) {
+                if (a[p][q] == 0) continue;
+                /* rotation angle that zeroes a[p][q] (Numerical Recipes' form,
+                 * the smaller root for stability) */
+                double theta = (a[q][q] - a[p][p]) / (2 * a[p][q]);
+                double t = fabs(theta) > 1e150 ? 0.5 / theta
+                                               : (theta >= 0 ? 1 : -1) /
+                                                     (fabs(theta) + sqrt(theta * theta + 1));
+                double c = 1 / sqrt(t * t + 1), s = t * c;
+                /* a = R^T a R, v = v R with R the (p, q) rotation */
+                for (int k = 0; k < 3; k++) {
+                    double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; k++) {
+                    double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                a[p][q] = a[q][p] = 0;
+                for (int k = 0; k < 3; k++) {
+                    double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+    }
+    for (int i = 0; i < 3; i++) {
+        val[i] = a[i][i];
+        for (int k = 0; k < 3; k++) vec[k * 3 + i] = v[k][i];
+    }
+}
+
+/* Principal axes (rows, largest eigenvalue first, largest component of each
+ * made positive so that the result is deterministic) and moments. */
+static void principal(bvox_measures *m)
+{
+    double val[3], vec[9];
+    jacobi3(m->covariance, val, vec);
+    int order[3] = {0, 1, 2};
+    for (int i = 0; i < 3; i++)
+        for (int j = i + 1; j < 3; j++)
+            if (val[order[j]] > val[order[i]]) {
+                int t = order[i];
+                order[i] = order[j];
+                order[j] = t;
+            }
+    double trace = m->covariance[0] + m->covariance[4] + m->covariance[8];
+    for (int i = 0; i < 3; i++) {
+        int e = order[i];
+        double *axis = &m->principal_axes[i * 3];
+        int big = 0;
+        for (int k = 0; k < 3; k++) {
+            axis[k] = vec[k * 3 + e];
+            if (fabs(axis[k]) > fabs(axis[big])) big = k;
+        }
+        if (axis[big] < 0)
+            for (int k = 0; k < 3; k++) axis[k] = -axis[k];
+        m->principal_moments[i] = val[e] > 0 ? val[e] : 0; /* rounding of a flat object */
+        m->principal_inertia[i] = m->volume * (trace - m->principal_moments[i]);
+    }
+}
+
+/* 26-components of vol, and 6-connected background components not touching
+ * the border (labelling the complement). */
+static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures *m)
+{
+    bvox_components *comps = NULL;
+    bvox_status st = bvox_components_find(vol, 26, &comps);
+    if (st) return st;
+    m->components = bvox_components_count(comps);
+    bvox_components_destroy(comps);
+    if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
+    bvox_volume *bg = NULL;
+    st = bvox_volume_copy(vol, &bg);
+    if (st) return st;
+    bvox_volume_complement(bg);
+    st = bvox_components_find(bg, 6, &comps);
+    bvox_volume_destroy(bg);
+    if (st) return st;
+    for (int64_t i = 0; i < bvox_components_count(comps); i++) {
+        bvox_box b = bvox_components_get(comps, i)->bbox;
+        if (b.x0 > 0 && b.y0 > 0 && b.z0 > 0 && b.x1 < vol->nx && b.y1 < vol->ny && b.z1 < vol->nz)
+            m->cavities++;
+    }
+    bvox_components_destroy(comps);
+    return BVOX_OK;
+}
+
+bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
+                               const int32_t bbox_shift[3], bvox_measures *out)
+{
+    bvox_measures m;
+    memset(&m, 0, sizeof m);
+    m.principal_axes[0] = m.principal_axes[4] = m.principal_axes[8] = 1;
+    bvox__scan s;
+    bvox_status st = bvox__measure_scan(vol, &s);
+    if (st) return st;
+    const double *sp = vol->geom.spacing, *org = vol->geom.origin;
+    m.count = s.count;
+    m.volume = (double)s.count * sp[0] * sp[1] * sp[2];
+    m.euler = s.euler;
+    for (int a = 0; a < 3; a++) m.faces[a] = s.trans[a];
+    m.area_faces = (double)s.trans[0] * sp[1] * sp[2] + (double)s.trans[1] * sp[0] * sp[2] +
+                   (double)s.trans[2] * sp[0] * sp[1];
+    for (int c = 0; c < BVOX__NDIR; c++) m.area += weight[c] * (double)s.trans[c];
+    if (s.count) {
+        const int32_t *b = s.bbox;
+        int32_t sh[3] = {0, 0, 0};
+        if (bbox_shift) memcpy(sh, bbox_shift, sizeof sh);
+        m.bbox = (bvox_box){b[0] + sh[0], b[1] + sh[1], b[2] + sh[2],
+                            b[3] + sh[0], b[4] + sh[1], b[5] + sh[2]};
+        double n = (double)s.count;
+        for (int a = 0; a < 3; a++) {
+            m.extent_min[a] = org[a] + (b[a] - 0.5) * sp[a];
+            m.extent_max[a] = org[a] + (b[a + 3] - 0.5) * sp[a];
+            m.centroid[a] = org[a] + sp[a] * ((double)s.s[a] / n);
+        }
+        /* ss order: xx yy zz xy xz yz */
+        static const int pair[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+        for (int k = 0; k < 6; k++) {
+            int i = pair[k][0], j = pair[k][1];
+            bvox__wide num = (bvox__wide)s.count * s.ss[k] - s.s[i] * s.s[j];
+            double c = (double)num / n / n * sp[i] * sp[j];
+            m.covariance[i * 3 + j] = m.covariance[j * 3 + i] = c;
+        }
+        double trace = m.covariance[0] + m.covariance[4] + m.covariance[8];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                m.inertia[i * 3 + j] = m.volume * ((i == j ? trace : 0) - m.covariance[i * 3 + j]);
+        principal(&m);
+        m.equivalent_diameter = cbrt(6 * m.volume / M_PI);
+        if (m.area > 0) m.sphericity = cbrt(M_PI) * pow(6 * m.volume, 2.0 / 3.0) / m.area;
+        st = topology(vol, s.count, &m);
+        if (st) return st;
+    }
+    m.tunnels = m.components + m.cavities - m.euler;
+    *out = m;
+    return BVOX_OK;
+}
+
+bvox_status bvox_measure(const bvox_volume *vol, bvox_measures *out)
+{
+    memset(out, 0, sizeof *out);
+    bvox__clear_error();
+    double weight[BVOX__NDIR];
+    bvox__crofton_weights(vol->geom.spacing, weight);
+    return bvox__measure_with(vol, weight, NULL, out);
+}

@@ -1,0 +1,74 @@
+/*
+ * measure.h — private interfaces between the measure_*.c files.
+ *
+ *   measure_scan.c     one word-parallel pass over the volume: counts, sums
+ *                      of coordinates (moments), bounding box, the cells of
+ *                      the voxel complex (Euler number) and the 0/1
+ *                      transitions along the 13 directions of the 2x2x2
+ *                      neighbourhood (exposed faces, Crofton area);
+ *   measure_crofton.c  the Crofton direction weights for a voxel spacing;
+ *   measure.c          bvox_measure: the scan turned into physical measures,
+ *                      plus the topology that needs labelling;
+ *   measure_components.c  bvox_measure_components.
+ */
+#ifndef BVOX_MEASURE_H
+#define BVOX_MEASURE_H
+
+#include "internal.h"
+
+/* Wide accumulators for the second-order sums: sum(x^2) over 2^37 voxels at
+ * coordinates up to 65535 needs 69 bits. */
+#ifdef __SIZEOF_INT128__
+typedef __int128 bvox__wide;
+#else
+typedef long double bvox__wide;
+#endif
+
+/* The 13 directions of the 2x2x2 neighbourhood fall into 7 classes whose
+ * members have the same length and the same Crofton weight for any
+ * axis-aligned spacing (they are mirror images of each other). */
+enum {
+    BVOX__DIR_X = 0,   /* (1,0,0) */
+    BVOX__DIR_Y = 1,   /* (0,1,0) */
+    BVOX__DIR_Z = 2,   /* (0,0,1) */
+    BVOX__DIR_XY = 3,  /* (1,+-1,0): 2 directions */
+    BVOX__DIR_XZ = 4,  /* (1,0,+-1): 2 */
+    BVOX__DIR_YZ = 5,  /* (0,1,+-1): 2 */
+    BVOX__DIR_XYZ = 6, /* (1,+-1,+-1): 4 */
+    BVOX__NDIR = 7
+};
+
+/* What one pass over the words gives (all exact integers). Voxel indices,
+ * not physical units. */
+typedef struct bvox__scan {
+    int64_t count;
+    bvox__wide s[3];  /* sum of x, y, z over the 1-voxels */
+    bvox__wide ss[6]; /* sum of xx, yy, zz, xy, xz, yz */
+    int32_t bbox[6];  /* x0 y0 z0 x1 y1 z1, half-open; meaningless if count == 0 */
+    int64_t euler;    /* V - E + F - C of the union of closed voxel cubes */
+    /* Pairs of voxels (p, p + d) with different values, summed over the
+     * directions of each class; voxels outside the volume are 0. The three
+     * axis classes are the exposed faces. */
+    int64_t trans[BVOX__NDIR];
+} bvox__scan;
+
+/* One pass, split over the worker threads; the result does not depend on
+ * the thread count. BVOX_ENOMEM if the scratch cannot be allocated. */
+bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out);
+
+/* Crofton weights: the area estimate is sum over classes of
+ * weight[c] * trans[c]. weight[c] = (solid angle of the spherical Voronoi
+ * cell of one direction of c) / pi * (voxel volume) / (length of the
+ * direction), the Voronoi cells taken among the 26 unit directions
+ * +-(i sx, j sy, k sz) / |.|. */
+void bvox__crofton_weights(const double spacing[3], double weight[BVOX__NDIR]);
+/* Solid angles alone (one direction of each class); they sum, with the class
+ * multiplicities 1,1,1,2,2,2,4 and both signs, to 4 pi. For tests. */
+void bvox__crofton_solid_angles(const double spacing[3], double omega[BVOX__NDIR]);
+
+/* bvox_measure with precomputed Crofton weights; bbox_shift is added to the
+ * reported voxel box (a crop's offset in its parent), may be NULL. */
+bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
+                               const int32_t bbox_shift[3], bvox_measures *out);
+
+#endif /* BVOX_MEASURE_H */
