@@ -548,7 +548,9 @@ int bvox_view_parse(const char *name);
 #define BVOX_CODE_NORMAL(code) ((code) & 31)
 #define BVOX_CODE_CUE(code) ((code) >> 5)
 
-/* A pre-image: per pixel the depth of the first 1-voxel and its code. */
+/* A pre-image: per pixel the depth of the first 1-voxel and its code. Made
+ * and released by the library (bvox_preimage_destroy); depth and code may be
+ * edited in place, the other fields must not be changed. */
 typedef struct bvox_preimage {
     int32_t width, height;
     int32_t *depth;       /* width*height, row-major; -1 for background */
@@ -692,7 +694,9 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out);
 void bvox_surface_destroy(bvox_surface *surf);
 int64_t bvox_surface_count(const bvox_surface *surf);
 /* Cast a parallel projection of the prepared surface. Each pixel gets the
- * exact first voxel its centre ray meets (ties broken by voxel order). */
+ * exact first voxel box its centre ray meets (the ray clipped against each
+ * candidate box; equal depths go to the smaller neighbour code, so the
+ * result does not depend on the thread count). Thread-safe on one surface. */
 bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *proj,
                               bvox_preimage **out);
 /* Convenience: build the surface, cast, destroy. */

@@ -1,0 +1,93 @@
+/*
+ * render.h — private interface shared by the files of src/render/ (the
+ * display pipeline: cast -> pre-image -> LUT shade -> image ops -> PNG).
+ *
+ * Normal codes: a hit voxel's 6 face neighbours are gathered as 6 bits
+ * (NB_XM = neighbour at x-1, NB_XP at x+1, ...), and the 27-way normal index
+ * is a table lookup on those bits (normal_index_of), so every caster uses the
+ * same rule: a 1-neighbour pushes the normal away from itself.
+ */
+#ifndef BVOX_RENDER_H
+#define BVOX_RENDER_H
+
+#include "../internal.h"
+
+enum { NB_XM = 1, NB_XP = 2, NB_YM = 4, NB_YP = 8, NB_ZM = 16, NB_ZP = 32 };
+
+/* Normal index (0..26) of the 6 neighbour bits above. */
+extern const uint8_t bvox__normal_index[64];
+
+/* The 3-bit depth cue of a depth in 0..range-1, floor(depth * 8 / range),
+ * without a division per pixel: depth >= ceil(k range / 8) iff cue >= k. */
+typedef struct bvox__cue {
+    int64_t t[7];
+} bvox__cue;
+
+static inline void bvox__cue_init(bvox__cue *c, int64_t range)
+{
+    for (int k = 1; k <= 7; k++) c->t[k - 1] = range > 0 ? (k * range + 7) / 8 : INT64_MAX;
+}
+
+static inline unsigned bvox__cue_of(const bvox__cue *c, int64_t depth)
+{
+    unsigned n = 0;
+    for (int k = 0; k < 7; k++) n += depth >= c->t[k];
+    return n;
+}
+
+static inline uint8_t bvox__code(unsigned neighbours, int64_t depth, const bvox__cue *cue)
+{
+    return (uint8_t)(bvox__normal_index[neighbours & 63] | bvox__cue_of(cue, depth) << 5);
+}
+
+/* Allocate a pre-image of width x height, every pixel background (depth -1,
+ * code BVOX_CODE_BACKGROUND); the other fields are zero. */
+bvox_status bvox__preimage_alloc(int32_t width, int32_t height, bvox_preimage **out);
+
+/* The unit normal (in the eye frame: right, up, towards the viewer) of normal
+ * index idx for a pre-image's frame and spacing. "No normal" faces the viewer. */
+void bvox__normal_eye(const bvox_preimage *pre, unsigned idx, double n[3]);
+/* Unit vector towards the light in the eye frame (right, up, towards viewer). */
+void bvox__light_dir(const bvox_light *light, double l[3]);
+/* Phong intensity 0..255 (before rounding) of a unit normal in the eye frame;
+ * cue 0..7 applies the light's depth cue. */
+double bvox__phong(const bvox_light *light, const double l[3], const double n[3], unsigned cue);
+/* Checks the numbers of a light (finite, non-negative, depth_cue 0..1). */
+bvox_status bvox__light_check(const bvox_light *light);
+
+/* Image sample access for ops that handle both depths. */
+static inline uint32_t bvox__img_get(const bvox_image *im, size_t i)
+{
+    return im->bits == 8 ? im->pixels[i] : im->pixels16[i];
+}
+static inline void bvox__img_put(bvox_image *im, size_t i, uint32_t v)
+{
+    if (im->bits == 8) im->pixels[i] = (uint8_t)v;
+    else im->pixels16[i] = (uint16_t)v;
+}
+/* BVOX_EINVAL unless img is a valid image (non-NULL, sane fields). */
+bvox_status bvox__image_check(const bvox_image *img, const char *what);
+
+/* For the tests: number of casts (axis and projection) made in this process. */
+long bvox__render_cast_count(void);
+void bvox__render_count_cast(void);
+
+/* ---- surface.c / cast_view.c: boundary voxels for arbitrary views ----
+ * Entry: x | y << 16 | z << 32 | neighbour bits (NB_*) << 48. */
+struct bvox_surface {
+    uint64_t *entries; /* from bvox__alloc, `bytes` bytes */
+    size_t bytes;
+    int64_t count;
+    int64_t class_start[65]; /* entries of neighbour class k: [start[k], start[k+1]) */
+    bvox_dims dims;
+    double spacing[3];
+    bvox_box bbox; /* of the 1-voxels */
+    int empty;
+};
+
+#define SURF_X(e) ((int32_t)((e) & 0xffff))
+#define SURF_Y(e) ((int32_t)((e) >> 16 & 0xffff))
+#define SURF_Z(e) ((int32_t)((e) >> 32 & 0xffff))
+#define SURF_NB(e) ((unsigned)((e) >> 48 & 63))
+
+#endif

@@ -1,0 +1,128 @@
+/*
+ * surface.c — the boundary voxels of a volume (1-voxels with a 0 face
+ * neighbour, the outside counting as 0), listed once so that any parallel
+ * view can be cast by splatting them (cast_view.c) without touching the
+ * volume again. The first voxel a ray meets always has a 0 neighbour on the
+ * side the ray enters from, so nothing visible is lost.
+ *
+ * Built word-wise: per z-word, interior = v & (6 neighbour words) and
+ * boundary = v & ~interior; a first pass counts per y row and neighbour
+ * class (the 6 neighbour bits), a prefix sum gives each (class, row) its
+ * place, a second pass writes the entries, so rows are independent and split
+ * over the worker threads. Grouping by class lets a view skip the classes
+ * that face away from it as whole ranges (back-face culling without a test
+ * per voxel). Each entry packs
+ * x, y, z (16 bits each: dimensions are at most 65535) and the 6 neighbour
+ * bits (render.h's NB_*), from which the normal code and the per-view back
+ * face cull follow.
+ */
+#include "render.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct build_ctx {
+    const bvox_volume *v;
+    int64_t *at;       /* ny * 64: counts per row and class, then where each goes */
+    uint64_t *entries; /* NULL in the counting pass */
+} build_ctx;
+
+/* The 6 neighbour words of word w of column (x, y). */
+static inline void neighbours(const bvox_volume *v, int32_t x, int32_t y, size_t w,
+                              uint64_t nb[6])
+{
+    const uint64_t *col = bvox__column_c(v, x, y);
+    const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
+    uint64_t word = col[w];
+    nb[0] = x > 0 ? col[w - wpc] : 0;
+    nb[1] = x + 1 < v->nx ? col[w + wpc] : 0;
+    nb[2] = y > 0 ? col[w - row] : 0;
+    nb[3] = y + 1 < v->ny ? col[w + row] : 0;
+    nb[4] = word << 1 | (w > 0 ? col[w - 1] >> 63 : 0);
+    nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
+}
+
+static void build_rows(void *arg, int64_t y0, int64_t y1)
+{
+    build_ctx *c = arg;
+    const bvox_volume *v = c->v;
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
+        int64_t *at = c->at + (size_t)y * 64;
+        for (int32_t x = 0; x < v->nx; x++) {
+            const uint64_t *col = bvox__column_c(v, x, y);
+            for (size_t w = 0; w < v->wpc; w++) {
+                if (!col[w]) continue;
+                uint64_t nb[6];
+                neighbours(v, x, y, w, nb);
+                uint64_t b = col[w] & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
+                while (b) {
+                    unsigned k = (unsigned)__builtin_ctzll(b);
+                    b &= b - 1;
+                    uint64_t bits = (nb[0] >> k & 1) * NB_XM | (nb[1] >> k & 1) * NB_XP |
+                                    (nb[2] >> k & 1) * NB_YM | (nb[3] >> k & 1) * NB_YP |
+                                    (nb[4] >> k & 1) * NB_ZM | (nb[5] >> k & 1) * NB_ZP;
+                    if (!c->entries) {
+                        at[bits]++;
+                        continue;
+                    }
+                    uint64_t z = w * 64 + k;
+                    c->entries[at[bits]++] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | bits << 48;
+                }
+            }
+        }
+    }
+}
+
+bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
+{
+    *out = NULL;
+    if (!vol) return bvox__fail(BVOX_EINVAL, "surface: no volume");
+    bvox__clear_error();
+    bvox_surface *s = calloc(1, sizeof *s);
+    if (!s) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    bvox_status st;
+    size_t at_bytes = (size_t)vol->ny * 64 * sizeof(int64_t);
+    int64_t *at = bvox__alloc(at_bytes, true, "surface rows", &st);
+    if (!at) {
+        free(s);
+        return st;
+    }
+    build_ctx c = {vol, at, NULL};
+    bvox__parallel_for(vol->ny, 8, build_rows, &c);
+    /* entries grouped by class, rows in order within a class */
+    int64_t n = 0;
+    for (int k = 0; k < 64; k++) {
+        s->class_start[k] = n;
+        for (int32_t y = 0; y < vol->ny; y++) {
+            int64_t cnt = at[(size_t)y * 64 + (size_t)k];
+            at[(size_t)y * 64 + (size_t)k] = n;
+            n += cnt;
+        }
+    }
+    s->class_start[64] = n;
+    s->bytes = (size_t)(n ? n : 1) * sizeof(uint64_t);
+    s->entries = bvox__alloc(s->bytes, false, "surface voxels", &st);
+    if (!s->entries) {
+        bvox__free(at, at_bytes);
+        free(s);
+        return st;
+    }
+    c.entries = s->entries;
+    bvox__parallel_for(vol->ny, 8, build_rows, &c);
+    bvox__free(at, at_bytes);
+    s->count = n;
+    s->dims = (bvox_dims){vol->nx, vol->ny, vol->nz};
+    memcpy(s->spacing, vol->geom.spacing, sizeof s->spacing);
+    s->empty = !bvox_volume_bbox(vol, &s->bbox);
+    *out = s;
+    return BVOX_OK;
+}
+
+void bvox_surface_destroy(bvox_surface *surf)
+{
+    if (!surf) return;
+    bvox__free(surf->entries, surf->bytes);
+    free(surf);
+}
+
+int64_t bvox_surface_count(const bvox_surface *surf) { return surf ? surf->count : 0; }
