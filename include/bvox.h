@@ -703,6 +703,148 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
 bvox_status bvox_cast_projection(const bvox_volume *vol, const bvox_projection *proj,
                                  bvox_preimage **out);
 
+/* ------------------------------------------------- render: the pictures */
+
+/* Picture 4 of the paper: the data set as the frame buffer held it. Slices
+ * are packed 8 to a byte, as the volume packs them 64 to a word: section s
+ * holds slices 8s .. 8s+7, slice 8s+b in bit b of its byte pixels, and
+ * pixel (x, y) of section s is the byte of voxel column (x, y). Sections are
+ * laid out row by row, section s at grid cell (s % columns, s / columns), so
+ * a 128^3 volume gives the paper's 512 x 512 image of 4 x 4 sections of
+ * 128 x 128. Slices beyond nz read as 0; unused cells are 0.
+ * The bytes are shown through a 256-entry table, as the paper's output LUT
+ * enabled or disabled bit planes: planes selects the slices shown (bit b:
+ * slice 8s+b of every section) and display maps byte & planes to gray. */
+typedef enum bvox_mosaic_display {
+    BVOX_MOSAIC_COUNT = 0, /* 255 * set selected planes / selected planes, rounded
+                              (the default: an outline shows how the 8 slices differ) */
+    BVOX_MOSAIC_ANY = 1,   /* 255 where any selected plane is set, else 0 */
+    BVOX_MOSAIC_BYTES = 2  /* byte & planes itself: the frame buffer as stored */
+} bvox_mosaic_display;
+typedef struct bvox_mosaic_opts {
+    uint8_t planes;              /* 0xff: all 8 slices of each section */
+    bvox_mosaic_display display;
+    int32_t columns;             /* sections per row; 0: ceil(sqrt(sections)) */
+} bvox_mosaic_opts;
+#define BVOX_MOSAIC_OPTS_INIT { 0xff, BVOX_MOSAIC_COUNT, 0 }
+/* An 8-bit gray image of columns*nx x rows*ny pixels (rows = ceil(sections /
+ * columns)), made from whole words (8 bytes of a column's word at a time).
+ * opts may be NULL (defaults). BVOX_EINVAL for a bad option or an image over
+ * BVOX_IMAGE_MAX_DIM, BVOX_ETOOBIG/BVOX_ENOMEM. *out owned by the caller. */
+bvox_status bvox_mosaic(const bvox_volume *vol, const bvox_mosaic_opts *opts, bvox_image **out);
+/* The display table of a plane mask and mode (byte -> gray). */
+bvox_status bvox_mosaic_lut(uint8_t planes, bvox_mosaic_display display, bvox_lut *lut);
+const char *bvox_mosaic_display_name(bvox_mosaic_display display); /* "count", "any", "bytes" */
+int bvox_mosaic_display_parse(const char *name);                    /* -1 if unknown */
+
+/* How bvox_render shades a pre-image. */
+typedef enum bvox_shade_mode {
+    BVOX_SHADE_DEPTH = 0,       /* depth shading from the full depth (opts.depth) */
+    BVOX_SHADE_BINARY = 1,      /* binary gradient shading of the normal codes (opts.light) */
+    BVOX_SHADE_GRADIENT = 2,    /* gradient shading of the depth map (Sobel, opts.light) */
+    BVOX_SHADE_BINARY_DEPTH = 3 /* binary gradient times a depth cue from the full depth:
+                                   1 - k t, t = depth / (depth_range - 1), k =
+                                   light.depth_cue, or 0.5 when that is 0 */
+} bvox_shade_mode;
+const char *bvox_shade_mode_name(bvox_shade_mode mode); /* "depth", "binary", "gradient",
+                                                           "binary+depth" */
+int bvox_shade_mode_parse(const char *name);            /* -1 if unknown */
+
+typedef enum bvox_stereo {
+    BVOX_STEREO_NONE = 0,
+    BVOX_STEREO_SBS = 1,     /* left eye's image on the left (parallel viewing) */
+    BVOX_STEREO_ANAGLYPH = 2 /* RGB: red = left eye, green and blue = right eye */
+} bvox_stereo;
+
+/* Everything bvox_render does, in order: cut (a copy of the volume by the
+ * plane, keeping a side, as bvox_cut_plane), cast (the axis view on whole
+ * words, or a parallel projection), shade, mark the cut face, zoom by
+ * replication, zoom x2 with averaging, filter; for stereo, two casts with
+ * the view turned by -+stereo_angle about the image's vertical axis, then
+ * side by side or as an anaglyph.
+ * The view: axis_view 1 casts `view` with one pixel per voxel column (as
+ * bvox_cast_axis) unless proj.width or proj.height is set or stereo is
+ * asked; then, and with axis_view 0, it is the projection proj (size 0: 512,
+ * scale 0: fit), an axis view becoming the projection with the same image
+ * axes (rows right, down, view of its eye frame).
+ * The cut face: a hit voxel whose neighbour one voxel towards the removed
+ * side (along the axis where the plane's normal moves fastest) was removed by
+ * the cut is on the cut face; for projections, whose pre-image keeps the
+ * depth to one pixel, within one more depth step. Those pixels are lit flat
+ * with the plane's own normal (depth shading: their depth shade) and tinted
+ * with cut_color, and the image is RGB; without a cut it is gray (anaglyphs
+ * are RGB). */
+typedef struct bvox_render_opts {
+    int axis_view;            /* 1: the axis view `view` */
+    bvox_view view;
+    bvox_projection proj;     /* the rotation (axis_view 0) and the image size */
+    bvox_shade_mode shade;
+    bvox_light light;
+    bvox_depth_shading depth;
+    int zoom;                 /* 1, 2, 4 or 8 (0: 1): pixel replication */
+    int average;              /* then zoom x2 with pixel averaging (Figure 5) */
+    int filter;               /* -1: none, else a bvox_filter, applied last */
+    int cut;                  /* 1: cut by plane: a x + b y + c z + d = 0 (world) */
+    double plane[4];
+    int keep_above;           /* the side kept: 1 above (>= 0), 0 below */
+    uint8_t cut_color[3];     /* tint of the cut face */
+    bvox_stereo stereo;
+    double stereo_angle;      /* degrees each way (default 3) */
+} bvox_render_opts;
+/* +z axis view, binary+depth shading, BVOX_LIGHT_INIT, BVOX_DEPTH_SHADING_INIT,
+ * zoom 1, no filter, no cut (keep above, tint 255, 176, 96), no stereo (3 degrees). */
+bvox_render_opts bvox_render_opts_default(void);
+/* Set the view of opts from text: "+z", "-z", "+x", "-x", "+y", "-y" (axis
+ * views), "AZ,EL" (degrees, see bvox_projection), "iso" (looking from the
+ * corner (+1, +1, +1) towards the centre, z up on the screen) or "iso" with
+ * three signs, "iso+x-y+z" (from (+1, -1, +1)): the 8 isometric directions.
+ * BVOX_EINVAL if the text is none of these. */
+bvox_status bvox_render_parse_view(const char *text, bvox_render_opts *opts);
+
+/* Render vol as opts say into *out (8-bit gray, or RGB as said above). pre,
+ * if not NULL, receives the pre-image of the (left eye's) cast. Owned by the
+ * caller. BVOX_EINVAL for bad options, BVOX_ETOOBIG/BVOX_ENOMEM. */
+bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts, bvox_image **out,
+                        bvox_preimage **pre);
+/* The depth map for files: 16-bit, 0 for background, else depth + 1 (depth
+ * in steps from the entry face along the view: voxels for an axis view,
+ * pixel units from the front of the fitting sphere for a projection),
+ * saturated at 65535. */
+bvox_status bvox_preimage_depth_map(const bvox_preimage *pre, bvox_image **out);
+
+/* A sheet of four views in a 2 x 2 grid, each cell rendered as opts say (no
+ * stereo) as a projection of proj's size (0: 256 x 256) fitted alike, so all
+ * cells share one scale: top left +z, top right +x, bottom left -y (the axis
+ * views whose image axes make a true, unmirrored picture), bottom right iso.
+ * BVOX_EINVAL with stereo. */
+bvox_status bvox_render_sheet(const bvox_volume *vol, const bvox_render_opts *opts,
+                              bvox_image **out);
+
+/* Frame i of a turntable of n: opts' view (an axis view taken as its
+ * projection) turned by 360 i / n degrees about the volume axis (x, y or z)
+ * closest to the image's vertical, so the object spins about an upright axis.
+ * Fills *frame_opts (axis_view 0, a matrix). */
+bvox_status bvox_turntable_view(const bvox_render_opts *opts, int i, int n,
+                                bvox_render_opts *frame_opts);
+/* Render n frames (1..3600) of a turntable and write them: an animated GIF
+ * (looping, a turn in about 4 s) when path ends in ".gif", else n PNG files
+ * named after path without its ".png": "spin.png" -> spin_000.png, spin_001.png
+ * ... (4 digits from 1001 frames). Each file goes through a temporary file
+ * renamed on success. Gray frames use a gray palette; RGB frames (a cut,
+ * anaglyphs) one palette per frame (median cut). */
+bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_render_opts *opts, int n,
+                                  const char *path);
+
+/* The paper's four pictures of a volume (the built-in specimen in `bvox
+ * demo`), k = 1..4: 1 binary gradient and depth shaded; 2 depth shaded,
+ * zoomed x2 with averaging and high-pass filtered; 3 "the same" (as 2), the
+ * object resliced by a plane, its cut face tinted; 4 the data set as the frame buffer held it (the
+ * mosaic, of every other column in x and y when nx or ny exceeds 128, so the
+ * 256 x 256 x 128 specimen gives the paper's 512 x 512 layout). */
+bvox_status bvox_demo_picture(const bvox_volume *vol, int k, bvox_image **out);
+/* Write picture1.png .. picture4.png into the existing folder dir. */
+bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir);
+
 /* ------------------------------------------------------------ editing, cut */
 
 /* In-place edits that report which region changed, so that a display can

@@ -1,0 +1,40 @@
+/*
+ * manip.h — what the manipulation commands (edit, cut, csg, shape) share:
+ * refusing an output name of unknown format before any work, printing a
+ * changed region (inclusive voxel indices, like `bvox info`), and the output
+ * grid that csg and shape build from --dims, --voxel-size, --unit, --origin.
+ */
+#ifndef BVOX_CLI_MANIP_H
+#define BVOX_CLI_MANIP_H
+
+#include "args.h"
+#include "json.h"
+
+/* CLI_OK, or CLI_USAGE (message printed) when neither --output-format nor
+ * the name of out says which format to write. */
+int cli_check_output(const char *cmd, const char *out, const bvox_write_opts *wo);
+
+/* "A,B,C,D" (a plane), each finite; 0 on success. */
+int cli_parse_plane(const char *s, double p[4]);
+
+/* "0.5*x - y + 2*z - 12" for the plane p (zero terms left out). */
+void cli_format_plane(char *buf, size_t size, const double p[4]);
+
+/* "x 3..5, y 0..9, z 64..64" (inclusive) or "none" for an empty box. */
+void cli_print_box(FILE *f, const bvox_box *box);
+/* {"min":[x,y,z],"max":[x,y,z]} (inclusive) or null for an empty box. */
+void cli_json_box(cli_json *j, const bvox_box *box);
+/* Grow acc (half-open) to hold box; empty boxes change nothing. */
+void cli_box_union(bvox_box *acc, const bvox_box *box);
+
+/* The grid of csg and shape: dims from --dims (0 when not given), spacing
+ * from --voxel-size (default 1), unit from --unit, origin from --origin. */
+typedef struct cli_grid {
+    int origin_given;
+    double origin[3];
+} cli_grid;
+/* --origin X,Y,Z; CLI_ARG_NOT_MINE for anything else. */
+int cli_parse_grid_option(const char *cmd, int argc, char **argv, int *i, cli_grid *g);
+void cli_grid_to_opts(const cli_read_args *ra, const cli_grid *g, bvox_csg_eval_opts *o);
+
+#endif
