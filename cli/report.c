@@ -100,62 +100,68 @@ void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, con
 
 void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format)
 {
-    const bvox_geometry *g = &info->geometry;
-    char cu[32];
     cli_json j;
     cli_json_init(&j, f);
     cli_json_begin_object(&j);
-    cli_json_key(&j, "file");
-    cli_json_string(&j, source);
-    cli_json_key(&j, "format");
-    cli_json_string(&j, format);
-    cli_json_key(&j, "dims");
+    cli_info_json_fields(&j, info, source, format);
+    cli_json_end_object(&j);
+    fputc('\n', f);
+}
+
+void cli_info_json_fields(cli_json *j, const bvox_info *info, const char *source,
+                          const char *format)
+{
+    const bvox_geometry *g = &info->geometry;
+    char cu[32];
+    cli_json_key(j, "file");
+    cli_json_string(j, source);
+    cli_json_key(j, "format");
+    cli_json_string(j, format);
+    cli_json_key(j, "dims");
     const int64_t dims[3] = {info->dims.nx, info->dims.ny, info->dims.nz};
-    cli_json_int_array(&j, dims, 3);
-    cli_json_key(&j, "voxel_size");
-    cli_json_double_array(&j, g->spacing, 3);
-    cli_json_key(&j, "unit");
-    cli_json_string(&j, g->unit);
-    cli_json_key(&j, "origin");
-    cli_json_double_array(&j, g->origin, 3);
-    cli_json_key(&j, "count");
-    cli_json_int(&j, info->count);
-    cli_json_key(&j, "volume");
-    cli_json_double(&j, info->volume);
-    cli_json_key(&j, "volume_unit");
-    cli_json_string(&j, cube_unit(info, cu, sizeof cu));
+    cli_json_int_array(j, dims, 3);
+    cli_json_key(j, "voxel_size");
+    cli_json_double_array(j, g->spacing, 3);
+    cli_json_key(j, "unit");
+    cli_json_string(j, g->unit);
+    cli_json_key(j, "origin");
+    cli_json_double_array(j, g->origin, 3);
+    cli_json_key(j, "count");
+    cli_json_int(j, info->count);
+    cli_json_key(j, "volume");
+    cli_json_double(j, info->volume);
+    cli_json_key(j, "volume_unit");
+    cli_json_string(j, cube_unit(info, cu, sizeof cu));
     double k = to_mm3(g->unit);
-    cli_json_key(&j, "volume_mm3");
-    if (k > 0) cli_json_double(&j, info->volume * k);
-    else cli_json_null(&j);
+    cli_json_key(j, "volume_mm3");
+    if (k > 0) cli_json_double(j, info->volume * k);
+    else cli_json_null(j);
     /* Inclusive voxel indices (the library's box is half-open). */
-    cli_json_key(&j, "bbox");
+    cli_json_key(j, "bbox");
     if (info->empty) {
-        cli_json_null(&j);
+        cli_json_null(j);
     } else {
         const bvox_box b = info->bbox;
         const int64_t lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1 - 1, b.y1 - 1, b.z1 - 1};
-        cli_json_begin_object(&j);
-        cli_json_key(&j, "min");
-        cli_json_int_array(&j, lo, 3);
-        cli_json_key(&j, "max");
-        cli_json_int_array(&j, hi, 3);
-        cli_json_end_object(&j);
+        cli_json_begin_object(j);
+        cli_json_key(j, "min");
+        cli_json_int_array(j, lo, 3);
+        cli_json_key(j, "max");
+        cli_json_int_array(j, hi, 3);
+        cli_json_end_object(j);
     }
     /* Outer faces of those voxels in world coordinates. */
-    cli_json_key(&j, "bbox_physical");
+    cli_json_key(j, "bbox_physical");
     if (info->empty) {
-        cli_json_null(&j);
+        cli_json_null(j);
     } else {
         double lo[3], hi[3];
         bbox_physical(info, lo, hi);
-        cli_json_begin_object(&j);
-        cli_json_key(&j, "min");
-        cli_json_double_array(&j, lo, 3);
-        cli_json_key(&j, "max");
-        cli_json_double_array(&j, hi, 3);
-        cli_json_end_object(&j);
+        cli_json_begin_object(j);
+        cli_json_key(j, "min");
+        cli_json_double_array(j, lo, 3);
+        cli_json_key(j, "max");
+        cli_json_double_array(j, hi, 3);
+        cli_json_end_object(j);
     }
-    cli_json_end_object(&j);
-    fputc('\n', f);
 }

@@ -767,11 +767,12 @@ typedef enum bvox_stereo {
  * asked; then, and with axis_view 0, it is the projection proj (size 0: 512,
  * scale 0: fit), an axis view becoming the projection with the same image
  * axes (rows right, down, view of its eye frame).
- * The cut face: a hit voxel whose neighbour one voxel towards the removed
- * side (along the axis where the plane's normal moves fastest) was removed by
- * the cut is on the cut face; for projections, whose pre-image keeps the
- * depth to one pixel, within one more depth step. Those pixels are lit flat
- * with the plane's own normal (depth shading: their depth shade) and tinted
+ * The cut face: for an axis view, the pixels whose hit voxel is seen through
+ * a face the cut exposed (the voxel in front of it was in the object); for a
+ * projection, whose pre-image keeps depth only to a pixel unit, those whose
+ * hit point lies on the kept side within about one voxel (along the plane's
+ * normal) plus a depth step of the plane. They are lit flat with the plane's
+ * own normal (depth shading: their depth shade) and tinted
  * with cut_color, and the image is RGB; without a cut it is gray (anaglyphs
  * are RGB). */
 typedef struct bvox_render_opts {

@@ -41,6 +41,37 @@ static inline uint64_t combine(bvox_csg_op op, uint64_t d, uint64_t s, uint64_t 
     return d;
 }
 
+/* dst words k0..k1-1 OP= the source bits starting at 64k + sh, all of them
+ * inside src. */
+#define INTERIOR_LOOP(expr)                                                            \
+    do {                                                                               \
+        if (s == 0)                                                                    \
+            for (size_t k = k0; k < k1; k++) {                                         \
+                uint64_t d_ = dc[k], s_ = sc[(int64_t)k + q];                          \
+                dc[k] = (expr);                                                        \
+            }                                                                          \
+        else                                                                           \
+            for (size_t k = k0; k < k1; k++) {                                         \
+                int64_t w_ = (int64_t)k + q;                                           \
+                uint64_t d_ = dc[k], s_ = (sc[w_] >> s) | (sc[w_ + 1] << (64 - s));    \
+                dc[k] = (expr);                                                        \
+            }                                                                          \
+    } while (0)
+
+static void interior(bvox_csg_op op, uint64_t *restrict dc, const uint64_t *restrict sc,
+                     size_t k0, size_t k1, int64_t sh)
+{
+    int64_t q = sh >> 6; /* floor */
+    unsigned s = (unsigned)(sh & 63);
+    switch (op) {
+    case BVOX_CSG_UNION: INTERIOR_LOOP(d_ | s_); break;
+    case BVOX_CSG_INTERSECTION: INTERIOR_LOOP(d_ & s_); break;
+    case BVOX_CSG_DIFFERENCE: INTERIOR_LOOP(d_ & ~s_); break;
+    case BVOX_CSG_XOR: INTERIOR_LOOP(d_ ^ s_); break;
+    case BVOX_CSG_REPLACE: INTERIOR_LOOP(((void)d_, s_)); break;
+    }
+}
+
 /* One dst row y: columns under src are combined with the shifted src column;
  * columns outside src's footprint see src = 0. */
 static void shifted_rows(void *ctx, int64_t begin, int64_t end)
@@ -62,7 +93,17 @@ static void shifted_rows(void *ctx, int64_t begin, int64_t end)
                 continue;
             }
             const uint64_t *sc = bvox__column_c(s, (int32_t)sx, (int32_t)sy);
+            /* Words wholly inside the footprint, k0 <= k < k1: every bit
+             * comes from src, no mask, no bounds check, the op chosen once
+             * (most of a column). The (at most two) others below. */
+            size_t k0 = (size_t)((fz0 + 63) >> 6), k1 = (size_t)(fz1 >> 6);
+            bool inner = k1 > k0;
+            if (inner) interior(j->op, dc, sc, k0, k1, -(int64_t)j->oz);
             for (size_t k = 0; k < d->wpc; k++) {
+                if (inner && k == k0) {
+                    k = k1 - 1;
+                    continue;
+                }
                 int64_t z0 = (int64_t)k * 64;
                 int64_t lo = fz0 - z0, hi = fz1 - z0;
                 uint64_t fp = (lo >= 64 || hi <= 0)

@@ -116,6 +116,18 @@ extern const bvox__format bvox__format_raw;
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,
                              const bvox_write_opts *opts);
 
+/* NIfTI-1 output (nifti.c), shared with the label writer (nifti_labels.c):
+ * the header and empty extension flag before the voxel data, for vol's
+ * dimensions (each <= 32767: the caller checks) and geometry, samples of
+ * NIfTI datatype code `datatype` of `bitpix` bits in this CPU's byte order,
+ * display range 0..cal_max, NIfTI intent code `intent` (0: none), and
+ * "bvox VERSION descrip" as the description. */
+#define BVOX__NIFTI_DATA_OFFSET 352
+void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double cal_max,
+                        int intent, const char *descrip, uint8_t h[BVOX__NIFTI_DATA_OFFSET]);
+/* 1 if path ends in ".gz" (any case): the writer compresses. */
+bool bvox__path_has_gz(const char *path);
+
 /* Natural ("human") order of file names: "s2.png" < "s10.png". */
 int bvox__natural_compare(const char *a, const char *b);
 

@@ -23,7 +23,7 @@
 #include <zlib.h>
 
 #define HDR_SIZE 348
-#define MIN_VOX_OFFSET 352 /* header + the 4-byte extension flag */
+#define MIN_VOX_OFFSET BVOX__NIFTI_DATA_OFFSET /* header + the 4-byte extension flag */
 /* A gzip stream may carry a little padding after the voxel data; more than
  * this beyond what the header promises is treated as a bomb. */
 #define GZ_SLACK 65536
@@ -452,7 +452,8 @@ static void rot_to_quatern(const double dir[9], double q[3], double *qfac)
     q[0] = b, q[1] = cc, q[2] = d;
 }
 
-static void build_header(const bvox_volume *vol, uint8_t h[MIN_VOX_OFFSET])
+void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double cal_max,
+                        int intent, const char *descrip, uint8_t h[BVOX__NIFTI_DATA_OFFSET])
 {
     const bvox_geometry *g = &vol->geom;
     memset(h, 0, MIN_VOX_OFFSET);
@@ -472,19 +473,20 @@ static void build_header(const bvox_volume *vol, uint8_t h[MIN_VOX_OFFSET])
     h[38] = 'r'; /* "regular", as Analyze wanted */
     int16_t dim[8] = {3, (int16_t)vol->nx, (int16_t)vol->ny, (int16_t)vol->nz, 1, 1, 1, 1};
     for (int i = 0; i < 8; i++) put16(h, 40 + 2 * (size_t)i, dim[i]);
-    put16(h, 70, DT_UINT8);
-    put16(h, 72, 8);
+    put16(h, 68, (int16_t)intent);
+    put16(h, 70, (int16_t)datatype);
+    put16(h, 72, (int16_t)bitpix);
     putf(h, 76, qfac);
     for (int i = 0; i < 3; i++) putf(h, 80 + 4 * (size_t)i, sp[i]);
     for (int i = 3; i < 7; i++) putf(h, 80 + 4 * (size_t)i, 1.0);
     putf(h, 108, MIN_VOX_OFFSET);
-    putf(h, 112, 1.0); /* scl_slope: values are exactly 0 and 1 */
+    putf(h, 112, 1.0); /* scl_slope: values are stored exactly */
     putf(h, 116, 0.0);
     h[123] = (uint8_t)code;
-    putf(h, 124, 1.0); /* cal_max / cal_min: a viewer's display range */
+    putf(h, 124, cal_max); /* cal_max / cal_min: a viewer's display range */
     putf(h, 128, 0.0);
     put32(h, 140, 1);
-    snprintf((char *)h + 148, 80, "bvox %s binary volume", BVOX_VERSION);
+    snprintf((char *)h + 148, 80, "bvox %s %s", BVOX_VERSION, descrip);
     /* code 1 (scanner-based) for both, so readers that prefer either agree */
     put16(h, 252, 1);
     put16(h, 254, 1);
@@ -499,7 +501,7 @@ static void build_header(const bvox_volume *vol, uint8_t h[MIN_VOX_OFFSET])
     /* bytes 348..351: no extensions */
 }
 
-static bool has_gz_suffix(const char *path)
+bool bvox__path_has_gz(const char *path)
 {
     size_t n = strlen(path);
     return n >= 3 && (path[n - 3] == '.') && (path[n - 2] | 32) == 'g' && (path[n - 1] | 32) == 'z';
@@ -515,7 +517,7 @@ static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
                           "%ld x %ld)",
                           path, (long)vol->nx, (long)vol->ny, (long)vol->nz);
     uint8_t h[MIN_VOX_OFFSET];
-    build_header(vol, h);
+    bvox__nifti_header(vol, DT_UINT8, 8, 1.0, 0, "binary volume", h);
     int32_t chunk = vol->nz < 64 ? vol->nz : 64;
     size_t slice = (size_t)vol->nx * (size_t)vol->ny, bytes;
     if (!bvox__mul_size(slice, (size_t)chunk, &bytes))
@@ -527,7 +529,7 @@ static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
         return st;
     }
     bvox__sink s;
-    st = bvox__sink_open(path, has_gz_suffix(path), &s);
+    st = bvox__sink_open(path, bvox__path_has_gz(path), &s);
     if (st == BVOX_OK) st = bvox__sink_write(&s, h, sizeof h);
     for (int32_t z0 = 0; st == BVOX_OK && z0 < vol->nz; z0 += 64) {
         int32_t n = vol->nz - z0 < 64 ? vol->nz - z0 : 64;
