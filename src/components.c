@@ -110,12 +110,24 @@ static int cmp_by_size(const void *pa, const void *pb)
     return a->id < b->id ? -1 : a->id > b->id;
 }
 
+/* The per-run arrays can be hundreds of megabytes (a random volume has a run
+ * every few voxels): they go through the budgeted allocator. */
+static void *run_array(size_t nruns, size_t elem, bvox_status *st)
+{
+    return bvox__alloc((nruns ? nruns : 1) * elem, false, "component runs", st);
+}
+
+static void run_array_free(void *p, size_t nruns, size_t elem)
+{
+    bvox__free(p, (nruns ? nruns : 1) * elem);
+}
+
 void bvox_components_destroy(bvox_components *c)
 {
     if (!c) return;
     free(c->col_start);
-    free(c->runs);
-    free(c->rank);
+    run_array_free(c->runs, c->nruns, sizeof *c->runs);
+    run_array_free(c->rank, c->nruns, sizeof *c->rank);
     free(c->items);
     free(c);
 }
@@ -133,8 +145,8 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
     c->col_start = malloc((c->ncol + 1) * sizeof *c->col_start);
     uint32_t *parent = NULL, *roots = NULL;
     bvox_status st = BVOX_OK;
-    if (!c->col_start) goto oom;
     size_t total = 0;
+    if (!c->col_start) goto oom;
     for (size_t col = 0; col < c->ncol; col++) {
         c->col_start[col] = total;
         total += count_runs(vol->words + col * vol->wpc, vol->wpc);
@@ -145,9 +157,10 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
         st = bvox__fail(BVOX_ETOOBIG, "%zu runs: too many to label", total);
         goto fail;
     }
-    c->runs = malloc((total ? total : 1) * sizeof *c->runs);
-    parent = malloc((total ? total : 1) * sizeof *parent);
-    if (!c->runs || !parent) goto oom;
+    c->runs = run_array(total, sizeof *c->runs, &st);
+    if (!c->runs) goto fail;
+    parent = run_array(total, sizeof *parent, &st);
+    if (!parent) goto fail;
     for (size_t col = 0; col < c->ncol; col++)
         list_runs(vol->words + col * vol->wpc, vol->wpc, c->runs + c->col_start[col]);
     for (size_t i = 0; i < total; i++) parent[i] = (uint32_t)i;
@@ -170,8 +183,8 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
         }
 
     /* Roots are numbered in run order; sum statistics per root. */
-    roots = malloc((total ? total : 1) * sizeof *roots);
-    if (!roots) goto oom;
+    roots = run_array(total, sizeof *roots, &st);
+    if (!roots) goto fail;
     int64_t ncomp = 0;
     for (size_t i = 0; i < total; i++) {
         uint32_t r = find(parent, (uint32_t)i);
@@ -179,8 +192,9 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
     }
     c->count = ncomp;
     c->items = calloc(ncomp ? (size_t)ncomp : 1, sizeof *c->items);
-    c->rank = malloc((total ? total : 1) * sizeof *c->rank);
-    if (!c->items || !c->rank) goto oom;
+    if (!c->items) goto oom;
+    c->rank = run_array(total, sizeof *c->rank, &st);
+    if (!c->rank) goto fail;
     for (size_t col = 0; col < c->ncol; col++) {
         int32_t x = (int32_t)(col % nx), y = (int32_t)(col / nx);
         for (size_t i = c->col_start[col]; i < c->col_start[col + 1]; i++) {
@@ -222,13 +236,13 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
 oom:
     st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
 fail:
-    free(parent);
-    free(roots);
+    run_array_free(parent, total, sizeof *parent);
+    run_array_free(roots, total, sizeof *roots);
     bvox_components_destroy(c);
     return st;
 done:
-    free(parent);
-    free(roots);
+    run_array_free(parent, total, sizeof *parent);
+    run_array_free(roots, total, sizeof *roots);
     *out = c;
     return BVOX_OK;
 }

@@ -153,3 +153,25 @@ TEST(constructed_cases_by_connectivity)
     bvox_volume_destroy(v);
     return 0;
 }
+
+TEST(run_arrays_respect_the_budget)
+{
+    /* a checkerboard-like random volume has a run every two voxels: its run
+     * arrays are larger than the volume, and must count against the budget */
+    voxref *r = voxref_create(64, 64, 64);
+    voxref_random(r, 1, 2, harness_rand);
+    bvox_volume *v = voxref_to_volume(r);
+    bvox_set_memory_budget(bvox_memory_in_use() + 40000);
+    bvox_components *comps = (bvox_components *)1;
+    CHECK_STATUS(bvox_components_find(v, 26, &comps), BVOX_ETOOBIG);
+    CHECK(comps == NULL);
+    bvox_set_memory_budget(0);
+    size_t before = bvox_memory_in_use();
+    CHECK_OK(bvox_components_find(v, 26, &comps));
+    CHECK(bvox_memory_in_use() > before);
+    bvox_components_destroy(comps);
+    CHECK_EQ(bvox_memory_in_use(), before);
+    bvox_volume_destroy(v);
+    voxref_destroy(r);
+    return 0;
+}
