@@ -27,6 +27,16 @@ typedef struct cli_command {
 int cmd_info(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
+int cmd_morph(int argc, char **argv);
+int cmd_components(int argc, char **argv);
+int cmd_measure(int argc, char **argv);
+int cmd_edit(int argc, char **argv);
+int cmd_cut(int argc, char **argv);
+int cmd_csg(int argc, char **argv);
+int cmd_shape(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_mosaic(int argc, char **argv);
+int cmd_image(int argc, char **argv);
 
 /* "bvox: <message>" on stderr for a failed library call; returns CLI_FAIL. */
 int cli_fail(void);
@@ -37,5 +47,10 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format
  * object. source (a file name) and format may be NULL. */
 void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, const char *format);
 void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format);
+/* The keys of cli_print_info_json, written into an object the caller has
+ * opened (commands that report more, like measure, start with them). */
+struct cli_json;
+void cli_info_json_fields(struct cli_json *j, const bvox_info *info, const char *source,
+                          const char *format);
 
 #endif

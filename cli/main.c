@@ -12,6 +12,16 @@ static const cli_command commands[] = {
     {"info", cmd_info, "print dimensions, voxel size, count, volume and bounding box"},
     {"convert", cmd_convert, "convert between formats (binarising gray/label images)"},
     {"demo", cmd_demo, "build the sample specimen, print its info, optionally write it"},
+    {"morph", cmd_morph, "dilate, erode, open, close, fill cavities, hollow, remove islands"},
+    {"components", cmd_components, "list connected components; keep the largest; label map"},
+    {"measure", cmd_measure, "surface area, centroid, principal axes, topology, per component"},
+    {"edit", cmd_edit, "set or clear voxels and boxes, keep a box or one side of a plane"},
+    {"cut", cmd_cut, "cut by a plane ax+by+cz+d=0 (world coordinates), keep one side"},
+    {"csg", cmd_csg, "set operations on files and shapes: \"a.nii - sphere(r=2)\""},
+    {"shape", cmd_shape, "draw a sphere, ellipsoid, box, cylinder, cone, torus or half-space"},
+    {"render", cmd_render, "shaded picture: axis/iso/any view, cut, stereo, sheet, turntable"},
+    {"mosaic", cmd_mosaic, "the data set as the frame buffer held it: 8 slices per byte"},
+    {"image", cmd_image, "2D image operations: zoom, average (Figure 5), filter, pan"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

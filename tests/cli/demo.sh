@@ -1,9 +1,9 @@
 #!/bin/sh
 # demo.sh — `bvox demo` builds the sample specimen and reports it; the files
 # it writes with -o (NIfTI and TIFF) read back with the same dimensions and
-# count; the count agrees with the specimen's exact volume, computed here in
-# closed form from its shapes (see src/demo.c), within the discretisation
-# error of 10 x 10 x 25 um voxels.
+# count, and the paper's four pictures are there; the count agrees with the
+# specimen's exact volume, computed here in closed form from its shapes (see
+# src/demo.c), within the discretisation error of 10 x 10 x 25 um voxels.
 # Usage: sh demo.sh BVOX DATADIR
 set -eu
 BVOX=$1
@@ -52,9 +52,22 @@ b = obj["bbox"]
 assert b["min"][0] + b["max"][0] == 255 and b["min"][1] + b["max"][1] == 255, b
 PY
 
-# Exactly the two files, no temporary ones; each reads back the same.
-[ "$(ls -A "$tmp/out/sub" | tr '\n' ' ')" = "specimen.nii.gz specimen.tif " ] ||
+# Exactly the two files and the four pictures, no temporary ones; each
+# volume reads back the same.
+[ "$(ls -A "$tmp/out/sub" | tr '\n' ' ')" = \
+  "picture1.png picture2.png picture3.png picture4.png specimen.nii.gz specimen.tif " ] ||
     fail "demo -o wrote: $(ls -A "$tmp/out/sub")"
+# The paper's pictures: 512 x 512, gray but for picture 3 (its cut face
+# tinted); their content is compared with golden copies by the unit test
+# render_pictures.
+python3 - "$tmp/out/sub" <<'PY' || fail "the pictures"
+import struct, sys
+for k, color in ((1, 0), (2, 0), (3, 2), (4, 0)):
+    head = open("%s/picture%d.png" % (sys.argv[1], k), "rb").read(33)
+    assert head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR", k
+    w, h, depth, ctype = struct.unpack(">IIBB", head[16:26])
+    assert (w, h, depth, ctype) == (512, 512, 8, color), (k, w, h, depth, ctype)
+PY
 for f in specimen.nii.gz specimen.tif; do
     "$BVOX" info "$tmp/out/sub/$f" --json >"$tmp/$f.json" || fail "info $f exited $?"
     python3 - "$tmp/$f.json" "$count" "$f" <<'PY' || fail "$f does not read back"

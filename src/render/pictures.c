@@ -1,0 +1,104 @@
+/*
+ * pictures.c — the paper's four pictures (section 4 and its plates) made
+ * from one volume, for `bvox demo`:
+ *   1  binary gradient and depth shaded;
+ *   2  depth shaded, zoomed x2 (with the pixel averaging of Figure 5) and
+ *      high-pass filtered;
+ *   3  "the same" (as 2), but the object resliced along a plane;
+ *   4  the voxel data set as stored in one of the frame buffers (mosaic).
+ * The view is the isometric one from (+1, +1, +1), z up, so the specimen
+ * stands on end; the reslicing plane is x = the centre of the volume,
+ * keeping the lower x, so the view sees the cut face (the bored hole, the
+ * ring's and the cap's sections) beside the untouched surface. The frame buffer held 128^3 voxels: a larger
+ * section is shown by every n-th column (whole columns of words copied), so
+ * the 256 x 256 x 128 specimen fills the paper's 512 x 512 exactly.
+ */
+#include "scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PICTURE_SIZE 512
+
+/* Every step-th column in x and y: nx and ny at most 128. */
+static bvox_status subsample_xy(const bvox_volume *vol, bvox_volume **out)
+{
+    int32_t step = 1;
+    while ((vol->nx + step - 1) / step > 128 || (vol->ny + step - 1) / step > 128) step++;
+    bvox_dims d = {(vol->nx + step - 1) / step, (vol->ny + step - 1) / step, vol->nz};
+    bvox_status st = bvox_volume_create(d, out);
+    if (st) return st;
+    bvox_geometry g = vol->geom;
+    g.spacing[0] *= step, g.spacing[1] *= step;
+    (*out)->geom = g;
+    for (int32_t y = 0; y < d.ny; y++)
+        for (int32_t x = 0; x < d.nx; x++)
+            memcpy(bvox__column(*out, x, y), bvox__column_c(vol, x * step, y * step),
+                   vol->wpc * sizeof(uint64_t));
+    return BVOX_OK;
+}
+
+static void picture_opts(const bvox_volume *vol, int k, bvox_render_opts *o)
+{
+    *o = bvox_render_opts_default();
+    bvox_render_parse_view("iso", o); /* cannot fail */
+    o->proj.width = o->proj.height = k == 1 ? PICTURE_SIZE : PICTURE_SIZE / 2;
+    if (k == 1) return; /* binary gradient + depth */
+    o->shade = BVOX_SHADE_DEPTH;
+    o->depth.far_value = 0; /* the object spans only part of the sphere's depth */
+    o->average = 1;
+    o->filter = BVOX_FILTER_HIGHPASS;
+    if (k == 3) {
+        /* through the centre of the volume, across its index x axis (the
+         * world direction of that axis is column 0 of direction) */
+        const bvox_geometry *g = &vol->geom;
+        const double half[3] = {(vol->nx - 1) * 0.5 * g->spacing[0],
+                                (vol->ny - 1) * 0.5 * g->spacing[1],
+                                (vol->nz - 1) * 0.5 * g->spacing[2]};
+        o->cut = 1;
+        o->plane[3] = 0;
+        for (int r = 0; r < 3; r++) {
+            double centre = g->origin[r];
+            for (int a = 0; a < 3; a++) centre += g->direction[3 * r + a] * half[a];
+            o->plane[r] = g->direction[3 * r];
+            o->plane[3] -= o->plane[r] * centre;
+        }
+        o->keep_above = 0;
+    }
+}
+
+bvox_status bvox_demo_picture(const bvox_volume *vol, int k, bvox_image **out)
+{
+    *out = NULL;
+    if (!vol) return bvox__fail(BVOX_EINVAL, "picture: no volume");
+    if (k < 1 || k > 4) return bvox__fail(BVOX_EINVAL, "picture %d: there are pictures 1..4", k);
+    if (k == 4) {
+        bvox_volume *small = NULL;
+        bvox_status st = subsample_xy(vol, &small);
+        if (!st) st = bvox_mosaic(small, NULL, out);
+        bvox_volume_destroy(small);
+        return st;
+    }
+    bvox_render_opts o;
+    picture_opts(vol, k, &o);
+    return bvox_render(vol, &o, out, NULL);
+}
+
+bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
+{
+    if (!dir) return bvox__fail(BVOX_EINVAL, "pictures: no folder");
+    size_t size = strlen(dir) + 16;
+    char *path = malloc(size);
+    if (!path) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    bvox_status st = BVOX_OK;
+    for (int k = 1; k <= 4 && !st; k++) {
+        bvox_image *img = NULL;
+        st = bvox_demo_picture(vol, k, &img);
+        snprintf(path, size, "%s/picture%d.png", dir, k);
+        if (!st) st = bvox_image_write_png(img, path);
+        bvox_image_destroy(img);
+    }
+    free(path);
+    return st;
+}

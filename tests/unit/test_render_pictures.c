@@ -1,0 +1,134 @@
+/* test_render_pictures.c — the paper's four pictures of the built-in
+ * specimen (bvox_demo_picture / bvox_demo_pictures) against golden copies
+ * in tests/data/golden/: each picture is reduced 4 x 4 -> 1 by averaging
+ * (so the goldens stay small) and must match within a mean absolute
+ * difference of 2 gray levels. The goldens were looked at once when made;
+ * remake them after a deliberate change with BVOX_UPDATE_GOLDEN=1 (the test
+ * then writes them instead of comparing) and look at them again. */
+#include "harness.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define REDUCE 4
+
+static bvox_image *reduce(const bvox_image *in)
+{
+    bvox_image *out = NULL;
+    const int w = in->width / REDUCE, h = in->height / REDUCE, ch = in->channels;
+    if (bvox_image_create(w, h, ch, 8, &out)) return NULL;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++)
+            for (int c = 0; c < ch; c++) {
+                int sum = 0;
+                for (int j = 0; j < REDUCE; j++)
+                    for (int i = 0; i < REDUCE; i++)
+                        sum += in->pixels[((size_t)(y * REDUCE + j) * in->width + x * REDUCE + i) * ch + c];
+                out->pixels[((size_t)y * w + x) * ch + c] =
+                    (uint8_t)((sum + REDUCE * REDUCE / 2) / (REDUCE * REDUCE));
+            }
+    return out;
+}
+
+static const char *golden_path(int k)
+{
+    static char path[1024];
+    snprintf(path, sizeof path, "%s/golden/picture%d.png", harness_data_dir(), k);
+    return path;
+}
+
+static int check_picture(int k, int want_w, int want_h, int want_channels)
+{
+    bvox_volume *v;
+    CHECK_OK(bvox_demo_specimen(&v));
+    bvox_image *pic;
+    CHECK_OK(bvox_demo_picture(v, k, &pic));
+    bvox_volume_destroy(v);
+    CHECK_EQ(pic->width, want_w);
+    CHECK_EQ(pic->height, want_h);
+    CHECK_EQ(pic->channels, want_channels);
+    bvox_image *small = reduce(pic);
+    CHECK(small != NULL);
+    bvox_image_destroy(pic);
+    const char *update = getenv("BVOX_UPDATE_GOLDEN");
+    if (update && *update == '1') {
+        CHECK_OK(bvox_image_write_png(small, golden_path(k)));
+        fprintf(stderr, "wrote %s: look at it\n", golden_path(k));
+        bvox_image_destroy(small);
+        return 0;
+    }
+    bvox_image *gold;
+    CHECK_OK(bvox_image_read_png(golden_path(k), &gold));
+    CHECK_EQ(gold->width, small->width);
+    CHECK_EQ(gold->height, small->height);
+    CHECK_EQ(gold->channels, small->channels);
+    size_t n = (size_t)gold->width * gold->height * gold->channels;
+    double sum = 0;
+    for (size_t i = 0; i < n; i++) sum += abs((int)gold->pixels[i] - (int)small->pixels[i]);
+    fprintf(stderr, "picture%d: mean absolute difference %.4f\n", k, sum / (double)n);
+    CHECK(sum / (double)n <= 2.0);
+    bvox_image_destroy(gold);
+    bvox_image_destroy(small);
+    return 0;
+}
+
+TEST(picture1_golden) { return check_picture(1, 512, 512, 1); }
+TEST(picture2_golden) { return check_picture(2, 512, 512, 1); }
+TEST(picture3_golden) { return check_picture(3, 512, 512, 3); }
+TEST(picture4_golden) { return check_picture(4, 512, 512, 1); }
+
+/* The files bvox_demo_pictures writes are the pictures; picture 3 shows a
+ * tinted cut face, picture 4 is the mosaic of every other column. */
+TEST(pictures_written)
+{
+    bvox_volume *v;
+    CHECK_OK(bvox_demo_specimen(&v));
+    CHECK_OK(bvox_demo_pictures(v, harness_tmpdir()));
+    for (int k = 1; k <= 4; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "picture%d.png", k);
+        bvox_image *got, *want;
+        CHECK_OK(bvox_image_read_png(harness_path(name), &got));
+        CHECK_OK(bvox_demo_picture(v, k, &want));
+        CHECK_EQ(got->channels, want->channels);
+        CHECK(!memcmp(got->pixels, want->pixels, (size_t)512 * 512 * want->channels));
+        if (k == 3) {
+            int tinted = 0;
+            for (size_t i = 0; i < (size_t)512 * 512; i++)
+                tinted += got->pixels[3 * i] > got->pixels[3 * i + 2] + 40;
+            CHECK(tinted > 5000);
+        }
+        bvox_image_destroy(got), bvox_image_destroy(want);
+    }
+    /* picture 4: voxel (2x, 2y, z) at pixel (x, y) of section z / 8, bit z % 8 */
+    bvox_image *mosaic;
+    bvox_mosaic_opts o = {0xff, BVOX_MOSAIC_BYTES, 0};
+    bvox_volume *small;
+    CHECK_OK(bvox_volume_create((bvox_dims){128, 128, 128}, &small));
+    for (int z = 0; z < 128; z++)
+        for (int y = 0; y < 128; y++)
+            for (int x = 0; x < 128; x++)
+                if (bvox_volume_get(v, 2 * x, 2 * y, z)) bvox_volume_set(small, x, y, z, 1);
+    CHECK_OK(bvox_mosaic(small, &o, &mosaic));
+    bvox_image *pic4, *want4;
+    CHECK_OK(bvox_demo_picture(v, 4, &pic4));
+    bvox_mosaic_opts dflt = BVOX_MOSAIC_OPTS_INIT;
+    CHECK_OK(bvox_mosaic(small, &dflt, &want4));
+    CHECK(!memcmp(pic4->pixels, want4->pixels, 512 * 512));
+    /* the specimen's bottom (z = 21) is in section 2, its top (z = 123) in 15 */
+    int any2 = 0, any0 = 0;
+    for (int y = 0; y < 128; y++)
+        for (int x = 0; x < 128; x++) {
+            any0 |= mosaic->pixels[y * 512 + x];
+            any2 |= mosaic->pixels[y * 512 + 256 + x];
+        }
+    CHECK(any0 == 0 && any2 != 0);
+    bvox_image_destroy(mosaic), bvox_image_destroy(pic4), bvox_image_destroy(want4);
+    bvox_volume_destroy(small);
+    bvox_image *x;
+    CHECK_STATUS(bvox_demo_picture(v, 5, &x), BVOX_EINVAL);
+    CHECK_STATUS(bvox_demo_pictures(v, harness_path("missing/dir")), BVOX_ENOTFOUND);
+    bvox_volume_destroy(v);
+    return 0;
+}
