@@ -318,3 +318,18 @@ const char *cli_input_format(const char *path, const cli_read_args *a)
 {
     return a->opts.format ? a->opts.format : bvox_format_for_path(path);
 }
+
+int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, const char **out,
+                            bvox_write_opts *wo)
+{
+    const char *v = NULL;
+    int r;
+    if ((r = cli_match_value(cmd, argc, argv, i, "-o", &v)) ||
+        (r = cli_match_value(cmd, argc, argv, i, "--output", &v))) {
+        if (r == CLI_ARG_USED) *out = v;
+        return r;
+    }
+    if ((r = cli_match_value(cmd, argc, argv, i, "--output-format", &v)) == CLI_ARG_USED)
+        wo->format = v;
+    return r;
+}

@@ -61,6 +61,11 @@ int cli_match_value(const char *cmd, int argc, char **argv, int *i, const char *
 /* 1 if arg is an option (starts with '-' and is not "-" alone). */
 int cli_is_option(const char *arg);
 
+/* -o/--output OUT (sets *out) and --output-format NAME (sets wo->format), for
+ * the commands that write a volume. Same returns as cli_match_value. */
+int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, const char **out,
+                            bvox_write_opts *wo);
+
 /* Strict parsers: the whole string must be consumed; 0 on success. */
 int cli_parse_double(const char *s, double *out);     /* finite */
 int cli_parse_int64(const char *s, int64_t lo, int64_t hi, int64_t *out);

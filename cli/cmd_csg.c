@@ -76,7 +76,7 @@ static bvox_status load(void *ctx, const char *name, bvox_volume **out)
 
 int cmd_csg(int argc, char **argv)
 {
-    const char *cmd = "csg", *expr = NULL, *out = NULL, *v = NULL;
+    const char *cmd = "csg", *expr = NULL, *out = NULL;
     cli_read_args ra;
     cli_read_args_init(&ra);
     cli_grid grid = {0, {0, 0, 0}};
@@ -96,13 +96,8 @@ int cmd_csg(int argc, char **argv)
             json = 1;
         } else if (!strcmp(arg, "--check")) {
             check = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
+        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
-            out = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            wo.format = v;
         } else if ((r = cli_parse_grid_option(cmd, argc, argv, &i, &grid))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
         } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {

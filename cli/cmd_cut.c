@@ -57,13 +57,8 @@ int cmd_cut(int argc, char **argv)
             return CLI_OK;
         } else if (!strcmp(arg, "--json")) {
             json = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
+        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
-            out = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            wo.format = v;
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--plane", &v))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
             if (cli_parse_plane(v, plane))

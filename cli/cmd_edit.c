@@ -242,15 +242,8 @@ int cmd_edit(int argc, char **argv)
             json = 1;
             continue;
         }
-        if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-            (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
+        if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
             if (r == CLI_ARG_BAD) goto done;
-            out = v;
-            continue;
-        }
-        if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &v))) {
-            if (r == CLI_ARG_BAD) goto done;
-            wo.format = v;
             continue;
         }
         for (int t = 0; t < NKINDS && k < 0; t++) {

@@ -124,13 +124,8 @@ int cmd_morph(int argc, char **argv)
         } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
             help(stdout);
             return CLI_OK;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
+        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
-            out = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            wo.format = v;
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--radius", &v))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
             if (cli_parse_double(v, &radius) || !(radius > 0))

@@ -88,7 +88,7 @@ static bvox_status no_files(void *ctx, const char *name, bvox_volume **out)
 
 int cmd_shape(int argc, char **argv)
 {
-    const char *cmd = "shape", *kind = NULL, *out = NULL, *v = NULL;
+    const char *cmd = "shape", *kind = NULL, *out = NULL;
     cli_read_args ra;
     cli_read_args_init(&ra);
     cli_grid grid = {0, {0, 0, 0}};
@@ -121,13 +121,8 @@ int cmd_shape(int argc, char **argv)
             goto done;
         } else if (!strcmp(arg, "--json")) {
             json = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
+        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
             if (r == CLI_ARG_BAD) goto done;
-            out = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &v))) {
-            if (r == CLI_ARG_BAD) goto done;
-            wo.format = v;
         } else if ((r = cli_parse_grid_option(cmd, argc, argv, &i, &grid))) {
             if (r == CLI_ARG_BAD) goto done;
         } else if ((!strncmp(arg, "--dims", 6) || !strncmp(arg, "--voxel-size", 12) ||
