@@ -12,22 +12,8 @@ BVOX=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "$0")/lib/common.sh"
 
-# mk NAME NX NY NZ PYEXPR [read options]: NAME.nii whose voxel (x, y, z) is
-# PYEXPR (a Python boolean of x, y, z), through raw u8 bytes and convert.
-mk() {
-    name=$1 nx=$2 ny=$3 nz=$4 expr=$5
-    shift 5
-    python3 - "$tmp/$name.raw" "$nx" "$ny" "$nz" "$expr" <<'PY'
-import sys
-out, nx, ny, nz, expr = sys.argv[1], *map(int, sys.argv[2:5]), sys.argv[5]
-f = eval("lambda x, y, z: " + expr)
-open(out, "wb").write(bytes(1 if f(x, y, z) else 0
-                            for z in range(nz) for y in range(ny) for x in range(nx)))
-PY
-    "$BVOX" convert "$tmp/$name.raw" "$tmp/$name.nii" --dims "$nx,$ny,$nz" --type u8 "$@" ||
-        fail "making $name.nii"
-}
 
 # jcheck FILE PYEXPR: PYEXPR (about o, the one JSON object in FILE) holds.
 jcheck() {
