@@ -9,6 +9,7 @@
  *             [--simd generic|avx2|avx512] [--no-ref]
  */
 #include "internal.h"
+#include "bench_util.h"
 #include "ref/voxref.h"
 
 #include <pthread.h>
@@ -61,32 +62,6 @@ static uint64_t rnd(void)
 
 /* ---- memcpy baseline, split over threads like the library splits ops ---- */
 
-typedef struct copy_part {
-    uint8_t *dst;
-    const uint8_t *src;
-    size_t n;
-} copy_part;
-
-static void *copy_run(void *p)
-{
-    copy_part *c = p;
-    memcpy(c->dst, c->src, c->n);
-    return NULL;
-}
-
-static void parallel_memcpy(void *dst, const void *src, size_t n, int threads)
-{
-    copy_part parts[64];
-    pthread_t tid[64];
-    if (threads > 64) threads = 64;
-    for (int t = 0; t < threads; t++) {
-        size_t a = n * (size_t)t / (size_t)threads, b = n * (size_t)(t + 1) / (size_t)threads;
-        parts[t] = (copy_part){(uint8_t *)dst + a, (const uint8_t *)src + a, b - a};
-    }
-    for (int t = 1; t < threads; t++) pthread_create(&tid[t], NULL, copy_run, &parts[t]);
-    copy_run(&parts[0]);
-    for (int t = 1; t < threads; t++) pthread_join(tid[t], NULL);
-}
 
 /* ---- specimens ---- */
 

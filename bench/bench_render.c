@@ -24,6 +24,7 @@
  *   bench_render [--quick] [--runs N] [--sizes 256,512,1024 | --n N] [--no-ref]
  */
 #include "internal.h"
+#include "bench_util.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -154,37 +155,6 @@ static int64_t mismatch(const int32_t *a, const int32_t *b, size_t n, int tol)
 }
 
 
-/* Nearest-neighbour resampling of src to n^3, as bench_manip.c does it:
- * voxel i takes source voxel floor((i + 1/2) * ns / n) on each axis, built a
- * word at a time. */
-static bvox_volume *resample(const bvox_volume *src, int n)
-{
-    bvox_volume *v = NULL;
-    int32_t *zmap = malloc((size_t)n * sizeof *zmap);
-    if (!zmap || bvox_volume_create((bvox_dims){n, n, n}, &v) != BVOX_OK) {
-        free(zmap);
-        return NULL;
-    }
-    for (int i = 0; i < n; i++) zmap[i] = (int32_t)(((double)i + 0.5) * src->nz / n);
-    for (int y = 0; y < n; y++) {
-        int32_t sy = (int32_t)(((double)y + 0.5) * src->ny / n);
-        for (int x = 0; x < n; x++) {
-            int32_t sx = (int32_t)(((double)x + 0.5) * src->nx / n);
-            const uint64_t *sc = bvox__column_c(src, sx, sy);
-            uint64_t *dc = bvox__column(v, x, y);
-            for (size_t k = 0; k < v->wpc; k++) {
-                uint64_t w = 0;
-                for (int b = 0; b < 64 && (int)k * 64 + b < n; b++) {
-                    int32_t sz = zmap[k * 64 + (size_t)b];
-                    w |= ((sc[sz >> 6] >> (sz & 63)) & 1) << b;
-                }
-                dc[k] = w;
-            }
-        }
-    }
-    free(zmap);
-    return v;
-}
 
 static bvox_volume *make_sphere(int n)
 {
