@@ -948,6 +948,11 @@ bvox_csg_eval_opts bvox_csg_eval_opts_default(void);
  * the loader's status for a file, BVOX_ETOOBIG/BVOX_ENOMEM for memory. */
 bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts, bvox_volume **out);
 
+/* Later subsystems, one header each (they rely on the types above). */
+#include "bvox/contours.h" /* section outlines: the reconstruction data model */
+#include "bvox/recon.h"    /* images of serial sections -> aligned contour stack -> model */
+#include "bvox/mesh.h"     /* volume <-> triangle meshes */
+
 #ifdef __cplusplus
 }
 #endif
