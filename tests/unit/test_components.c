@@ -175,3 +175,86 @@ TEST(run_arrays_respect_the_budget)
     voxref_destroy(r);
     return 0;
 }
+
+/* Slabs of rows labelled on several threads and joined at the seams, the
+ * popcnt and portable join paths, and the word-boundary contacts (runs that
+ * touch diagonally across bits 63/64): everything must give the flood fill's
+ * partition, sizes, bounding boxes and ranks (largest first, ties in scan
+ * order of the first run). */
+TEST(threaded_slabs_and_both_join_paths)
+{
+    static const int sizes[][3] = {{9, 70, 130}, {33, 48, 64}, {5, 96, 65}};
+    const int conns[3] = {6, 18, 26};
+    const bvox_simd levels[2] = {BVOX_SIMD_GENERIC, BVOX_SIMD_AUTO};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+        const int *s = sizes[si];
+        voxref *r = voxref_create(s[0], s[1], s[2]);
+        voxref_random(r, 2, 5, harness_rand);
+        bvox_volume *v = voxref_to_volume(r);
+        size_t n = (size_t)s[0] * s[1] * s[2];
+        int32_t *labels = malloc(n * sizeof *labels);
+        int64_t *ref_sizes = malloc((n + 1) * sizeof *ref_sizes);
+        uint32_t *ours = malloc(n * sizeof *ours);
+        for (int c = 0; c < 3; c++) {
+            int64_t want = ref_label(r, conns[c], labels, ref_sizes);
+            /* reference boxes per flood-fill label */
+            bvox_box *box = malloc(((size_t)want + 1) * sizeof *box);
+            for (int64_t i = 0; i <= want; i++) box[i] = (bvox_box){INT32_MAX, INT32_MAX, INT32_MAX, 0, 0, 0};
+            for (size_t i = 0; i < n; i++) {
+                if (!labels[i]) continue;
+                int32_t x = (int32_t)(i % (size_t)s[0]), y = (int32_t)(i / (size_t)s[0] % (size_t)s[1]),
+                        z = (int32_t)(i / ((size_t)s[0] * s[1]));
+                bvox_box *b = &box[labels[i]];
+                if (x < b->x0) b->x0 = x;
+                if (y < b->y0) b->y0 = y;
+                if (z < b->z0) b->z0 = z;
+                if (x + 1 > b->x1) b->x1 = x + 1;
+                if (y + 1 > b->y1) b->y1 = y + 1;
+                if (z + 1 > b->z1) b->z1 = z + 1;
+            }
+            for (int li = 0; li < 2; li++)
+                for (int threads = 1; threads <= 4; threads++) {
+                    if (levels[li] != BVOX_SIMD_AUTO && !bvox_simd_supported(levels[li])) continue;
+                    CHECK_OK(bvox_simd_set(levels[li]));
+                    bvox_set_threads(threads);
+                    bvox_components *comps;
+                    CHECK_OK(bvox_components_find(v, conns[c], &comps));
+                    CHECK_EQ(bvox_components_count(comps), want);
+                    bvox_components_labels(comps, ours);
+                    int64_t *map = calloc((size_t)want + 2, sizeof *map);
+                    for (size_t i = 0; i < n; i++) {
+                        CHECK_EQ(ours[i] != 0, labels[i] != 0);
+                        if (!labels[i]) continue;
+                        if (!map[labels[i]]) map[labels[i]] = ours[i];
+                        CHECK_EQ(map[labels[i]], ours[i]);
+                    }
+                    for (int32_t l = 1; l <= want; l++) {
+                        const bvox_component *k = bvox_components_get(comps, map[l] - 1);
+                        CHECK_EQ(k->voxels, ref_sizes[l - 1]);
+                        CHECK_EQ(memcmp(&k->bbox, &box[l], sizeof box[l]), 0);
+                        /* ranks: larger first; equal sizes in order of first voxel (z-major
+                         * flood order differs from our column order, so only sizes here) */
+                        if (map[l] > 1)
+                            CHECK(bvox_components_get(comps, map[l] - 2)->voxels >= k->voxels);
+                    }
+                    /* index_at agrees with the label image */
+                    for (size_t i = 0; i < n; i += 7) {
+                        int32_t x = (int32_t)(i % (size_t)s[0]), y = (int32_t)(i / (size_t)s[0] % (size_t)s[1]),
+                                z = (int32_t)(i / ((size_t)s[0] * s[1]));
+                        CHECK_EQ(bvox_components_index_at(comps, x, y, z), (int64_t)ours[i] - 1);
+                    }
+                    free(map);
+                    bvox_components_destroy(comps);
+                }
+            free(box);
+        }
+        bvox_simd_set(BVOX_SIMD_AUTO);
+        bvox_set_threads(0);
+        free(labels);
+        free(ref_sizes);
+        free(ours);
+        bvox_volume_destroy(v);
+        voxref_destroy(r);
+    }
+    return 0;
+}
