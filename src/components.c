@@ -429,14 +429,72 @@ static bvox_status rank_items(bvox_components *c, uint32_t *labels)
     return st;
 }
 
+/* The labelling core shared by bvox_components_find and the count-only
+ * bvox__components_count: col_start (ncol + 1 entries, malloc) and the
+ * union-find parent array (nruns + extra entries, budgeted; the extra ones
+ * are left for the caller to initialise) of the runs of words. */
+static bvox_status label_runs(const uint64_t *words, size_t wpc, size_t nx, size_t ny, int conn,
+                              size_t extra, uint32_t **col_start_out, uint32_t **parent_out,
+                              size_t *nruns_out)
+{
+    *col_start_out = NULL;
+    *parent_out = NULL;
+    size_t ncol = nx * ny;
+    uint32_t *col_start = malloc((ncol + 1) * sizeof *col_start);
+    if (!col_start) return bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
+
+    /* Run counts per column (in parallel), then their prefix sum. Counts go
+     * into col_start[c + 1] and are summed in place; 64-bit total first so
+     * that more than 2^32 runs is an error, not a wrap. */
+    col_start[0] = 0;
+    count_ctx cc = {words, wpc, col_start};
+    bvox__parallel_for((int64_t)ncol, 4096, count_columns, &cc);
+    uint64_t total = 0;
+    for (size_t col = 0; col < ncol; col++) {
+        total += col_start[col + 1];
+        if (total + extra >= UINT32_MAX) {
+            free(col_start);
+            return bvox__fail(BVOX_ETOOBIG, "more than %u runs: too many to label",
+                              (unsigned)(UINT32_MAX - 1 - extra));
+        }
+        col_start[col + 1] = (uint32_t)total;
+    }
+    bvox_status st = BVOX_OK;
+    uint32_t *parent = run_array((size_t)total + extra, &st);
+    if (!parent) {
+        free(col_start);
+        return st;
+    }
+    labeller L = {words, wpc, nx, ny, col_start, parent, conn, 1};
+    int threads = bvox_threads();
+    /* slabs of at least 16 rows: the seam pass redoes one row per slab */
+    int64_t max_slabs = (int64_t)ny / 16;
+    L.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
+    bvox__parallel_for(L.nslabs, 1, label_slabs, &L);
+    for (int64_t sl = 1; sl < L.nslabs; sl++) {
+        size_t y = slab_row(&L, sl);
+        label_rows(&L, y, y + 1, 1);
+    }
+    *col_start_out = col_start;
+    *parent_out = parent;
+    *nruns_out = (size_t)total;
+    return BVOX_OK;
+}
+
+static bvox_status check_conn(int conn)
+{
+    if (conn != 6 && conn != 18 && conn != 26)
+        return bvox__fail(BVOX_EINVAL, "connectivity must be 6, 18 or 26, not %d", conn);
+    return BVOX_OK;
+}
+
 bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_components **out)
 {
     *out = NULL;
-    if (conn != 6 && conn != 18 && conn != 26)
-        return bvox__fail(BVOX_EINVAL, "connectivity must be 6, 18 or 26, not %d", conn);
+    bvox_status st = check_conn(conn);
+    if (st) return st;
     bvox_components *c = calloc(1, sizeof *c);
     if (!c) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    bvox_status st = BVOX_OK;
     c->dims = bvox_volume_dims(vol);
     c->geom = vol->geom;
     c->ncol = (size_t)vol->nx * (size_t)vol->ny;
@@ -445,39 +503,10 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
     c->words = bvox__alloc(c->nwords * sizeof(uint64_t), false, "component words", &st);
     if (!c->words) goto fail;
     memcpy(c->words, vol->words, c->nwords * sizeof(uint64_t));
-    c->col_start = malloc((c->ncol + 1) * sizeof *c->col_start);
-    if (!c->col_start) goto oom;
-
-    /* Run counts per column (in parallel), then their prefix sum. Counts go
-     * into col_start[c + 1] and are summed in place; 64-bit total first so
-     * that more than 2^32 runs is an error, not a wrap. */
-    c->col_start[0] = 0;
-    count_ctx cc = {c->words, c->wpc, c->col_start};
-    bvox__parallel_for((int64_t)c->ncol, 4096, count_columns, &cc);
-    uint64_t total = 0;
-    for (size_t col = 0; col < c->ncol; col++) {
-        total += c->col_start[col + 1];
-        if (total >= UINT32_MAX) {
-            st = bvox__fail(BVOX_ETOOBIG, "more than %u runs: too many to label", UINT32_MAX - 1);
-            goto fail;
-        }
-        c->col_start[col + 1] = (uint32_t)total;
-    }
-    c->nruns = (size_t)total;
-    c->rank = run_array(c->nruns, &st);
-    if (!c->rank) goto fail;
+    st = label_runs(c->words, c->wpc, (size_t)vol->nx, (size_t)vol->ny, conn, 0, &c->col_start,
+                    &c->rank, &c->nruns);
+    if (st) goto fail;
     uint32_t *parent = c->rank; /* parent, then label, then rank: one array */
-
-    labeller L = {c->words, c->wpc, (size_t)vol->nx, (size_t)vol->ny, c->col_start, parent, conn, 1};
-    int threads = bvox_threads();
-    /* slabs of at least 16 rows: the seam pass redoes one row per slab */
-    int64_t max_slabs = (int64_t)L.ny / 16;
-    L.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
-    bvox__parallel_for(L.nslabs, 1, label_slabs, &L);
-    for (int64_t s = 1; s < L.nslabs; s++) {
-        size_t y = slab_row(&L, s);
-        label_rows(&L, y, y + 1, 1);
-    }
 
     /* Parents to labels in place: runs in increasing order; a root gets the
      * next label, any other run its parent's (parent < run: already a label). */
@@ -486,17 +515,57 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
         parent[i] = parent[i] == i ? ncomp++ : parent[parent[i]];
     c->count = ncomp;
     c->items = calloc(ncomp ? ncomp : 1, sizeof *c->items);
-    if (!c->items) goto oom;
+    if (!c->items) {
+        st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
+        goto fail;
+    }
     st = sum_statistics(c, parent);
     if (!st) st = rank_items(c, parent);
     if (st) goto fail;
     *out = c;
     return BVOX_OK;
-oom:
-    st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
 fail:
     bvox_components_destroy(c);
     return st;
+}
+
+bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_border,
+                                   int64_t *count)
+{
+    *count = 0;
+    bvox_status st = check_conn(conn);
+    if (st) return st;
+    uint32_t *col_start = NULL, *parent = NULL;
+    size_t nruns = 0, nx = (size_t)vol->nx, ny = (size_t)vol->ny, wpc = vol->wpc;
+    st = label_runs(vol->words, wpc, nx, ny, conn, merge_border ? 1 : 0, &col_start, &parent,
+                    &nruns);
+    if (st) return st;
+    if (merge_border) {
+        /* One extra node, the outside, joined to every run on the border. */
+        uint32_t outside = (uint32_t)nruns;
+        parent[outside] = outside;
+        unsigned last_bit = (unsigned)((vol->nz - 1) % 64);
+        for (size_t y = 0; y < ny; y++)
+            for (size_t x = 0; x < nx; x++) {
+                size_t col = y * nx + x;
+                uint32_t r0 = col_start[col], r1 = col_start[col + 1];
+                if (r0 == r1) continue;
+                if (x == 0 || y == 0 || x + 1 == nx || y + 1 == ny) {
+                    for (uint32_t r = r0; r < r1; r++) unite(parent, r, outside);
+                    continue;
+                }
+                const uint64_t *w = vol->words + col * wpc;
+                if (w[0] & 1) unite(parent, r0, outside);
+                if ((w[wpc - 1] >> last_bit) & 1) unite(parent, r1 - 1, outside);
+            }
+    }
+    int64_t roots = 0;
+    size_t nodes = nruns + (merge_border ? 1 : 0);
+    for (size_t i = 0; i < nodes; i++) roots += parent[i] == i;
+    *count = merge_border ? roots - 1 : roots;
+    free(col_start);
+    bvox__free(parent, (nodes ? nodes : 1) * sizeof(uint32_t));
+    return BVOX_OK;
 }
 
 int64_t bvox_components_count(const bvox_components *c) { return c->count; }

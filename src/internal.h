@@ -88,6 +88,13 @@ static inline uint64_t bvox__extract_bits(const uint64_t *col, size_t nwords, in
 /* Set (value) or clear bits z0..z1-1 of one column. */
 void bvox__column_fill(uint64_t *col, int32_t z0, int32_t z1, int value);
 
+/* ---- components.c: the count alone (no statistics, no copy of the words) ----
+ * The number of conn-components of vol's 1-voxels; with merge_border, those
+ * touching the volume's border are not counted (for the background of a
+ * volume: its cavities). */
+bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_border,
+                                   int64_t *count);
+
 /* ---- parallel.c: split a range over the worker threads ---- */
 /* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n). Runs inline
  * when n < min_per_thread * 2 or one thread is configured. fn must not fail. */

@@ -100,26 +100,16 @@ static void principal(bvox_measures *m)
  * the border (labelling the complement). */
 static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures *m)
 {
-    bvox_components *comps = NULL;
-    bvox_status st = bvox_components_find(vol, 26, &comps);
+    bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
     if (st) return st;
-    m->components = bvox_components_count(comps);
-    bvox_components_destroy(comps);
     if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
     bvox_volume *bg = NULL;
     st = bvox_volume_copy(vol, &bg);
     if (st) return st;
     bvox_volume_complement(bg);
-    st = bvox_components_find(bg, 6, &comps);
+    st = bvox__components_count(bg, 6, 1, &m->cavities);
     bvox_volume_destroy(bg);
-    if (st) return st;
-    for (int64_t i = 0; i < bvox_components_count(comps); i++) {
-        bvox_box b = bvox_components_get(comps, i)->bbox;
-        if (b.x0 > 0 && b.y0 > 0 && b.z0 > 0 && b.x1 < vol->nx && b.y1 < vol->ny && b.z1 < vol->nz)
-            m->cavities++;
-    }
-    bvox_components_destroy(comps);
-    return BVOX_OK;
+    return st;
 }
 
 bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
