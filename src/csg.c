@@ -15,6 +15,7 @@ typedef struct csg_job {
     bvox_csg_op op;
     int32_t ox, oy, oz;
     void (*kernel)(uint64_t *, const uint64_t *, size_t);
+    const struct z_plan *plan;
 } csg_job;
 
 #define CSG_CHUNK 32768 /* words per unit of work in the flat case */
@@ -29,92 +30,139 @@ static void flat_range(void *ctx, int64_t begin, int64_t end)
     else memcpy(j->dst->words + w0, j->src->words + w0, (w1 - w0) * sizeof(uint64_t));
 }
 
-static inline uint64_t combine(bvox_csg_op op, uint64_t d, uint64_t s, uint64_t footprint)
+
+/* The z offset is the same for every column, so where each dst word's
+ * source bits come from is worked out once per call (the plan), and a row
+ * is then a tight loop over its columns: with 4 words a column (256^3) the
+ * per-column bookkeeping of a general loop cost more than the words.
+ *  - words [k0, k1): every bit from src, word q + k (and q + k + 1 when the
+ *    shift s is not 0), no mask;
+ *  - at most two edge words partly inside the footprint: explicit source
+ *    words (or -1: none) and the footprint mask fp;
+ *  - the other words get no source bits (only intersection changes them). */
+typedef struct z_edge {
+    size_t k;         /* dst word */
+    int64_t w0, w1;   /* source words for the low/high part, -1: none */
+    uint64_t fp;      /* footprint bits in this dst word */
+} z_edge;
+
+typedef struct z_plan {
+    size_t k0, k1;   /* interior dst words */
+    int64_t q;       /* source word of dst word k is q + k (+1) */
+    unsigned s;      /* bit shift */
+    int nedges;
+    z_edge edge[2];
+    size_t out0, out1; /* dst words [0, out0) and [out1, wpc) outside the footprint */
+} z_plan;
+
+static void plan_z(const bvox_volume *d, const bvox_volume *src, int32_t oz, z_plan *p)
 {
-    switch (op) {
-    case BVOX_CSG_UNION: return d | s;
-    case BVOX_CSG_INTERSECTION: return d & s;
-    case BVOX_CSG_DIFFERENCE: return d & ~s;
-    case BVOX_CSG_XOR: return d ^ s;
-    case BVOX_CSG_REPLACE: return (d & ~footprint) | s;
+    memset(p, 0, sizeof *p);
+    int64_t fz0 = oz > 0 ? oz : 0;
+    int64_t fz1 = (int64_t)oz + src->nz < d->nz ? (int64_t)oz + src->nz : d->nz;
+    int64_t sh = -(int64_t)oz; /* dst bit z reads src bit z + sh */
+    p->q = sh >> 6;            /* floor */
+    p->s = (unsigned)(sh & 63);
+    if (fz0 >= fz1) { /* no overlap in z: every word is outside */
+        p->out0 = p->out1 = d->wpc;
+        return;
     }
-    return d;
+    p->k0 = (size_t)((fz0 + 63) >> 6);
+    p->k1 = (size_t)(fz1 >> 6);
+    if (p->k1 < p->k0) p->k1 = p->k0; /* footprint inside one word */
+    p->out0 = (size_t)(fz0 >> 6);
+    p->out1 = (size_t)((fz1 + 63) >> 6);
+    for (size_t k = p->out0; k < p->out1; k++) {
+        if (k >= p->k0 && k < p->k1) continue;
+        int64_t z0 = (int64_t)k * 64, lo = fz0 - z0, hi = fz1 - z0;
+        z_edge *e = &p->edge[p->nedges++];
+        e->k = k;
+        e->fp = bvox__bit_range(lo < 0 ? 0 : (unsigned)lo, hi > 64 ? 64 : (unsigned)hi);
+        int64_t w = (int64_t)k + p->q;
+        e->w0 = w >= 0 && w < (int64_t)src->wpc ? w : -1;
+        e->w1 = p->s && w + 1 >= 0 && w + 1 < (int64_t)src->wpc ? w + 1 : -1;
+    }
 }
 
-/* dst words k0..k1-1 OP= the source bits starting at 64k + sh, all of them
- * inside src. */
-#define INTERIOR_LOOP(expr)                                                            \
-    do {                                                                               \
-        if (s == 0)                                                                    \
-            for (size_t k = k0; k < k1; k++) {                                         \
-                uint64_t d_ = dc[k], s_ = sc[(int64_t)k + q];                          \
+static inline uint64_t edge_bits(const z_plan *p, const z_edge *e, const uint64_t *sc)
+{
+    uint64_t lo = e->w0 >= 0 ? sc[e->w0] >> p->s : 0;
+    uint64_t hi = e->w1 >= 0 ? sc[e->w1] << (64 - p->s) : 0;
+    return (lo | hi) & e->fp; /* src tail bits are zero; fp cuts what lies beyond dst */
+}
+
+/* Columns x0..x1-1 of dst row dr, under src columns starting at sr; fp_ is
+ * the footprint of the word (all ones inside), for REPLACE. */
+#define ROW_LOOP(expr)                                                                 \
+    for (int32_t x = x0; x < x1; x++) {                                                \
+        uint64_t *restrict dc = dr + (size_t)x * dwpc;                                 \
+        const uint64_t *restrict sc = sr + (size_t)(x - x0) * swpc;                    \
+        if (p->s == 0)                                                                 \
+            for (size_t k = p->k0; k < p->k1; k++) {                                   \
+                uint64_t d_ = dc[k], s_ = sc[(int64_t)k + p->q], fp_ = ~0ull;          \
+                (void)fp_;                                                             \
                 dc[k] = (expr);                                                        \
             }                                                                          \
         else                                                                           \
-            for (size_t k = k0; k < k1; k++) {                                         \
-                int64_t w_ = (int64_t)k + q;                                           \
-                uint64_t d_ = dc[k], s_ = (sc[w_] >> s) | (sc[w_ + 1] << (64 - s));    \
+            for (size_t k = p->k0; k < p->k1; k++) {                                   \
+                int64_t w_ = (int64_t)k + p->q;                                        \
+                uint64_t d_ = dc[k], s_ = (sc[w_] >> p->s) | (sc[w_ + 1] << (64 - p->s)); \
+                uint64_t fp_ = ~0ull; /* interior: every bit is in the footprint */    \
+                (void)fp_;                                                             \
                 dc[k] = (expr);                                                        \
             }                                                                          \
-    } while (0)
+        for (int e_ = 0; e_ < p->nedges; e_++) {                                       \
+            const z_edge *e = &p->edge[e_];                                            \
+            uint64_t d_ = dc[e->k], s_ = edge_bits(p, e, sc), fp_ = e->fp;             \
+            (void)fp_;                                                                 \
+            dc[e->k] = (expr);                                                         \
+        }                                                                              \
+        if (intersect) {                                                               \
+            for (size_t k = 0; k < p->out0; k++) dc[k] = 0;                            \
+            for (size_t k = p->out1; k < dwpc; k++) dc[k] = 0;                         \
+        }                                                                              \
+    }
 
-static void interior(bvox_csg_op op, uint64_t *restrict dc, const uint64_t *restrict sc,
-                     size_t k0, size_t k1, int64_t sh)
+static void row_segment(bvox_csg_op op, const z_plan *p, uint64_t *dr, size_t dwpc,
+                        const uint64_t *sr, size_t swpc, int32_t x0, int32_t x1)
 {
-    int64_t q = sh >> 6; /* floor */
-    unsigned s = (unsigned)(sh & 63);
+    int intersect = 0;
     switch (op) {
-    case BVOX_CSG_UNION: INTERIOR_LOOP(d_ | s_); break;
-    case BVOX_CSG_INTERSECTION: INTERIOR_LOOP(d_ & s_); break;
-    case BVOX_CSG_DIFFERENCE: INTERIOR_LOOP(d_ & ~s_); break;
-    case BVOX_CSG_XOR: INTERIOR_LOOP(d_ ^ s_); break;
-    case BVOX_CSG_REPLACE: INTERIOR_LOOP(((void)d_, s_)); break;
+    case BVOX_CSG_UNION: ROW_LOOP(d_ | s_); break;
+    case BVOX_CSG_DIFFERENCE: ROW_LOOP(d_ & ~s_); break;
+    case BVOX_CSG_XOR: ROW_LOOP(d_ ^ s_); break;
+    case BVOX_CSG_INTERSECTION:
+        intersect = 1;
+        ROW_LOOP(d_ & s_);
+        break;
+    case BVOX_CSG_REPLACE: ROW_LOOP((d_ & ~fp_) | s_); break;
     }
 }
 
-/* One dst row y: columns under src are combined with the shifted src column;
- * columns outside src's footprint see src = 0. */
+/* Rows begin..end-1 of dst: columns under src are combined with the shifted
+ * src column; columns outside src's footprint see src = 0. */
 static void shifted_rows(void *ctx, int64_t begin, int64_t end)
 {
     csg_job *j = ctx;
     bvox_volume *d = j->dst;
     const bvox_volume *s = j->src;
-    /* z range of dst covered by src, as a per-word footprint mask */
-    int64_t fz0 = j->oz > 0 ? j->oz : 0;
-    int64_t fz1 = (int64_t)j->oz + s->nz < d->nz ? (int64_t)j->oz + s->nz : d->nz;
+    const z_plan *p = j->plan;
+    int64_t xa = j->ox > 0 ? j->ox : 0;
+    int64_t xb = (int64_t)j->ox + s->nx < d->nx ? (int64_t)j->ox + s->nx : d->nx;
     for (int64_t y = begin; y < end; y++) {
         int64_t sy = y - j->oy;
-        for (int32_t x = 0; x < d->nx; x++) {
-            int64_t sx = (int64_t)x - j->ox; /* int32 - INT32_MIN overflows int */
-            uint64_t *dc = bvox__column(d, x, (int32_t)y);
-            bool under = sy >= 0 && sy < s->ny && sx >= 0 && sx < s->nx && fz0 < fz1;
-            if (!under) {
-                if (j->op == BVOX_CSG_INTERSECTION) memset(dc, 0, d->wpc * sizeof(uint64_t));
-                continue;
-            }
-            const uint64_t *sc = bvox__column_c(s, (int32_t)sx, (int32_t)sy);
-            /* Words wholly inside the footprint, k0 <= k < k1: every bit
-             * comes from src, no mask, no bounds check, the op chosen once
-             * (most of a column). The (at most two) others below. */
-            size_t k0 = (size_t)((fz0 + 63) >> 6), k1 = (size_t)(fz1 >> 6);
-            bool inner = k1 > k0;
-            if (inner) interior(j->op, dc, sc, k0, k1, -(int64_t)j->oz);
-            for (size_t k = 0; k < d->wpc; k++) {
-                if (inner && k == k0) {
-                    k = k1 - 1;
-                    continue;
-                }
-                int64_t z0 = (int64_t)k * 64;
-                int64_t lo = fz0 - z0, hi = fz1 - z0;
-                uint64_t fp = (lo >= 64 || hi <= 0)
-                                  ? 0
-                                  : bvox__bit_range(lo < 0 ? 0 : (unsigned)lo,
-                                                    hi > 64 ? 64 : (unsigned)hi);
-                /* src tail bits are zero, and fp masks the part beyond dst */
-                uint64_t sw = bvox__extract_bits(sc, s->wpc, z0 - j->oz) & fp;
-                dc[k] = combine(j->op, dc[k], sw, fp);
-            }
+        uint64_t *dr = bvox__column(d, 0, (int32_t)y);
+        bool under = sy >= 0 && sy < s->ny && xa < xb && p->out0 < p->out1;
+        if (!under) {
+            if (j->op == BVOX_CSG_INTERSECTION) memset(dr, 0, (size_t)d->nx * d->wpc * 8);
+            continue;
         }
+        if (j->op == BVOX_CSG_INTERSECTION) {
+            memset(dr, 0, (size_t)xa * d->wpc * 8);
+            memset(dr + (size_t)xb * d->wpc, 0, (size_t)(d->nx - xb) * d->wpc * 8);
+        }
+        const uint64_t *sr = bvox__column_c(s, (int32_t)(xa - j->ox), (int32_t)sy);
+        row_segment(j->op, p, dr, d->wpc, sr, s->wpc, (int32_t)xa, (int32_t)xb);
     }
 }
 
@@ -135,7 +183,7 @@ bvox_status bvox_csg_apply(bvox_volume *dst, bvox_csg_op op, const bvox_volume *
         if (st) return st;
         src = tmp;
     }
-    csg_job j = {dst, src, op, o[0], o[1], o[2], NULL};
+    csg_job j = {dst, src, op, o[0], o[1], o[2], NULL, NULL};
     if (!o[0] && !o[1] && !o[2] && src->nx == dst->nx && src->ny == dst->ny &&
         src->nz == dst->nz) {
         const bvox__kernels *k = bvox__simd();
@@ -149,6 +197,9 @@ bvox_status bvox_csg_apply(bvox_volume *dst, bvox_csg_op op, const bvox_volume *
         int64_t chunks = (int64_t)((dst->nwords + CSG_CHUNK - 1) / CSG_CHUNK);
         bvox__parallel_for(chunks, 4, flat_range, &j);
     } else {
+        z_plan plan;
+        plan_z(dst, src, o[2], &plan);
+        j.plan = &plan;
         bvox__parallel_for(dst->ny, 16, shifted_rows, &j);
     }
     bvox_volume_destroy(tmp);
