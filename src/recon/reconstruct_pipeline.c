@@ -1,0 +1,713 @@
+/*
+ * reconstruct_pipeline.c — bvox_reconstruct: section images (or a contour
+ * stack file) to an aligned binary model. Per section, in parallel over the
+ * worker threads (bvox__parallel_for, batches so that progress can be
+ * reported from the calling thread): read, gray, background, threshold,
+ * median, markers (found and erased from the mask), specks, contours. Then
+ * the markers' chain of similarity transforms to the reference section, the
+ * contours moved onto it, the stack, and bvox_stack_to_volume (shape-based
+ * interpolation to the output slice spacing).
+ */
+#include "section_internal.h"
+#include "io/io.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <time.h>
+
+#define MAX_MARKERS 16
+
+
+static const char *const step_names[BVOX_RECON_NSTEPS] = {
+    "read", "background", "threshold", "smooth", "markers",
+    "specks", "contours", "align", "volume", "total"};
+
+const char *bvox_recon_step_name(bvox_recon_step step)
+{
+    return (unsigned)step < BVOX_RECON_NSTEPS ? step_names[step] : "unknown";
+}
+
+bvox_recon_opts bvox_recon_opts_default(void)
+{
+    bvox_recon_opts o;
+    memset(&o, 0, sizeof o);
+    o.estimate_background = 1;
+    o.threshold = -1;
+    o.dark = 1;
+    o.smooth = 1;
+    o.min_area = 16;
+    o.markers = bvox_marker_opts_default();
+    o.markers.count = 0;
+    o.align = 1;
+    o.reference = -1;
+    o.interpolate = 1;
+    return o;
+}
+
+void bvox_recon_report_destroy(bvox_recon_report *report)
+{
+    if (!report) return;
+    for (int32_t i = 0; i < report->nsections; i++) {
+        free(report->sections[i].name);
+        free(report->sections[i].markers);
+    }
+    free(report->sections);
+    free(report);
+}
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d) memcpy(d, s, n);
+    return d;
+}
+
+/* ------------------------------------------------------ one section's work */
+
+typedef struct sec_work {
+    const char *path;           /* read from here, or */
+    const bvox_image *image;    /* given */
+    const char *name;
+    int32_t width, height;      /* of the image read */
+    bvox_contour *contours;
+    int32_t ncontours;
+    bvox_point2 markers[MAX_MARKERS + 1];
+    int32_t nmarkers;
+    double threshold;
+    int64_t area;
+    double ms[BVOX_RECON_NSTEPS];
+    bvox_status st;
+    char msg[512];
+} sec_work;
+
+typedef struct run_ctx {
+    sec_work *w;
+    int32_t first;              /* batch offset */
+    const bvox_recon_opts *opts;
+    const bvox_image *background;
+    int find_markers;
+} run_ctx;
+
+/* opts->save_steps: DIR/NAME.K_what.png (NAME without an image extension). */
+static bvox_status save_step(const bvox_recon_opts *o, const sec_work *w, const char *what,
+                             const bvox_image *img, const bvox_bitmap *bm)
+{
+    if (!o->save_steps) return BVOX_OK;
+    char name[256], path[4096];
+    snprintf(name, sizeof name, "%s", w->name);
+    char *dot = strrchr(name, '.');
+    if (dot && (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".tif") || !strcasecmp(dot, ".tiff")))
+        *dot = '\0';
+    for (char *c = name; *c; c++)
+        if (*c == '/' || *c == ' ') *c = '_';
+    snprintf(path, sizeof path, "%s/%s.%s.png", o->save_steps, name, what);
+    if (img) return bvox_image_write_png(img, path);
+    bvox_image *tmp = NULL;
+    bvox_status st = bvox_bitmap_to_image(bm, &tmp);
+    if (!st) st = bvox_image_write_png(tmp, path);
+    bvox_image_destroy(tmp);
+    return st;
+}
+
+static bvox_status process(sec_work *w, const bvox_recon_opts *o, const bvox_image *background,
+                           int find_markers)
+{
+    bvox_image *read = NULL, *gray = NULL, *bg = NULL, *flat = NULL;
+    bvox_bitmap *mask = NULL, *smooth = NULL;
+    bvox_status st = BVOX_OK;
+    double t = now_ms(), t1;
+#define LAP(step) (t1 = now_ms(), w->ms[step] += t1 - t, t = t1)
+    const bvox_image *img = w->image;
+    if (w->path) {
+        if ((st = bvox_section_read(w->path, &read))) goto done;
+        img = read;
+    }
+    w->width = img->width;
+    w->height = img->height;
+    if (img->channels != 1) {
+        if ((st = bvox_section_gray(img, &gray))) goto done;
+        img = gray;
+    }
+    LAP(BVOX_RECON_READ);
+    /* dark objects: transmitted light, the illumination multiplies (divide);
+     * bright objects: fluorescence or dark field, it adds (subtract) */
+    bvox_status (*correct)(const bvox_image *, const bvox_image *, bvox_image **) =
+        o->dark ? bvox_section_divide_background : bvox_section_subtract_background;
+    if (background) {
+        if ((st = correct(img, background, &flat))) goto done;
+        img = flat;
+    } else if (o->estimate_background) {
+        if ((st = bvox_section_background_estimate(img, o->dark, &bg))) goto done;
+        if ((st = correct(img, bg, &flat))) goto done;
+        img = flat;
+    }
+    LAP(BVOX_RECON_BACKGROUND);
+    if ((st = save_step(o, w, "1_flat", img, NULL))) goto done;
+    w->threshold = o->threshold;
+    if (w->threshold < 0 && (st = bvox_section_otsu(img, &w->threshold))) goto done;
+    if ((st = bvox_section_threshold(img, w->threshold, o->dark, &mask))) goto done;
+    LAP(BVOX_RECON_THRESHOLD);
+    if ((st = save_step(o, w, "2_threshold", NULL, mask))) goto done;
+    if ((st = bvox_bitmap_median(mask, o->smooth, &smooth))) goto done;
+    LAP(BVOX_RECON_SMOOTH);
+    if ((st = save_step(o, w, "3_smooth", NULL, smooth))) goto done;
+    if (find_markers) {
+        bvox_marker_opts mo = o->markers;
+        if (mo.count > MAX_MARKERS) mo.count = MAX_MARKERS;
+        if ((st = bvox_section_find_markers(img, &mo, w->markers, &w->nmarkers, smooth))) goto done;
+    }
+    LAP(BVOX_RECON_MARKERS);
+    if ((st = bvox_bitmap_remove_specks(smooth, o->min_area, 1))) goto done;
+    w->area = bvox_bitmap_count(smooth);
+    LAP(BVOX_RECON_SPECKS);
+    if ((st = save_step(o, w, "4_final", NULL, smooth))) goto done;
+    t = now_ms(); /* the files are not a step */
+    if ((st = bvox_bitmap_trace(smooth, &w->contours, &w->ncontours))) goto done;
+    for (int32_t i = 0; i < w->ncontours; i++) {
+        if (o->contour_smooth > 0 &&
+            (st = bvox_contour_smooth(&w->contours[i], o->contour_smooth, 1)))
+            goto done;
+        if (o->simplify > 0 && (st = bvox_contour_simplify(&w->contours[i], o->simplify))) goto done;
+    }
+    LAP(BVOX_RECON_CONTOURS);
+#undef LAP
+done:
+    bvox_image_destroy(read);
+    bvox_image_destroy(gray);
+    bvox_image_destroy(bg);
+    bvox_image_destroy(flat);
+    bvox_bitmap_destroy(mask);
+    bvox_bitmap_destroy(smooth);
+    return st;
+}
+
+static void run_range(void *ctx, int64_t begin, int64_t end)
+{
+    run_ctx *c = ctx;
+    for (int64_t i = begin; i < end; i++) {
+        sec_work *w = &c->w[c->first + i];
+        w->st = process(w, c->opts, c->background, c->find_markers);
+        if (w->st) snprintf(w->msg, sizeof w->msg, "section '%s': %s", w->name, bvox_errmsg());
+    }
+}
+
+/* ------------------------------------------------------------- alignment */
+
+static void fallback_message(bvox_recon_section_report *s, int32_t nmarkers, int32_t expected,
+                             const char *neighbour)
+{
+    if (nmarkers < 2)
+        snprintf(s->message, sizeof s->message,
+                 "section '%s': %d marker%s found (%d expected): no alignment, it keeps the "
+                 "transform of its neighbour '%s'",
+                 s->name, (int)nmarkers, nmarkers == 1 ? "" : "s", (int)expected, neighbour);
+    else
+        snprintf(s->message, sizeof s->message,
+                 "section '%s': its %d markers do not match those of '%s': no alignment, it "
+                 "keeps that neighbour's transform",
+                 s->name, (int)nmarkers, neighbour);
+}
+
+/* Align by the report's markers; fills align and message, counts fallbacks. */
+static bvox_status align_report(bvox_recon_report *rep, const bvox_recon_opts *o)
+{
+    int32_t n = rep->nsections;
+    const bvox_point2 **pts = calloc((size_t)n, sizeof *pts);
+    int32_t *counts = calloc((size_t)n, sizeof *counts);
+    bvox_align_result *res = calloc((size_t)n, sizeof *res);
+    bvox_status st = BVOX_OK;
+    if (!pts || !counts || !res) {
+        st = bvox__fail(BVOX_ENOMEM, "out of memory");
+        goto done;
+    }
+    for (int32_t i = 0; i < n; i++) {
+        pts[i] = rep->sections[i].markers;
+        counts[i] = rep->sections[i].nmarkers > MAX_MARKERS ? MAX_MARKERS : rep->sections[i].nmarkers;
+    }
+    if ((st = bvox_markers_align(pts, counts, n, o->reference, &o->markers, res))) goto done;
+    rep->aligned = 1;
+    rep->reference = 0;
+    int32_t expected = o->markers.count > 0 ? o->markers.count : 3;
+    for (int32_t i = 0; i < n; i++) {
+        bvox_recon_section_report *s = &rep->sections[i];
+        s->align = res[i];
+        if (res[i].neighbour < 0) rep->reference = i;
+        if (res[i].fallback) {
+            rep->fallbacks++;
+            fallback_message(s, s->nmarkers, expected, rep->sections[res[i].neighbour].name);
+        }
+    }
+done:
+    free(pts);
+    free(counts);
+    free(res);
+    return st;
+}
+
+static bvox_xform2 to_xform(const bvox_sim2 *t)
+{
+    return bvox_xform2_similarity(t->angle, t->scale, t->tx, t->ty);
+}
+
+static bvox_status report_alloc(int32_t n, bvox_recon_report **out)
+{
+    *out = NULL;
+    bvox_recon_report *r = calloc(1, sizeof *r);
+    if (!r) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    r->sections = calloc((size_t)n, sizeof *r->sections);
+    if (!r->sections) {
+        free(r);
+        return bvox__fail(BVOX_ENOMEM, "out of memory");
+    }
+    r->nsections = n;
+    r->reference = -1;
+    for (int32_t i = 0; i < n; i++) {
+        r->sections[i].align.transform = bvox_sim2_identity();
+        r->sections[i].align.step = bvox_sim2_identity();
+        r->sections[i].align.neighbour = -1;
+        r->sections[i].threshold = NAN;
+    }
+    *out = r;
+    return BVOX_OK;
+}
+
+static bvox_status set_markers(bvox_recon_section_report *s, const bvox_point2 *m, int32_t n)
+{
+    free(s->markers);
+    s->markers = NULL;
+    s->nmarkers = 0;
+    if (n <= 0) return BVOX_OK;
+    s->markers = malloc((size_t)n * sizeof *m);
+    if (!s->markers) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    memcpy(s->markers, m, (size_t)n * sizeof *m);
+    s->nmarkers = n;
+    return BVOX_OK;
+}
+
+static void progress(const bvox_recon_opts *o, bvox_recon_step step, int32_t done, int32_t total)
+{
+    if (o->progress) o->progress(o->progress_ctx, step, done, total);
+}
+
+/* ------------------------------------------------------- images -> model */
+
+static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
+                              const bvox_image *background, bvox_volume **volume,
+                              bvox_contour_stack **stack_out, bvox_recon_report **report_out)
+{
+    double t_start = now_ms();
+    bvox_status st = BVOX_OK;
+    bvox_recon_report *rep = NULL;
+    bvox_contour_stack *stack = NULL;
+    bvox_volume *vol = NULL;
+    bvox_contour_stack *mfile = NULL;
+    if (o->markers_file && (st = bvox_stack_read(o->markers_file, &mfile))) return st;
+    if (mfile && mfile->nsections != n) {
+        st = bvox__fail(BVOX_EINVAL, "%s: %d sections of markers for %d section images",
+                        o->markers_file, (int)mfile->nsections, (int)n);
+        bvox_stack_destroy(mfile);
+        return st;
+    }
+    int find_markers = !mfile && o->markers.count > 0;
+    /* per-section work in batches (progress between them) */
+    int32_t batch = bvox_threads() * 2;
+    if (batch < 1) batch = 1;
+    double t_sections = now_ms();
+    for (int32_t first = 0; first < n; first += batch) {
+        int32_t m = n - first < batch ? n - first : batch;
+        run_ctx c = {w, first, o, background, find_markers};
+        bvox__parallel_for(m, 1, run_range, &c);
+        for (int32_t i = first; i < first + m; i++)
+            if (w[i].st) {
+                st = bvox__fail(w[i].st, "%s", w[i].msg);
+                goto done;
+            }
+        progress(o, BVOX_RECON_CONTOURS, first + m, n);
+    }
+    double wall = now_ms() - t_sections;
+    for (int32_t i = 1; i < n; i++)
+        if (w[i].width != w[0].width || w[i].height != w[0].height) {
+            st = bvox__fail(BVOX_EINVAL, "section '%s' is %d x %d pixels but '%s' is %d x %d: all "
+                            "sections must have the same size", w[i].name, (int)w[i].width,
+                            (int)w[i].height, w[0].name, (int)w[0].width, (int)w[0].height);
+            goto done;
+        }
+    if ((st = report_alloc(n, &rep))) goto done;
+    rep->width = w[0].width;
+    rep->height = w[0].height;
+    double cpu = 0;
+    for (int32_t i = 0; i < n; i++)
+        for (int s = 0; s <= BVOX_RECON_CONTOURS; s++) cpu += w[i].ms[s];
+    for (int s = 0; s <= BVOX_RECON_CONTOURS; s++) {
+        double sum = 0;
+        for (int32_t i = 0; i < n; i++) sum += w[i].ms[s];
+        rep->ms[s] = cpu > 0 ? wall * sum / cpu : 0;
+    }
+    for (int32_t i = 0; i < n; i++) {
+        bvox_recon_section_report *s = &rep->sections[i];
+        if (!(s->name = dup_str(w[i].name))) {
+            st = bvox__fail(BVOX_ENOMEM, "out of memory");
+            goto done;
+        }
+        s->threshold = w[i].threshold;
+        s->area = w[i].area;
+        s->ncontours = w[i].ncontours;
+        if (mfile) st = set_markers(s, mfile->sections[i].markers, mfile->sections[i].nmarkers);
+        else st = set_markers(s, w[i].markers, w[i].nmarkers);
+        if (st) goto done;
+    }
+    /* alignment */
+    double t0 = now_ms();
+    if (o->align && (find_markers || mfile) && (st = align_report(rep, o))) goto done;
+    rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
+    progress(o, BVOX_RECON_ALIGN, n, n);
+    /* the stack */
+    t0 = now_ms();
+    if ((st = bvox_stack_create(&stack))) goto done;
+    stack->pixel = o->pixel > 0 ? o->pixel : 1;
+    stack->spacing = o->spacing > 0 ? o->spacing : 1;
+    memcpy(stack->unit, o->unit, sizeof stack->unit);
+    stack->unit[sizeof stack->unit - 1] = '\0';
+    stack->width = w[0].width;
+    stack->height = w[0].height;
+    for (int32_t i = 0; i < n; i++) {
+        bvox_section *sec = NULL;
+        if ((st = bvox_stack_add_section(stack, i * stack->spacing, w[i].name, &sec))) goto done;
+        for (int32_t k = 0; k < w[i].ncontours; k++) {
+            const bvox_contour *c = &w[i].contours[k];
+            if ((st = bvox_section_add_contour(sec, c->points, c->npoints, c->hole, c->parent)))
+                goto done;
+        }
+        for (int32_t k = 0; k < rep->sections[i].nmarkers; k++)
+            if ((st = bvox_section_add_marker(sec, rep->sections[i].markers[k]))) goto done;
+        if (rep->aligned) {
+            bvox_xform2 x = to_xform(&rep->sections[i].align.transform);
+            bvox_section_transform(sec, &x);
+        }
+    }
+    rep->ms[BVOX_RECON_ALIGN] += now_ms() - t0;
+    if (volume) {
+        t0 = now_ms();
+        bvox_stack_volume_opts vo = bvox_stack_volume_opts_default();
+        vo.z_spacing = o->z_spacing;
+        vo.interpolate = o->interpolate;
+        if ((st = bvox_stack_to_volume(stack, &vo, &vol))) goto done;
+        rep->ms[BVOX_RECON_VOLUME] = now_ms() - t0;
+        progress(o, BVOX_RECON_VOLUME, n, n);
+    }
+    rep->ms[BVOX_RECON_TOTAL] = now_ms() - t_start;
+done:
+    bvox_stack_destroy(mfile);
+    if (st) {
+        bvox_recon_report_destroy(rep);
+        bvox_stack_destroy(stack);
+        bvox_volume_destroy(vol);
+        return st;
+    }
+    if (volume) *volume = vol;
+    if (stack_out) *stack_out = stack;
+    else bvox_stack_destroy(stack);
+    if (report_out) *report_out = rep;
+    else bvox_recon_report_destroy(rep);
+    return BVOX_OK;
+}
+
+static bvox_status check_outputs(bvox_volume **volume, bvox_contour_stack **stack,
+                                 bvox_recon_report **report)
+{
+    if (volume) *volume = NULL;
+    if (stack) *stack = NULL;
+    if (report) *report = NULL;
+    if (!volume && !stack && !report)
+        return bvox__fail(BVOX_EINVAL, "reconstruct: no output asked for");
+    return BVOX_OK;
+}
+
+static void free_work(sec_work *w, int32_t n)
+{
+    if (!w) return;
+    for (int32_t i = 0; i < n; i++) bvox_contours_free(w[i].contours, w[i].ncontours);
+    free(w);
+}
+
+bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char *const *names,
+                                    int32_t n, const bvox_recon_opts *opts, bvox_volume **volume,
+                                    bvox_contour_stack **stack, bvox_recon_report **report)
+{
+    bvox__clear_error();
+    bvox_status st = check_outputs(volume, stack, report);
+    if (st) return st;
+    bvox_recon_opts o = opts ? *opts : bvox_recon_opts_default();
+    if (n < 1 || !images) return bvox__fail(BVOX_EINVAL, "reconstruct: no sections");
+    sec_work *w = calloc((size_t)n, sizeof *w);
+    char (*auto_names)[32] = calloc((size_t)n, sizeof *auto_names);
+    if (!w || !auto_names) {
+        free(w);
+        free(auto_names);
+        return bvox__fail(BVOX_ENOMEM, "out of memory");
+    }
+    for (int32_t i = 0; i < n; i++) {
+        snprintf(auto_names[i], sizeof auto_names[i], "section %d", (int)(i + 1));
+        w[i].image = images[i];
+        w[i].name = names && names[i] ? names[i] : auto_names[i];
+        if (!images[i]) {
+            st = bvox__fail(BVOX_EINVAL, "reconstruct: %s is missing", w[i].name);
+            break;
+        }
+    }
+    if (!st) st = run_images(w, n, &o, o.background_image, volume, stack, report);
+    free_work(w, n);
+    free(auto_names);
+    return st;
+}
+
+/* ------------------------------------------------- contour stacks -> model */
+
+bvox_status bvox_stack_align(bvox_contour_stack *stack, const bvox_recon_opts *opts,
+                             bvox_recon_report **report)
+{
+    bvox__clear_error();
+    if (report) *report = NULL;
+    bvox_recon_opts o = opts ? *opts : bvox_recon_opts_default();
+    if (!stack || stack->nsections < 1) return bvox__fail(BVOX_EINVAL, "align: no sections");
+    bvox_recon_report *rep = NULL;
+    bvox_status st = report_alloc(stack->nsections, &rep);
+    if (st) return st;
+    double t0 = now_ms();
+    for (int32_t i = 0; i < stack->nsections && !st; i++) {
+        bvox_recon_section_report *s = &rep->sections[i];
+        char buf[32];
+        snprintf(buf, sizeof buf, "section %d", (int)(i + 1));
+        s->name = dup_str(stack->sections[i].name ? stack->sections[i].name : buf);
+        if (!s->name) st = bvox__fail(BVOX_ENOMEM, "out of memory");
+        else st = set_markers(s, stack->sections[i].markers, stack->sections[i].nmarkers);
+        s->ncontours = stack->sections[i].ncontours;
+    }
+    if (!st) st = align_report(rep, &o);
+    if (!st)
+        for (int32_t i = 0; i < stack->nsections; i++) {
+            bvox_xform2 x = to_xform(&rep->sections[i].align.transform);
+            bvox_section_transform(&stack->sections[i], &x);
+        }
+    rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
+    if (st || !report) bvox_recon_report_destroy(rep);
+    else *report = rep;
+    return st;
+}
+
+static int has_ext(const char *s, const char *ext)
+{
+    size_t n = strlen(s), m = strlen(ext);
+    if (n < m) return 0;
+    for (size_t i = 0; i < m; i++) {
+        char c = s[n - m + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != ext[i]) return 0;
+    }
+    return 1;
+}
+
+static int is_image_name(const char *s)
+{
+    return has_ext(s, ".png") || has_ext(s, ".tif") || has_ext(s, ".tiff");
+}
+
+static int cmp_natural(const void *a, const void *b)
+{
+    return bvox__natural_compare(*(char *const *)a, *(char *const *)b);
+}
+
+/* The image files of dir in natural order (*out: malloc'd paths); *svg set
+ * when the folder holds .svg files instead. */
+static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
+{
+    *out = NULL;
+    *n = 0;
+    *svg = 0;
+    DIR *d = opendir(dir);
+    if (!d) return bvox__fail(BVOX_ENOTFOUND, "%s: cannot open the folder", dir);
+    char **names = NULL;
+    int32_t cap = 0, m = 0;
+    struct dirent *e;
+    bvox_status st = BVOX_OK;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        if (has_ext(e->d_name, ".svg")) *svg = 1;
+        if (!is_image_name(e->d_name)) continue;
+        if (m == cap) {
+            cap = cap ? cap * 2 : 64;
+            char **nn = realloc(names, (size_t)cap * sizeof *names);
+            if (!nn) {
+                st = bvox__fail(BVOX_ENOMEM, "out of memory");
+                break;
+            }
+            names = nn;
+        }
+        size_t len = strlen(dir) + strlen(e->d_name) + 2;
+        if (!(names[m] = malloc(len))) {
+            st = bvox__fail(BVOX_ENOMEM, "out of memory");
+            break;
+        }
+        snprintf(names[m], len, "%s/%s", dir, e->d_name);
+        m++;
+    }
+    closedir(d);
+    if (st) {
+        for (int32_t i = 0; i < m; i++) free(names[i]);
+        free(names);
+        return st;
+    }
+    if (m > 1) qsort(names, (size_t)m, sizeof *names, cmp_natural);
+    *out = names;
+    *n = m;
+    return BVOX_OK;
+}
+
+static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_volume **volume,
+                             bvox_contour_stack **stack_out, bvox_recon_report **report_out)
+{
+    double t0 = now_ms();
+    bvox_contour_stack *stack = NULL;
+    bvox_recon_report *rep = NULL;
+    bvox_volume *vol = NULL;
+    if (o->markers_file)
+        return bvox__fail(BVOX_EINVAL, "%s: a markers file goes with section images; a contour "
+                                       "file carries its own markers", path);
+    bvox_status st = bvox_stack_read(path, &stack);
+    if (st) return st;
+    /* traced contours that cross each other or themselves are a tracing
+     * mistake: refused, naming the section (the even-odd fill would make a
+     * silent mess of them) */
+    for (int32_t i = 0; i < stack->nsections; i++)
+        if ((st = bvox_section_check_simple(&stack->sections[i], i))) {
+            char msg[512];
+            snprintf(msg, sizeof msg, "%s", bvox_errmsg());
+            st = bvox__fail(st, "%s: %s", path, msg);
+            goto done;
+        }
+    double t_read = now_ms() - t0;
+    if (o->pixel > 0) stack->pixel = o->pixel;
+    if (o->spacing > 0) stack->spacing = o->spacing;
+    if (o->unit[0]) {
+        memcpy(stack->unit, o->unit, sizeof stack->unit);
+        stack->unit[sizeof stack->unit - 1] = '\0';
+    }
+    int any_markers = 0;
+    for (int32_t i = 0; i < stack->nsections; i++) any_markers |= stack->sections[i].nmarkers > 0;
+    if (o->align && any_markers) {
+        if ((st = bvox_stack_align(stack, o, &rep))) goto done;
+    } else {
+        if ((st = report_alloc(stack->nsections, &rep))) goto done;
+        for (int32_t i = 0; i < stack->nsections && !st; i++) {
+            char buf[32];
+            snprintf(buf, sizeof buf, "section %d", (int)(i + 1));
+            bvox_recon_section_report *s = &rep->sections[i];
+            s->name = dup_str(stack->sections[i].name ? stack->sections[i].name : buf);
+            if (!s->name) st = bvox__fail(BVOX_ENOMEM, "out of memory");
+            else st = set_markers(s, stack->sections[i].markers, stack->sections[i].nmarkers);
+            s->ncontours = stack->sections[i].ncontours;
+        }
+        if (st) goto done;
+    }
+    rep->ms[BVOX_RECON_READ] = t_read;
+    rep->width = stack->width;
+    rep->height = stack->height;
+    progress(o, BVOX_RECON_ALIGN, stack->nsections, stack->nsections);
+    if (volume) {
+        double t1 = now_ms();
+        bvox_stack_volume_opts vo = bvox_stack_volume_opts_default();
+        vo.z_spacing = o->z_spacing;
+        vo.interpolate = o->interpolate;
+        if ((st = bvox_stack_to_volume(stack, &vo, &vol))) goto done;
+        rep->ms[BVOX_RECON_VOLUME] = now_ms() - t1;
+        progress(o, BVOX_RECON_VOLUME, stack->nsections, stack->nsections);
+    }
+    rep->ms[BVOX_RECON_TOTAL] = now_ms() - t0;
+done:
+    if (st) {
+        bvox_stack_destroy(stack);
+        bvox_recon_report_destroy(rep);
+        bvox_volume_destroy(vol);
+        return st;
+    }
+    if (volume) *volume = vol;
+    if (stack_out) *stack_out = stack;
+    else bvox_stack_destroy(stack);
+    if (report_out) *report_out = rep;
+    else bvox_recon_report_destroy(rep);
+    return BVOX_OK;
+}
+
+static const char *base_name(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
+                             bvox_volume **volume, bvox_contour_stack **stack,
+                             bvox_recon_report **report)
+{
+    bvox__clear_error();
+    bvox_status st = check_outputs(volume, stack, report);
+    if (st) return st;
+    bvox_recon_opts o = opts ? *opts : bvox_recon_opts_default();
+    if (n < 1 || !inputs) return bvox__fail(BVOX_EINVAL, "reconstruct: no sections given");
+    char **listed = NULL;
+    int32_t nlisted = 0;
+    const char *const *paths = inputs;
+    struct stat sb;
+    if (n == 1 && stat(inputs[0], &sb) == 0 && S_ISDIR(sb.st_mode)) {
+        int svg = 0;
+        if ((st = list_dir(inputs[0], &listed, &nlisted, &svg))) return st;
+        if (nlisted == 0) {
+            free(listed);
+            if (svg) return run_stack(inputs[0], &o, volume, stack, report);
+            return bvox__fail(BVOX_ENOTFOUND, "%s: the folder holds no section images (.png, "
+                                              ".tif) and no contours (.svg)", inputs[0]);
+        }
+        paths = (const char *const *)listed;
+        n = nlisted;
+    } else if (n == 1 && !is_image_name(inputs[0])) {
+        return run_stack(inputs[0], &o, volume, stack, report);
+    } else {
+        for (int32_t i = 0; i < n; i++)
+            if (!is_image_name(inputs[i]))
+                return bvox__fail(BVOX_EINVAL, "%s: not a section image (.png, .tif); a contour "
+                                               "file must be the only input", inputs[i]);
+    }
+    bvox_image *background = NULL;
+    sec_work *w = calloc((size_t)n, sizeof *w);
+    if (!w) {
+        st = bvox__fail(BVOX_ENOMEM, "out of memory");
+        goto done;
+    }
+    for (int32_t i = 0; i < n; i++) {
+        w[i].path = paths[i];
+        w[i].name = base_name(paths[i]);
+    }
+    if (!o.background_image && o.background) {
+        if ((st = bvox_section_read(o.background, &background))) goto done;
+        o.background_image = background;
+    }
+    st = run_images(w, n, &o, o.background_image, volume, stack, report);
+done:
+    free_work(w, n);
+    bvox_image_destroy(background);
+    for (int32_t i = 0; i < nlisted; i++) free(listed[i]);
+    free(listed);
+    return st;
+}
