@@ -6,7 +6,8 @@
  *
  * Coordinates: points and markers are in PIXELS of the section image (x to
  * the right, y down, the centre of pixel (i, j) at (i + 0.5, j + 0.5));
- * physical size is pixel * coordinate. A section's z is in physical units
+ * the physical position of a point is origin + pixel * coordinate (origin:
+ * the stack's in-plane origin, default 0, 0). A section's z is in physical units
  * (its distance along the stack from the first section's plane is what
  * matters; sections need not be equally spaced).
  *
@@ -44,6 +45,8 @@ typedef struct bvox_contour_stack {
     int32_t width, height;   /* image extent in pixels; 0: take the contours' bounds */
     bvox_section *sections;  /* in stack order (increasing z) */
     int32_t nsections;
+    double origin[2];        /* physical x, y of pixel coordinate (0, 0), in unit; so
+                                that model -> contours -> model keeps its position */
 } bvox_contour_stack;
 
 /* An empty stack: unit "", pixel 1, spacing 1, width = height = 0. */
@@ -102,8 +105,9 @@ bvox_stack_volume_opts bvox_stack_volume_opts_default(void);
  * memory budget. Threads: sections and slices are split over them.
  *
  * Geometry: spacing (pixel, pixel, z_spacing), unit from the stack, origin
- * the centre of voxel (0, 0, 0): ((x0 + 0.5) pixel, (y0 + 0.5) pixel, z of
- * slice 0), x0/y0 the extent's first pixel (0 with width/height).
+ * the centre of voxel (0, 0, 0): (stack origin[0] + (x0 + 0.5) pixel,
+ * origin[1] + (y0 + 0.5) pixel, z of slice 0), x0/y0 the extent's first
+ * pixel (0 with width/height).
  * Sections must have distinct z (any order: they are sorted). Errors:
  * BVOX_EINVAL (no sections, bad options, equal z, no extent), BVOX_ETOOBIG.
  * *out is owned by the caller. */
@@ -205,7 +209,10 @@ bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *
  * pixels of u, outlines in their true shape, height = ceil(h sv/su)), and
  * only then is the round trip not voxel for voxel. z = the
  * slice's physical position along the axis (origin + index * spacing),
- * spacing = the axis's spacing, width/height = the slice size, unit copied.
+ * spacing = the axis's spacing, width/height = the slice size, unit copied,
+ * origin = the outer corner of the slice's first pixel (the volume's origin
+ * minus half a voxel along u and v), so the stack maps back onto the same
+ * world positions.
  * *out is owned by the caller. */
 bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_contour_stack **out);
 

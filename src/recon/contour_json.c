@@ -1,13 +1,14 @@
 /*
  * contour_json.c — the JSON contour stack format, read and written:
  *
- *   {"unit": "um", "pixel": P, "spacing": S, "width": W, "height": H,
+ *   {"unit": "um", "pixel": P, "spacing": S, "width": W, "height": H, "origin": [X, Y],
  *    "sections": [{"z": Z, "name": "s01.png",
  *                  "contours": [[[x, y], [x, y], ...], ...],
  *                  "markers": [[x, y], ...]}, ...]}
  *
  * "sections" is required; "unit" (default ""), "pixel", "spacing" (default
- * 1), "width"/"height" (default 0: the contours' bounds), and per section
+ * 1), "width"/"height" (default 0: the contours' bounds), "origin" (physical
+ * position of pixel coordinate (0, 0), default [0, 0]), and per section
  * "z" (default: index * spacing), "name" and "markers" are optional; other
  * keys are skipped (any JSON value, depth-limited). A contour's last point
  * may repeat its first; consecutive duplicates are dropped; fewer than 3
@@ -435,6 +436,11 @@ static bvox_status parse(lex *L, bvox_contour_stack *s)
             if ((st = number(L, &v)) || (st = positive(L, at, v, key))) goto done;
             if (key[0] == 'p') s->pixel = v;
             else s->spacing = v;
+        } else if (!strcmp(key, "origin")) {
+            bvox_point2 o;
+            if ((st = point(L, &o))) goto done;
+            s->origin[0] = o.x;
+            s->origin[1] = o.y;
         } else if (!strcmp(key, "width") || !strcmp(key, "height")) {
             double v;
             if ((st = number(L, &v))) goto done;
@@ -533,6 +539,13 @@ bvox_status bvox_stack_write_json(const char *path, const bvox_contour_stack *st
     if (stack->width > 0 && stack->height > 0)
         bvox__sb_printf(&b, ", \"width\": %d, \"height\": %d", (int)stack->width,
                         (int)stack->height);
+    if (stack->origin[0] != 0 || stack->origin[1] != 0) {
+        bvox__sb_puts(&b, ", \"origin\": [");
+        bvox__sb_double(&b, stack->origin[0]);
+        bvox__sb_puts(&b, ", ");
+        bvox__sb_double(&b, stack->origin[1]);
+        bvox__sb_puts(&b, "]");
+    }
     bvox__sb_puts(&b, ",\n \"sections\": [");
     for (int32_t i = 0; i < stack->nsections; i++) {
         const bvox_section *sec = &stack->sections[i];

@@ -313,6 +313,8 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
     s->unit[sizeof s->unit - 1] = '\0';
     s->pixel = g->spacing[ua];
     s->spacing = g->spacing[axis];
+    s->origin[0] = g->origin[ua] - 0.5 * g->spacing[ua];
+    s->origin[1] = g->origin[va] - 0.5 * g->spacing[va];
     /* non-square pixels: v is scaled to pixels of u, so the outlines keep
      * their physical shape (the slice's height grows or shrinks with it) */
     double vscale = g->spacing[va] / g->spacing[ua];

@@ -426,8 +426,8 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
     bvox_geometry g = bvox_geometry_default();
     g.spacing[0] = g.spacing[1] = stack->pixel;
     g.spacing[2] = dz;
-    g.origin[0] = (s.x0 + 0.5) * stack->pixel;
-    g.origin[1] = (s.y0 + 0.5) * stack->pixel;
+    g.origin[0] = stack->origin[0] + (s.x0 + 0.5) * stack->pixel;
+    g.origin[1] = stack->origin[1] + (s.y0 + 0.5) * stack->pixel;
     g.origin[2] = slice_z(&s, 0);
     memcpy(g.unit, stack->unit, sizeof g.unit);
     g.unit[sizeof g.unit - 1] = '\0';

@@ -81,6 +81,14 @@ TEST(json_round_trip)
     CHECK_OK(bvox_stack_write_json(path, s));
     CHECK_OK(bvox_stack_read(path, &r));
     CHECK(same_stack(s, r, 1) == 0);
+    CHECK(r->origin[0] == 0 && r->origin[1] == 0);
+    bvox_stack_destroy(r);
+    /* the in-plane origin, when set, is written and read back */
+    s->origin[0] = -12.5;
+    s->origin[1] = 0.375;
+    CHECK_OK(bvox_stack_write_json(path, s));
+    CHECK_OK(bvox_stack_read(path, &r));
+    CHECK(r->origin[0] == -12.5 && r->origin[1] == 0.375);
     /* nesting found on reading: in section 3, contour 3 (r = 22) holds
      * contour 1 (r = 20, a hole) which holds contour 2 (r = 5, an island) */
     const bvox_contour *c3 = r->sections[3].contours;

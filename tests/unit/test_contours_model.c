@@ -51,6 +51,9 @@ static int round_trip(const bvox_volume *v, int axis)
     CHECK_EQ(edims[2], dims[axis]);
     const bvox_geometry *g = bvox_volume_geometry(v), *h = bvox_volume_geometry(w);
     CHECK_NEAR(h->origin[2], g->origin[axis], 1e-9);
+    /* the in-plane position survives too (the stack's origin) */
+    CHECK_NEAR(h->origin[0], g->origin[ua], 1e-9);
+    CHECK_NEAR(h->origin[1], g->origin[va], 1e-9);
     CHECK(h->spacing[2] == g->spacing[axis] && h->spacing[0] == g->spacing[ua]);
     for (int32_t k = 0; k < dims[axis]; k++)
         for (int32_t b = 0; b < dims[va]; b++)
@@ -95,6 +98,8 @@ TEST(round_trip_anisotropic_z)
     bvox_geometry g = bvox_geometry_default();
     g.spacing[0] = g.spacing[1] = 2;
     g.spacing[2] = 7;
+    g.origin[0] = 12.25;
+    g.origin[1] = -5;
     g.origin[2] = -3.5;
     CHECK_OK(bvox_volume_set_geometry(v, &g));
     CHECK(round_trip(v, 2) == 0);
