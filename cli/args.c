@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int cli_fail(void)
 {
@@ -332,4 +333,27 @@ int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, cons
     if ((r = cli_match_value(cmd, argc, argv, i, "--output-format", &v)) == CLI_ARG_USED)
         wo->format = v;
     return r;
+}
+
+/* mkdir -p: create dir and its missing parents. 0 on success, else errno. */
+int cli_make_dirs(const char *dir)
+{
+    char *p = strdup(dir);
+    if (!p) return ENOMEM;
+    int err = 0;
+    for (char *s = p + 1;; s++) {
+        if (*s != '/' && *s != '\0') continue;
+        char c = *s;
+        *s = '\0';
+        if (mkdir(p, 0777) != 0 && errno != EEXIST) {
+            err = errno;
+            break;
+        }
+        *s = c;
+        if (!c) break;
+    }
+    struct stat st;
+    if (!err && (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))) err = ENOTDIR;
+    free(p);
+    return err;
 }

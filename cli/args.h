@@ -73,4 +73,7 @@ int cli_parse_size(const char *s, size_t *out);       /* 512, 64K, 512M, 8G, 1T 
 int cli_parse_dims(const char *s, bvox_dims *out);    /* "NX,NY,NZ" or "NXxNYxNZ" */
 int cli_parse_triple(const char *s, double out[3]);   /* "SX,SY,SZ", each finite */
 
+/* mkdir -p: create dir and its missing parents. 0 on success, else errno. */
+int cli_make_dirs(const char *dir);
+
 #endif

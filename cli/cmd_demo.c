@@ -40,32 +40,9 @@ static void help(FILE *f)
           f);
 }
 
-/* mkdir -p: create dir and its missing parents. 0 on success, else errno. */
-static int make_dirs(const char *dir)
-{
-    char *p = strdup(dir);
-    if (!p) return ENOMEM;
-    int err = 0;
-    for (char *s = p + 1;; s++) {
-        if (*s != '/' && *s != '\0') continue;
-        char c = *s;
-        *s = '\0';
-        if (mkdir(p, 0777) != 0 && errno != EEXIST) {
-            err = errno;
-            break;
-        }
-        *s = c;
-        if (!c) break;
-    }
-    struct stat st;
-    if (!err && (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))) err = ENOTDIR;
-    free(p);
-    return err;
-}
-
 static int write_outputs(const char *dir, const bvox_volume *vol)
 {
-    int err = make_dirs(dir);
+    int err = cli_make_dirs(dir);
     if (err) {
         fprintf(stderr, "bvox: %s: cannot create the folder: %s\n", dir, strerror(err));
         return CLI_FAIL;

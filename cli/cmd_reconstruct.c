@@ -61,8 +61,8 @@ static void help(FILE *f)
           "  --save-contours OUT    the aligned contours: OUT.json, or a folder of SVG files\n"
           "  --report REPORT.json   per section: markers, transform, residual, fallback;\n"
           "                         the time of each step\n"
-          "  --save-steps DIR       each section's steps as PNG files in the existing\n"
-          "                         folder DIR: NAME.1_flat.png (background corrected),\n"
+          "  --save-steps DIR       each section's steps as PNG files in the folder DIR\n"
+          "                         (created): NAME.1_flat.png (background corrected),\n"
           "                         NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png\n"
           "  --quiet                no progress on stderr\n"
           "  --output-format NAME   force the model's format\n"
@@ -386,6 +386,14 @@ int cmd_reconstruct(int argc, char **argv)
     bvox_volume *vol = NULL;
     bvox_contour_stack *stack = NULL;
     bvox_recon_report *rep = NULL;
+    if (o.save_steps) {
+        int err = cli_make_dirs(o.save_steps);
+        if (err) {
+            fprintf(stderr, "bvox: %s: cannot create the folder: %s\n", o.save_steps, strerror(err));
+            free(inputs);
+            return CLI_FAIL;
+        }
+    }
     bvox_status st = bvox_reconstruct(inputs, nin, &o, out ? &vol : NULL, save ? &stack : NULL, &rep);
     free(inputs);
     if (st) return cli_fail();
