@@ -1,0 +1,156 @@
+/*
+ * surface_update.c — bring a bvox_surface up to date after an edit that
+ * changed only the voxels of a known box, without rebuilding it: the
+ * boundary voxels of the box grown by one voxel (a voxel's class depends on
+ * its 6 neighbours) are recomputed word-wise as surface.c does, the other
+ * entries are kept, and each class's kept and new entries are merged in the
+ * full build's order (y, then x, then z), so the result is the very array
+ * bvox_surface_build would make (the tests compare them word for word).
+ * Cost: the region's words plus one pass over the entries, instead of every
+ * word of the volume (a brush ball on a 1024^3 model: ~5 ms instead of ~50).
+ */
+#include "render.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static inline void neighbours(const bvox_volume *v, int32_t x, int32_t y, size_t w, uint64_t nb[6])
+{
+    const uint64_t *col = bvox__column_c(v, x, y);
+    const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
+    uint64_t word = col[w];
+    nb[0] = x > 0 ? col[w - wpc] : 0;
+    nb[1] = x + 1 < v->nx ? col[w + wpc] : 0;
+    nb[2] = y > 0 ? col[w - row] : 0;
+    nb[3] = y + 1 < v->ny ? col[w + row] : 0;
+    nb[4] = word << 1 | (w > 0 ? col[w - 1] >> 63 : 0);
+    nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
+}
+
+/* The full build's order within a class: y, then x, then z. */
+static inline uint64_t order_key(uint64_t e)
+{
+    return (uint64_t)SURF_Y(e) << 40 | (uint64_t)SURF_X(e) << 20 | (uint64_t)SURF_Z(e);
+}
+
+typedef struct region {
+    int32_t lo[3], hi[3];
+} region;
+
+static inline int inside(const region *r, uint64_t e)
+{
+    int32_t x = SURF_X(e), y = SURF_Y(e), z = SURF_Z(e);
+    return x >= r->lo[0] && x < r->hi[0] && y >= r->lo[1] && y < r->hi[1] && z >= r->lo[2] &&
+           z < r->hi[2];
+}
+
+/* Boundary voxels of vol inside r: counted per class (out NULL), or written
+ * at at[class]++. */
+static void scan(const bvox_volume *v, const region *r, int64_t count[64], int64_t at[64],
+                 uint64_t *out)
+{
+    size_t k0 = (size_t)r->lo[2] / 64, k1 = ((size_t)r->hi[2] + 63) / 64;
+    for (int32_t y = r->lo[1]; y < r->hi[1]; y++)
+        for (int32_t x = r->lo[0]; x < r->hi[0]; x++) {
+            const uint64_t *col = bvox__column_c(v, x, y);
+            for (size_t w = k0; w < k1; w++) {
+                if (!col[w]) continue;
+                int64_t zlo = r->lo[2] - (int64_t)w * 64, zhi = r->hi[2] - (int64_t)w * 64;
+                uint64_t mask = bvox__bit_range(zlo > 0 ? (unsigned)zlo : 0u, zhi < 64 ? (unsigned)zhi : 64u);
+                uint64_t nb[6];
+                neighbours(v, x, y, w, nb);
+                uint64_t b = col[w] & mask & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
+                while (b) {
+                    unsigned k = (unsigned)__builtin_ctzll(b);
+                    b &= b - 1;
+                    uint64_t bits = (nb[0] >> k & 1) * NB_XM | (nb[1] >> k & 1) * NB_XP |
+                                    (nb[2] >> k & 1) * NB_YM | (nb[3] >> k & 1) * NB_YP |
+                                    (nb[4] >> k & 1) * NB_ZM | (nb[5] >> k & 1) * NB_ZP;
+                    if (!out) {
+                        count[bits]++;
+                        continue;
+                    }
+                    uint64_t z = w * 64 + k;
+                    out[at[bits]++] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | bits << 48;
+                }
+            }
+        }
+}
+
+bvox_status bvox_surface_update(bvox_surface *surf, const bvox_volume *vol, bvox_box changed)
+{
+    if (!surf || !vol) return bvox__fail(BVOX_EINVAL, "surface update: missing input");
+    if (vol->nx != surf->dims.nx || vol->ny != surf->dims.ny || vol->nz != surf->dims.nz)
+        return bvox__fail(BVOX_EINVAL, "surface update: the volume's dimensions differ from the surface's");
+    bvox__clear_error();
+    region r;
+    const int32_t n[3] = {vol->nx, vol->ny, vol->nz};
+    const int32_t lo[3] = {changed.x0, changed.y0, changed.z0}, hi[3] = {changed.x1, changed.y1, changed.z1};
+    for (int a = 0; a < 3; a++) {
+        if (lo[a] >= hi[a]) return BVOX_OK; /* nothing changed */
+        int64_t l = (int64_t)lo[a] - 1, h = (int64_t)hi[a] + 1;
+        r.lo[a] = l < 0 ? 0 : l > n[a] ? n[a] : (int32_t)l;
+        r.hi[a] = h < 0 ? 0 : h > n[a] ? n[a] : (int32_t)h;
+        if (r.lo[a] >= r.hi[a]) return BVOX_OK; /* outside the volume */
+    }
+    /* the region's entries, grouped by class in the build's order */
+    int64_t cnt[64] = {0}, at[64], fresh = 0;
+    scan(vol, &r, cnt, NULL, NULL);
+    for (int k = 0; k < 64; k++) at[k] = fresh, fresh += cnt[k];
+    bvox_status st;
+    size_t tbytes = (size_t)(fresh ? fresh : 1) * sizeof(uint64_t);
+    uint64_t *tmp = bvox__alloc(tbytes, false, "surface update", &st);
+    if (!tmp) return st;
+    scan(vol, &r, NULL, at, tmp);
+    /* entries kept outside the region */
+    int64_t kept = 0;
+    for (int64_t i = 0; i < surf->count; i++) kept += !inside(&r, surf->entries[i]);
+    int64_t total = kept + fresh;
+    size_t bytes = (size_t)(total ? total : 1) * sizeof(uint64_t);
+    uint64_t *out = bvox__alloc(bytes, false, "surface voxels", &st);
+    if (!out) {
+        bvox__free(tmp, tbytes);
+        return st;
+    }
+    int64_t start[65], o = 0, t0 = 0;
+    bvox_box bb = {INT32_MAX, INT32_MAX, INT32_MAX, -1, -1, -1};
+    for (int k = 0; k < 64; k++) {
+        start[k] = o;
+        int64_t i = surf->class_start[k], i1 = surf->class_start[k + 1];
+        int64_t j = t0, j1 = t0 + cnt[k];
+        for (;;) {
+            while (i < i1 && inside(&r, surf->entries[i])) i++;
+            if (i >= i1 && j >= j1) break;
+            uint64_t e;
+            if (j >= j1 || (i < i1 && order_key(surf->entries[i]) < order_key(tmp[j]))) e = surf->entries[i++];
+            else e = tmp[j++];
+            out[o++] = e;
+            int32_t x = SURF_X(e), y = SURF_Y(e), z = SURF_Z(e);
+            bb.x0 = x < bb.x0 ? x : bb.x0, bb.x1 = x + 1 > bb.x1 ? x + 1 : bb.x1;
+            bb.y0 = y < bb.y0 ? y : bb.y0, bb.y1 = y + 1 > bb.y1 ? y + 1 : bb.y1;
+            bb.z0 = z < bb.z0 ? z : bb.z0, bb.z1 = z + 1 > bb.z1 ? z + 1 : bb.z1;
+        }
+        t0 = j1;
+    }
+    start[64] = o;
+    bvox__free(tmp, tbytes);
+    bvox__free(surf->entries, surf->bytes);
+    surf->entries = out;
+    surf->bytes = bytes;
+    surf->count = total;
+    memcpy(surf->class_start, start, sizeof start);
+    /* the extreme 1-voxels are boundary voxels: the entries' box is the object's */
+    surf->empty = total == 0;
+    surf->bbox = total ? bb : (bvox_box){0, 0, 0, 0, 0, 0};
+    return BVOX_OK;
+}
+
+int bvox_surface_bbox(const bvox_surface *surf, bvox_box *box)
+{
+    if (!surf || surf->empty) {
+        if (box) *box = (bvox_box){0, 0, 0, 0, 0, 0};
+        return 0;
+    }
+    if (box) *box = surf->bbox;
+    return 1;
+}

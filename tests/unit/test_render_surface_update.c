@@ -1,0 +1,117 @@
+/* test_render_surface_update.c — bvox_surface_update (src/render/
+ * surface_update.c) against a fresh bvox_surface_build of the edited volume:
+ * the same entries in the same order, the same class ranges, count and
+ * bounding box, word for word, after random edits (boxes, balls, single
+ * voxels, emptying and refilling) on random volumes at awkward sizes (nz = 1,
+ * 63, 64, 65, 130), with the exact changed box and with a larger one; an
+ * empty or outside box changes nothing; misuse is refused. */
+#include "harness.h"
+#include "render/render.h"
+
+#include <string.h>
+
+static int same(const bvox_surface *a, const bvox_surface *b)
+{
+    if (a->count != b->count || a->empty != b->empty) return 0;
+    if (memcmp(a->class_start, b->class_start, sizeof a->class_start)) return 0;
+    if (memcmp(&a->bbox, &b->bbox, sizeof a->bbox)) return 0;
+    return !a->count || !memcmp(a->entries, b->entries, (size_t)a->count * sizeof(uint64_t));
+}
+
+static int32_t rnd(int32_t n) { return (int32_t)(harness_rand() % (uint64_t)n); }
+
+TEST(update_equals_build)
+{
+    static const bvox_dims sizes[] = {{9, 7, 1}, {11, 5, 63}, {6, 9, 64}, {8, 8, 65}, {13, 6, 130}};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+        bvox_dims d = sizes[si];
+        bvox_volume *v;
+        CHECK_OK(bvox_volume_create(d, &v));
+        for (int32_t z = 0; z < d.nz; z++)
+            for (int32_t y = 0; y < d.ny; y++)
+                for (int32_t x = 0; x < d.nx; x++)
+                    if (harness_rand() % 5 < 2) CHECK_OK(bvox_volume_set(v, x, y, z, 1));
+        bvox_surface *s;
+        CHECK_OK(bvox_surface_build(v, &s));
+        for (int k = 0; k < 60; k++) {
+            bvox_box changed;
+            int32_t x = rnd(d.nx), y = rnd(d.ny), z = rnd(d.nz);
+            switch (k % 6) {
+            case 0:
+                CHECK_OK(bvox_edit_fill_box(v, (bvox_box){x - 2, y - 1, z - 3, x + 3, y + 2, z + 40},
+                                            (int)(harness_rand() & 1), &changed));
+                break;
+            case 1: {
+                bvox_shape sh;
+                memset(&sh, 0, sizeof sh);
+                sh.kind = BVOX_SHAPE_SPHERE;
+                sh.center[0] = x, sh.center[1] = y, sh.center[2] = z;
+                sh.radius = 2.5;
+                CHECK_OK(bvox_shape_draw(v, &sh, k & 8 ? BVOX_CSG_UNION : BVOX_CSG_DIFFERENCE));
+                changed = (bvox_box){x - 3, y - 3, z - 3, x + 4, y + 4, z + 4};
+                break;
+            }
+            case 2: case 3:
+                CHECK_OK(bvox_edit_voxel(v, x, y, z, !bvox_volume_get(v, x, y, z), &changed));
+                break;
+            case 4: /* a larger box than the change is fine too */
+                CHECK_OK(bvox_edit_voxel(v, x, y, z, !bvox_volume_get(v, x, y, z), NULL));
+                changed = (bvox_box){x - 5, y - 1, 0, x + 2, y + 7, d.nz};
+                break;
+            default:
+                if (k == 17) { /* everything, then nothing */
+                    bvox_volume_fill(v, 0);
+                    changed = (bvox_box){0, 0, 0, d.nx, d.ny, d.nz};
+                } else if (k == 23) {
+                    bvox_volume_fill(v, 1);
+                    changed = (bvox_box){-4, -4, -4, d.nx + 9, d.ny + 9, d.nz + 9};
+                } else {
+                    CHECK_OK(bvox_edit_fill_box(v, (bvox_box){0, y, 0, d.nx, y + 1, d.nz}, 1, &changed));
+                }
+                break;
+            }
+            CHECK_OK(bvox_surface_update(s, v, changed));
+            bvox_surface *ref;
+            CHECK_OK(bvox_surface_build(v, &ref));
+            CHECK(same(s, ref));
+            bvox_box b1, b2;
+            CHECK_EQ(bvox_surface_bbox(s, &b1), bvox_volume_bbox(v, &b2));
+            CHECK(!memcmp(&b1, &b2, sizeof b1));
+            bvox_surface_destroy(ref);
+        }
+        bvox_surface_destroy(s);
+        bvox_volume_destroy(v);
+    }
+    return 0;
+}
+
+TEST(nothing_to_do_and_misuse)
+{
+    bvox_volume *v, *w;
+    CHECK_OK(bvox_volume_create((bvox_dims){10, 10, 10}, &v));
+    bvox_volume_fill_box(v, (bvox_box){2, 2, 2, 7, 7, 7}, 1);
+    bvox_surface *s, *ref;
+    CHECK_OK(bvox_surface_build(v, &s));
+    CHECK_OK(bvox_surface_build(v, &ref));
+    CHECK_OK(bvox_surface_update(s, v, (bvox_box){0, 0, 0, 0, 0, 0}));  /* empty box */
+    CHECK_OK(bvox_surface_update(s, v, (bvox_box){20, 0, 0, 30, 5, 5})); /* outside */
+    CHECK(same(s, ref));
+    CHECK_OK(bvox_volume_create((bvox_dims){10, 10, 11}, &w));
+    CHECK_STATUS(bvox_surface_update(s, w, (bvox_box){0, 0, 0, 1, 1, 1}), BVOX_EINVAL);
+    CHECK_STATUS(bvox_surface_update(NULL, v, (bvox_box){0, 0, 0, 1, 1, 1}), BVOX_EINVAL);
+    /* an allocation failure leaves the surface as it was */
+    bvox_volume_set(v, 5, 5, 5, 0);
+    for (long n = 1; n <= 2; n++) {
+        bvox__alloc_fail_after(n);
+        bvox_status st = bvox_surface_update(s, v, (bvox_box){5, 5, 5, 6, 6, 6});
+        bvox__alloc_fail_after(0);
+        CHECK(st == BVOX_ENOMEM || st == BVOX_ETOOBIG);
+        CHECK(same(s, ref));
+    }
+    CHECK_EQ(bvox_surface_bbox(NULL, NULL), 0);
+    bvox_surface_destroy(ref);
+    bvox_surface_destroy(s);
+    bvox_volume_destroy(v);
+    bvox_volume_destroy(w);
+    return 0;
+}
