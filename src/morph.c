@@ -32,8 +32,6 @@ typedef struct morph_job {
     const offset *offs;
     const int *zindex;        /* offs[i] uses zs[zindex[i]] */
     int noffs;
-    const uint64_t *src;      /* 3-tap passes: source words */
-    int axis;                 /* 0 = x, 1 = y */
 } morph_job;
 
 /* z pass: every column OR (AND) its shifts by -h..h. */
@@ -74,49 +72,123 @@ static bvox_status z_pass(const bvox_volume *in, int h, bool erode, bvox_volume 
     return BVOX_OK;
 }
 
-/* 3-tap pass along x (neighbour columns) or y (neighbour rows), in a row. */
-static void tap_range(void *ctx, int64_t begin, int64_t end)
+/* The 26-neighbourhood, separable and fused: each output row y is the
+ * OR (AND) of rows y-1, y, y+1 of zx, where zx = the x 3-tap of the z 3-tap
+ * of the input. A thread walks its rows keeping zx of the last three rows
+ * in a small ring (3 rows of words, in cache), so the input is read once and
+ * the output written once: three separate passes over whole volumes moved
+ * three times the memory. Loops have no data-dependent branches; dilation
+ * and erosion are separate instantiations. */
+typedef struct box26_job {
+    const bvox_volume *in;
+    bvox_volume *out;
+    uint64_t *ring; /* per chunk: 3 rows of nx * wpc words */
+    int64_t nchunks;
+    size_t row_words;
+} box26_job;
+
+static inline __attribute__((always_inline)) uint64_t op3(uint64_t a, uint64_t b, uint64_t c,
+                                                           bool erode)
 {
-    morph_job *j = ctx;
-    const bvox_volume *v = j->out;
-    size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
-    for (int64_t y = begin; y < end; y++) {
-        uint64_t *dst = j->out->words + (size_t)y * row;
-        const uint64_t *mid = j->src + (size_t)y * row;
-        if (j->axis == 0) {
-            for (size_t i = 0; i < row; i++) {
-                uint64_t l = i >= wpc ? mid[i - wpc] : 0;
-                uint64_t r = i + wpc < row ? mid[i + wpc] : 0;
-                dst[i] = j->erode ? (mid[i] & l & r) : (mid[i] | l | r);
-            }
-        } else {
-            const uint64_t *up = y > 0 ? mid - row : NULL;
-            const uint64_t *dn = y + 1 < v->ny ? mid + row : NULL;
-            for (size_t i = 0; i < row; i++) {
-                uint64_t a = up ? up[i] : 0, b = dn ? dn[i] : 0;
-                dst[i] = j->erode ? (mid[i] & a & b) : (mid[i] | a | b);
+    return erode ? (a & b & c) : (a | b | c);
+}
+
+/* zx of row y into dst (rows outside the volume: all 0). */
+static inline __attribute__((always_inline)) void zx_row(const bvox_volume *v, int64_t y,
+                                                          uint64_t *dst, bool erode)
+{
+    size_t wpc = v->wpc, nx = (size_t)v->nx, row = nx * wpc;
+    if (y < 0 || y >= v->ny) {
+        memset(dst, 0, row * sizeof *dst);
+        return;
+    }
+    const uint64_t *src = v->words + (size_t)y * row;
+    uint64_t tail = v->tail_mask;
+    /* z pass into dst */
+    for (size_t x = 0; x < nx; x++) {
+        const uint64_t *c = src + x * wpc;
+        uint64_t *d = dst + x * wpc;
+        uint64_t prev_hi = 0;
+        for (size_t k = 0; k < wpc; k++) {
+            uint64_t w = c[k];
+            uint64_t next_lo = k + 1 < wpc ? c[k + 1] << 63 : 0;
+            d[k] = op3(w, (w << 1) | prev_hi, (w >> 1) | next_lo, erode);
+            prev_hi = w >> 63;
+        }
+        d[wpc - 1] &= tail;
+    }
+    /* x pass in place: column x becomes op(x-1, x, x+1), keeping the old x-1 */
+    uint64_t carry[64];
+    for (size_t k0 = 0; k0 < wpc; k0 += 64) {
+        size_t kn = wpc - k0 < 64 ? wpc - k0 : 64;
+        for (size_t k = 0; k < kn; k++) carry[k] = 0; /* column -1 */
+        for (size_t x = 0; x < nx; x++) {
+            uint64_t *d = dst + x * wpc + k0;
+            const uint64_t *r = x + 1 < nx ? d + wpc : NULL;
+            for (size_t k = 0; k < kn; k++) {
+                uint64_t mid = d[k], right = r ? r[k] : 0;
+                d[k] = op3(carry[k], mid, right, erode);
+                carry[k] = mid;
             }
         }
     }
 }
 
-/* The 26-neighbourhood: z, then x, then y, each a 3-tap pass. */
+static inline __attribute__((always_inline)) void box26_rows(const box26_job *j, int64_t s,
+                                                              bool erode)
+{
+    const bvox_volume *v = j->in;
+    int64_t y0 = s * v->ny / j->nchunks, y1 = (s + 1) * v->ny / j->nchunks;
+    size_t row = j->row_words;
+    uint64_t *ring = j->ring + (size_t)s * 3 * row;
+    /* ring slot of row r: (r + 1) mod 3 (r >= -1) */
+    zx_row(v, y0 - 1, ring + (size_t)((y0) % 3) * row, erode);
+    zx_row(v, y0, ring + (size_t)((y0 + 1) % 3) * row, erode);
+    for (int64_t y = y0; y < y1; y++) {
+        zx_row(v, y + 1, ring + (size_t)((y + 2) % 3) * row, erode);
+        const uint64_t *a = ring + (size_t)(y % 3) * row;
+        const uint64_t *b = ring + (size_t)((y + 1) % 3) * row;
+        const uint64_t *c = ring + (size_t)((y + 2) % 3) * row;
+        uint64_t *dst = j->out->words + (size_t)y * row;
+        for (size_t i = 0; i < row; i++) dst[i] = op3(a[i], b[i], c[i], erode);
+    }
+}
+
+static void box26_dilate_chunks(void *ctx, int64_t begin, int64_t end)
+{
+    for (int64_t s = begin; s < end; s++) box26_rows(ctx, s, false);
+}
+
+static void box26_erode_chunks(void *ctx, int64_t begin, int64_t end)
+{
+    for (int64_t s = begin; s < end; s++) box26_rows(ctx, s, true);
+}
+
 static bvox_status box26(const bvox_volume *in, bool erode, bvox_volume **out)
 {
-    bvox_volume *a, *b;
-    bvox_status st = z_pass(in, 1, erode, &a);
+    bvox_dims d = {in->nx, in->ny, in->nz};
+    bvox_status st = bvox__volume_create_uninit(d, out);
     if (st) return st;
-    st = bvox_volume_copy(a, &b);
-    if (st) {
-        bvox_volume_destroy(a);
+    (*out)->geom = in->geom;
+    box26_job j = {in, *out, NULL, 1, (size_t)in->nx * in->wpc};
+    /* one chunk of rows per thread; each chunk recomputes 2 rows of zx */
+    int threads = bvox_threads();
+    j.nchunks = in->ny / 8 < threads ? in->ny / 8 : threads;
+    if (j.nchunks < 1) j.nchunks = 1;
+    size_t bytes;
+    if (!bvox__mul_size(j.row_words * 3 * sizeof(uint64_t), (size_t)j.nchunks, &bytes)) {
+        bvox_volume_destroy(*out);
+        *out = NULL;
+        return bvox__fail(BVOX_ETOOBIG, "rows too long for the dilation buffers");
+    }
+    j.ring = bvox__alloc(bytes, false, "dilation row buffers", &st);
+    if (!j.ring) {
+        bvox_volume_destroy(*out);
+        *out = NULL;
         return st;
     }
-    morph_job j = {.in = in, .out = b, .erode = erode, .src = a->words, .axis = 0};
-    bvox__parallel_for(in->ny, 8, tap_range, &j); /* b = x pass of a */
-    j = (morph_job){.in = in, .out = a, .erode = erode, .src = b->words, .axis = 1};
-    bvox__parallel_for(in->ny, 8, tap_range, &j); /* a = y pass of b */
-    bvox_volume_destroy(b);
-    *out = a;
+    bvox__parallel_for(j.nchunks, 1, erode ? box26_erode_chunks : box26_dilate_chunks, &j);
+    bvox__free(j.ring, bytes);
     return BVOX_OK;
 }
 

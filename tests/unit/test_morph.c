@@ -145,3 +145,41 @@ TEST(dilate_single_voxel_counts)
     bvox_volume_destroy(v);
     return 0;
 }
+
+/* The fused 26-neighbourhood pass splits rows into one chunk per thread
+ * (each recomputing its neighbour rows) and the x pass works on 64 words of
+ * a column at a time: tall volumes, 1..4 threads, and columns longer than
+ * 64 words must all match the reference. */
+TEST(box26_threads_and_long_columns)
+{
+    static const int big[][3] = {{3, 40, 70}, {9, 70, 5}, {2, 17, 64 * 65 + 3}};
+    double unit[3] = {1, 1, 1};
+    for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) {
+        const int *sz = big[i];
+        voxref *a = voxref_create(sz[0], sz[1], sz[2]);
+        for (int pass = 0; pass < 2; pass++) {
+            voxref_random(a, pass ? 7 : 1, pass ? 8 : 12, harness_rand);
+            bvox_volume *v = voxref_to_volume(a);
+            for (int erode = 0; erode < 2; erode++) {
+                voxref *r = ref_morph(a, conn26, unit, 0, 1, erode);
+                for (int threads = 1; threads <= 4; threads++) {
+                    bvox_set_threads(threads);
+                    bvox_volume *out;
+                    CHECK_OK(erode ? bvox_morph_erode(v, 26, &out) : bvox_morph_dilate(v, 26, &out));
+                    CHECK_OK(bvox_volume_check(out));
+                    if (!voxref_matches(r, out)) {
+                        fprintf(stderr, "erode %d size %dx%dx%d threads %d\n", erode, sz[0], sz[1],
+                                sz[2], threads);
+                        return 1;
+                    }
+                    bvox_volume_destroy(out);
+                }
+                voxref_destroy(r);
+            }
+            bvox_volume_destroy(v);
+        }
+        voxref_destroy(a);
+    }
+    bvox_set_threads(0);
+    return 0;
+}
