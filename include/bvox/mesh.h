@@ -1,5 +1,134 @@
-/* bvox/mesh.h — (filled in by its issue). Included by bvox.h. */
+/*
+ * bvox/mesh.h — triangle meshes: volume -> watertight mesh (marching cubes,
+ * cuberille), Taubin smoothing, mesh measures, mesh files (STL binary/ASCII,
+ * PLY ascii/binary, OBJ, OFF) and mesh -> volume (voxelization). Included by
+ * bvox.h; do not include it alone.
+ *
+ * Coordinates are world coordinates as bvox_geometry defines them: the
+ * centre of voxel (i, j, k) is origin + direction * (i*sx, j*sy, k*sz).
+ * Triangles are counter-clockwise seen from outside (outward normals, a
+ * positive signed volume). Vertices are shared between triangles.
+ */
 #ifndef BVOX_MESH_H
 #define BVOX_MESH_H
+
+/* An indexed triangle mesh. The arrays belong to the mesh (budgeted
+ * allocations); read them freely, change them only through the functions
+ * below (or in place, keeping indices < nvertices). */
+typedef struct bvox_mesh {
+    double *vertices;   /* 3 * nvertices: x, y, z */
+    int32_t *triangles; /* 3 * ntriangles vertex indices */
+    int64_t nvertices;
+    int64_t ntriangles;
+    int64_t vcap, tcap; /* allocated capacity (vertices, triangles) */
+} bvox_mesh;
+
+/* An empty mesh. Destroy with bvox_mesh_destroy (accepts NULL). */
+bvox_status bvox_mesh_create(bvox_mesh **out);
+void bvox_mesh_destroy(bvox_mesh *mesh);
+/* Make room for at least nv vertices and nt triangles (counts are limited
+ * to INT32_MAX). */
+bvox_status bvox_mesh_reserve(bvox_mesh *mesh, int64_t nv, int64_t nt);
+/* Append a vertex (finite coordinates) / a triangle (indices < nvertices). */
+bvox_status bvox_mesh_add_vertex(bvox_mesh *mesh, double x, double y, double z);
+bvox_status bvox_mesh_add_triangle(bvox_mesh *mesh, int32_t a, int32_t b, int32_t c);
+
+/* ---------------------------------------------------- volume -> mesh */
+
+typedef enum bvox_mesh_method {
+    /* Marching cubes on the binary volume (iso 0.5: vertices at edge
+     * midpoints). The case table is generated from one rule, "the 1-voxels
+     * are 6-connected": on a face whose diagonal corners are 1 and 0, the
+     * contour cuts off each 1-corner. The same rule on both sides of every
+     * face makes the mesh of ANY volume a closed 2-manifold. */
+    BVOX_MESH_MC = 0,
+    /* Cuberille: two triangles per exposed voxel face (Artzy, Frieder and
+     * Herman); its volume is the voxel volume exactly. Where voxels touch
+     * only along an edge or at a corner, the corner vertex is duplicated,
+     * one copy per surface sheet (the sheets of the marching-cubes rule
+     * above), so every edge is shared by exactly two triangles. */
+    BVOX_MESH_CUBERILLE = 1
+} bvox_mesh_method;
+
+typedef struct bvox_mesh_opts {
+    bvox_mesh_method method;
+    int smooth;    /* Taubin iterations (0: none) */
+    double lambda; /* 0: 0.5 */
+    double mu;     /* 0: -0.53 */
+} bvox_mesh_opts;
+
+#define BVOX_MESH_OPTS_INIT { BVOX_MESH_MC, 0, 0.5, -0.53 }
+
+/* The surface of the 1-voxels (the volume is treated as surrounded by 0s,
+ * so the mesh is always closed). opts may be NULL (marching cubes). */
+bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *opts,
+                                  bvox_mesh **out);
+
+/* Taubin lambda/mu smoothing (a shrink step lambda > 0, an inflate step
+ * mu < -lambda) over the shared-vertex adjacency, uniform weights; the
+ * enclosed volume is nearly preserved. */
+bvox_status bvox_mesh_smooth(bvox_mesh *mesh, int iterations, double lambda, double mu);
+
+/* ------------------------------------------------------------- measures */
+
+typedef struct bvox_mesh_info {
+    int64_t vertices, triangles;
+    double volume;       /* sum of signed tetrahedra (origin, a, b, c) */
+    double area;
+    double bbox_min[3], bbox_max[3]; /* zeros for an empty mesh */
+    int64_t edges;           /* distinct undirected edges */
+    int64_t boundary_edges;  /* used by one triangle */
+    int64_t nonmanifold_edges; /* used by more than two triangles */
+    int64_t inconsistent_edges; /* two triangles traverse it the same way */
+    int64_t degenerate_triangles; /* a repeated vertex index */
+    int watertight;          /* every edge in exactly two triangles, no degenerate */
+} bvox_mesh_info;
+
+bvox_status bvox_mesh_measure(const bvox_mesh *mesh, bvox_mesh_info *info);
+
+/* ------------------------------------------------------------------ files */
+
+/* Read "stl" (binary or ASCII), "obj", "ply" (ascii, binary little/big
+ * endian) or "off"; format NULL: by extension, else by content. STL
+ * triangles' coincident corners are welded (exact equality); polygons are
+ * triangulated as fans. Bad input (truncated, NaN, index out of range,
+ * absurd counts) is BVOX_EFORMAT with a message naming the file. */
+bvox_status bvox_mesh_read(const char *path, const char *format, bvox_mesh **out);
+bvox_status bvox_mesh_read_memory(const void *data, size_t size, const char *name,
+                                  const char *format, bvox_mesh **out);
+/* "stl", "ply", "obj", "off" for a path's extension, or NULL. */
+const char *bvox_mesh_format_for_path(const char *path);
+
+/* Write as "stl" (binary; ascii != 0: ASCII), "ply" (binary little endian;
+ * ascii: ASCII), "obj" or "off" (text); format NULL: by extension. Written
+ * atomically (temporary file, renamed on success). */
+bvox_status bvox_mesh_write(const char *path, const bvox_mesh *mesh, const char *format,
+                            int ascii);
+
+/* ------------------------------------------------------- mesh -> volume */
+
+typedef struct bvox_voxelize_opts {
+    int32_t res;       /* voxels along the longest side of the bounding box */
+    double voxel_size; /* or the voxel size (world units); exactly one > 0 */
+    int shell;         /* 1: only the voxels the surface passes through */
+    char unit[16];     /* unit of the output geometry ("" unknown) */
+} bvox_voxelize_opts;
+
+typedef struct bvox_voxelize_report {
+    int closed;            /* 1: a closed (watertight) mesh: exact parity along z */
+    int64_t open_edges;    /* edges not shared by exactly two triangles */
+    const char *method;    /* "parity-z", "vote-xyz" (open mesh) or "shell" */
+} bvox_voxelize_report;
+
+/* A voxel is inside when its centre is inside the mesh. The grid covers the
+ * mesh's bounding box, centred on it, with voxel centres at origin + i*s, so
+ * a box meshed back (cuberille or marching cubes) lands on its original
+ * faces. Inside test: rays along z through the voxel centres, crossings found
+ * with exact 2D orientation tests on coordinates snapped to a 2^-20 voxel
+ * grid, ties broken by a symbolic perturbation of the ray (simulation of
+ * simplicity), parity per ray. A mesh that is not closed is voxelized along x,
+ * y and z and each voxel gets the majority vote. report may be NULL. */
+bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
+                               bvox_volume **out, bvox_voxelize_report *report);
 
 #endif /* BVOX_MESH_H */
