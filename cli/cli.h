@@ -37,6 +37,12 @@ int cmd_shape(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_mosaic(int argc, char **argv);
 int cmd_image(int argc, char **argv);
+int cmd_reconstruct(int argc, char **argv);
+int cmd_view(int argc, char **argv);
+int cmd_mesh(int argc, char **argv);
+int cmd_voxelize(int argc, char **argv);
+int cmd_meshinfo(int argc, char **argv);
+int cmd_contours(int argc, char **argv);
 
 /* "bvox: <message>" on stderr for a failed library call; returns CLI_FAIL. */
 int cli_fail(void);

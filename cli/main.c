@@ -22,6 +22,12 @@ static const cli_command commands[] = {
     {"render", cmd_render, "shaded picture: axis/iso/any view, cut, stereo, sheet, turntable"},
     {"mosaic", cmd_mosaic, "the data set as the frame buffer held it: 8 slices per byte"},
     {"image", cmd_image, "2D image operations: zoom, average (Figure 5), filter, pan"},
+    {"reconstruct", cmd_reconstruct, "serial section images or traced contours -> aligned model"},
+    {"view", cmd_view, "interactive viewer: turn, light, cut, slices, mosaic, edit (SDL2)"},
+    {"mesh", cmd_mesh, "surface mesh (marching cubes or voxel faces) as STL, PLY, OBJ, OFF"},
+    {"voxelize", cmd_voxelize, "triangle mesh (STL, OBJ, PLY, OFF) -> volume, solid or shell"},
+    {"meshinfo", cmd_meshinfo, "mesh counts, volume, area, bounding box, watertightness"},
+    {"contours", cmd_contours, "model slices across x, y or z -> contour stack (JSON or SVG)"},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -693,6 +693,15 @@ typedef struct bvox_surface bvox_surface;
 bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out);
 void bvox_surface_destroy(bvox_surface *surf);
 int64_t bvox_surface_count(const bvox_surface *surf);
+/* After vol (the volume surf was built from) changed only inside box
+ * (half-open): recompute the boundary voxels of the box grown by one voxel,
+ * keep the rest. The result is exactly what bvox_surface_build(vol) makes,
+ * at the cost of the box plus one pass over the entries (interactive edits).
+ * On failure surf is unchanged. BVOX_EINVAL for other dimensions. */
+bvox_status bvox_surface_update(bvox_surface *surf, const bvox_volume *vol, bvox_box box);
+/* The bounding box of the surface's voxels (the object's); 0 and a zero box
+ * when empty. */
+int bvox_surface_bbox(const bvox_surface *surf, bvox_box *box);
 /* Cast a parallel projection of the prepared surface. Each pixel gets the
  * exact first voxel box its centre ray meets (the ray clipped against each
  * candidate box; equal depths go to the smaller neighbour code, so the
@@ -952,6 +961,7 @@ bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts, bvox
 #include "bvox/contours.h" /* section outlines: the reconstruction data model */
 #include "bvox/recon.h"    /* images of serial sections -> aligned contour stack -> model */
 #include "bvox/mesh.h"     /* volume <-> triangle meshes */
+#include "bvox/journal.h"  /* undo/redo of in-place edits (the viewer) */
 
 #ifdef __cplusplus
 }

@@ -13,7 +13,17 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     zlib1g-dev libpng-dev libtiff-dev libgif-dev \
     clang libclang-rt-14-dev \
     mricron-data python3 >/dev/null
+# tests: libcgal-demo for CGAL's data sets (data.tar.gz: the bunny mesh the
+# mesh tests voxelize, extracted by tests/setup_meshdata.sh)
+$SUDO apt-get install -y -qq --no-install-recommends libcgal-demo >/dev/null
+# the viewer (bvox view): SDL2 for its window; xvfb + xauth so that the tests
+# (tests/cli/view.sh, through xvfb-run) open the real window without a display
+$SUDO apt-get install -y -qq --no-install-recommends libsdl2-dev xvfb xauth >/dev/null
 # benchmarks only (bench/compare_scipy.py; no test needs them): SciPy and
 # numpy for the comparison. A failure here does not stop the rest.
 $SUDO apt-get install -y -qq --no-install-recommends python3-numpy python3-scipy >/dev/null ||
     echo "install-deps: python3-numpy/python3-scipy not installed (only the SciPy comparison needs them)" >&2
+# benchmarks only (bench/compare_vtk.py): VTK's flying edges and voxelizer,
+# scikit-image's marching cubes, the peers of bench_mesh.
+$SUDO apt-get install -y -qq --no-install-recommends python3-vtk9 python3-skimage >/dev/null ||
+    echo "install-deps: python3-vtk9/python3-skimage not installed (only bench/compare_vtk.py needs them)" >&2
