@@ -114,6 +114,46 @@ expect 1 "demo -o under /proc" -- "$BVOX" demo -o /proc/bvox-test-dir
 hidden=$(find "$in" -name '.*' ! -name .)
 [ -z "$hidden" ] || fail "temporary files left in the input folder: $hidden"
 
+# Meshes: truncated, NaN coordinates, an index out of range, an absurd count.
+printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n' >"$in/trunc.stl"
+expect 1 "truncated ASCII STL" -- "$BVOX" meshinfo "$in/trunc.stl"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 nan\n0 1 0\n3 0 1 2\n' >"$in/nan.off"
+expect 1 "NaN coordinate (OFF)" -- "$BVOX" voxelize "$in/nan.off" -o "$out/x.nii" --res 16
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n' >"$in/idx.obj"
+expect 1 "face index out of range" -- "$BVOX" voxelize "$in/idx.obj" -o "$out/x.nii" --res 16
+printf 'ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n' \
+    >"$in/huge.ply"
+expect 1 "absurd PLY vertex count" -- "$BVOX" meshinfo "$in/huge.ply"
+
+# Sections and contours: an empty folder, sections of different sizes, a
+# contour of 2 points, a self-crossing contour, deep nesting, an SVG arc.
+mkdir "$in/nosections"
+expect 1 "empty section folder" -- "$BVOX" reconstruct "$in/nosections" -o "$out/m.nii" --quiet
+python3 - "$in" <<'PY'
+import struct, sys, zlib
+def png(path, w, h):
+    raw = b"".join(b"\0" + bytes([200] * w) for _ in range(h))
+    def chunk(t, d):
+        c = struct.pack(">I", len(d)) + t + d
+        return c + struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+                           + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+png(sys.argv[1] + "/s1.png", 32, 32)
+png(sys.argv[1] + "/s2.png", 24, 32)
+PY
+expect 1 "sections of different sizes" -- "$BVOX" reconstruct "$in/s1.png" "$in/s2.png" \
+    -o "$out/m.nii" --quiet
+printf '{"sections":[{"z":0,"contours":[[[0,0],[5,0]]]}]}' >"$in/two.json"
+expect 1 "contour of 2 points" -- "$BVOX" reconstruct "$in/two.json" -o "$out/m.nii" --quiet
+printf '{"sections":[{"z":0,"contours":[[[0,0],[10,10],[10,0],[0,10]]]}]}' >"$in/cross.json"
+expect 1 "self-crossing contour" -- "$BVOX" reconstruct "$in/cross.json" -o "$out/m.nii" --quiet
+python3 -c 'print("{\"extra\":" + "[" * 100000)' >"$in/deep.json"
+expect 1 "JSON nested 100000 deep" -- "$BVOX" reconstruct "$in/deep.json" -o "$out/m.nii" --quiet
+printf '<svg><path d="M 0 0 A 5 5 0 0 1 10 10 Z"/></svg>' >"$in/arc.svg"
+expect 1 "SVG elliptical arc" -- "$BVOX" reconstruct "$in/arc.svg" -o "$out/m.nii" --quiet
+printf 'key 5\nfrobnicate 3\n' >"$in/bad-script.txt"
+expect 1 "bad viewer script" -- "$BVOX" view --demo --script "$in/bad-script.txt"
+
 # A failed conversion leaves an existing output unchanged.
 printf 'keep me' >"$out/keep.nii"
 expect 1 "bad input, existing output" -- "$BVOX" convert "$in/short-data.nii" "$out/keep.nii"
