@@ -12,25 +12,13 @@
  *   bench_binarize [--quick] [--runs N]   (--quick: 64^3 u8 and 32^3 f32, 3 runs)
  * Needs src/ on the include path (private interface io/io.h). */
 #include "io/io.h"
+#include "bench_util.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static void report(const char *name, double bytes, double *ms, int reps)
 {

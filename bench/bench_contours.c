@@ -14,6 +14,7 @@
  * (so the isotropic model has 350 slices).
  */
 #include "internal.h"
+#include "bench_util.h"
 #include "ref/contourref.h"
 
 #include <math.h>
@@ -22,37 +23,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-}
-
-#define TIME_MEDIAN(runs, stmt)                                                            \
-    ({                                                                                     \
-        double t_[64];                                                                     \
-        stmt;                                                                              \
-        for (int r_ = 0; r_ < (runs); r_++) {                                              \
-            double s_ = now_ms();                                                          \
-            stmt;                                                                          \
-            t_[r_] = now_ms() - s_;                                                        \
-        }                                                                                  \
-        median(t_, (runs));                                                                \
-    })
 
 /* A specimen: per section an outline of 360 points (an ellipse whose radii
  * change along the stack, with a wobble) and a round hole; quarter-pixel

@@ -10,6 +10,7 @@
  */
 #define _XOPEN_SOURCE 700
 #include "bvox.h"
+#include "bench_util.h"
 
 #include <dirent.h>
 #include <ftw.h>
@@ -30,25 +31,6 @@ static const format_case cases[] = {
     {"binvox", "specimen.binvox", NULL},   {"tiff", "specimen.tif", NULL},
     {"png", "specimen_slices", "png"},     {"raw", "specimen.raw", "raw"},
 };
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-}
 
 /* A message as a JSON string body (quotes, backslashes, control characters). */
 static void print_json_string(const char *s)

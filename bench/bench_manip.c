@@ -35,42 +35,6 @@ typedef struct options {
     const char *save;
 } options;
 
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-}
-
-/* Median time in ms of `runs` runs of stmt after one untimed warm-up run;
- * prep runs before each, untimed. */
-#define TIME_MEDIAN(runs, prep, stmt)                                                  \
-    ({                                                                                 \
-        double t_[64];                                                                 \
-        int n_ = (runs) > 64 ? 64 : (runs);                                            \
-        prep;                                                                          \
-        stmt;                                                                          \
-        for (int i_ = 0; i_ < n_; i_++) {                                              \
-            prep;                                                                      \
-            double s_ = now_ms();                                                      \
-            stmt;                                                                      \
-            t_[i_] = now_ms() - s_;                                                    \
-        }                                                                              \
-        median(t_, n_);                                                                \
-    })
-
 /* The reference is slow: one run, no warm-up. */
 #define TIME_ONCE(stmt)                                                                \
     ({                                                                                 \
@@ -174,7 +138,7 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
     }
 
     /* memcpy of one volume's words: read + write */
-    double mc_ms = TIME_MEDIAN(o->runs, (void)0,
+    double mc_ms = TIME_MEDIAN(o->runs,
                                parallel_memcpy(d->words, a->words, bytes, o->threads));
     double mc_gbps = 2.0 * (double)bytes / (mc_ms * 1e6);
     r.op = "memcpy";
@@ -187,7 +151,7 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
     const int32_t off[3] = {3, 5, 7};
     const int ioff[3] = {3, 5, 7};
     r.op = "union_offset";
-    r.ms = TIME_MEDIAN(o->runs, (void)0, bvox_csg_apply(d, BVOX_CSG_UNION, b, off));
+    r.ms = TIME_MEDIAN(o->runs, bvox_csg_apply(d, BVOX_CSG_UNION, b, off));
     r.ref_ms = -1;
     if (ref) {
         memcpy(rr->v, ra->v, (size_t)n * n * n);
@@ -205,7 +169,7 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
     static ref_offset offs[4096];
     for (int ball = 0; ball <= 1; ball++) {
         r.op = ball ? "dilate_ball3" : "dilate26";
-        r.ms = TIME_MEDIAN(o->runs, (bvox_volume_destroy(out), out = NULL),
+        r.ms = TIME_MEDIAN_PREP(o->runs, (bvox_volume_destroy(out), out = NULL),
                            ball ? bvox_morph_dilate_ball(a, 3.0, &out)
                                 : bvox_morph_dilate(a, 26, &out));
         r.ref_ms = -1;
@@ -224,7 +188,7 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
     /* 26-connected components */
     bvox_components *comps = NULL;
     r.op = "label26";
-    r.ms = TIME_MEDIAN(o->runs, (bvox_components_destroy(comps), comps = NULL),
+    r.ms = TIME_MEDIAN_PREP(o->runs, (bvox_components_destroy(comps), comps = NULL),
                        bvox_components_find(a, 26, &comps));
     int64_t ncomp = comps ? bvox_components_count(comps) : -1;
     bvox_components_destroy(comps);
@@ -244,7 +208,7 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
     /* the full measures (area, moments, topology: two labellings) */
     bvox_measures m;
     r.op = "measure";
-    r.ms = TIME_MEDIAN(o->runs, (void)0, bvox_measure(a, &m));
+    r.ms = TIME_MEDIAN(o->runs, bvox_measure(a, &m));
     r.ref_ms = -1;
     if (ref) {
         ref_measures rm;
@@ -264,7 +228,7 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
      * run starts from a fresh copy (not timed) */
     double pd = -3.0 * (n - 1);
     r.op = "cut_plane";
-    r.ms = TIME_MEDIAN(o->runs, memcpy(d->words, a->words, bytes),
+    r.ms = TIME_MEDIAN_PREP(o->runs, memcpy(d->words, a->words, bytes),
                        bvox_cut_plane(d, 1, 2, 3, pd, 1, NULL));
     r.ref_ms = -1;
     if (ref) {
@@ -307,12 +271,7 @@ static void parse(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--save") && v) {
             o->save = v, i++;
         } else if (!strcmp(a, "--sizes") && v) {
-            o->nsizes = 0;
-            for (char *s = argv[++i]; *s && o->nsizes < 8;) {
-                o->sizes[o->nsizes++] = (int)strtol(s, &s, 10);
-                if (*s == ',') s++;
-                else if (*s) usage();
-            }
+            if (!parse_size_list(argv[++i], o->sizes, 8, &o->nsizes)) usage();
         } else {
             usage();
         }

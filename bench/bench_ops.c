@@ -31,25 +31,6 @@ typedef struct options {
     int simd; /* -1: every supported level */
 } options;
 
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-}
-
 static uint64_t rng_state = 0x243f6a8885a308d3ull;
 static uint64_t rnd(void)
 {
@@ -139,20 +120,6 @@ static void run_ref(int op, voxref *ra, const voxref *rb)
     }
 }
 
-/* Median time in ms of `runs` runs after one untimed warm-up run. */
-#define TIME_MEDIAN(runs, stmt)                                                        \
-    ({                                                                                 \
-        double t_[64];                                                                 \
-        int n_ = (runs) > 64 ? 64 : (runs);                                            \
-        stmt;                                                                          \
-        for (int i_ = 0; i_ < n_; i_++) {                                              \
-            double s_ = now_ms();                                                      \
-            stmt;                                                                      \
-            t_[i_] = now_ms() - s_;                                                    \
-        }                                                                              \
-        median(t_, n_);                                                                \
-    })
-
 /* Reference timings for one specimen, or a reason why there are none. */
 static const char *time_reference(const options *o, int n, const bvox_volume *a,
                                   const bvox_volume *b, double ref_ms[NOPS])
@@ -219,12 +186,7 @@ static void parse(int argc, char **argv, options *o)
             if (o->simd == -2) usage();
             i++;
         } else if (!strcmp(a, "--sizes") && v) {
-            o->nsizes = 0;
-            for (char *s = argv[++i]; *s && o->nsizes < 8;) {
-                o->sizes[o->nsizes++] = (int)strtol(s, &s, 10);
-                if (*s == ',') s++;
-                else if (*s) usage();
-            }
+            if (!parse_size_list(argv[++i], o->sizes, 8, &o->nsizes)) usage();
         } else {
             usage();
         }

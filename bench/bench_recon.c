@@ -20,31 +20,13 @@
  * bench/compare_recon_skimage.py (the same steps in scikit-image / SciPy).
  */
 #include "internal.h"
+#include "bench_util.h"
 #include "unit/specimen_sections.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-}
 
 /* Median of runs of the whole pipeline; per-step medians into ms. */
 static int run_pipeline(bvox_image **imgs, int n, double spacing, int runs, double ms[BVOX_RECON_NSTEPS],

@@ -1,8 +1,10 @@
 /*
- * bench_util.h — pieces the benchmarks share: a memcpy baseline split over
- * threads the way the library splits its work, and the nearest-neighbour
- * resampling that turns the AAL atlas into an n^3 "real object".
- * Header-only (static functions): each benchmark is one .c file.
+ * bench_util.h — pieces the benchmarks share: the monotonic clock in ms, the
+ * median of the runs and the TIME_MEDIAN macros that time a statement with
+ * one untimed warm-up run, the "--sizes 256,512" list parser, a memcpy
+ * baseline split over threads the way the library splits its work, and the
+ * nearest-neighbour resampling that turns the AAL atlas into an n^3 "real
+ * object". Header-only (static functions): each benchmark is one .c file.
  */
 #ifndef BVOX_BENCH_UTIL_H
 #define BVOX_BENCH_UTIL_H
@@ -12,6 +14,66 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* ---- timing ---- */
+
+static inline double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+static inline int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of t[0..n) (sorts t): the middle one, or the mean of the two. */
+static inline double median(double *t, int n)
+{
+    qsort(t, (size_t)n, sizeof *t, cmp_double);
+    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
+}
+
+/* Median time in ms of `runs` runs (at most 64) of stmt after one untimed
+ * warm-up run; prep runs before each, untimed. */
+#define TIME_MEDIAN_PREP(runs, prep, stmt)                                             \
+    ({                                                                                 \
+        double t_[64];                                                                 \
+        int n_ = (runs) > 64 ? 64 : (runs);                                            \
+        prep;                                                                          \
+        stmt;                                                                          \
+        for (int i_ = 0; i_ < n_; i_++) {                                              \
+            prep;                                                                      \
+            double s_ = now_ms();                                                      \
+            stmt;                                                                      \
+            t_[i_] = now_ms() - s_;                                                    \
+        }                                                                              \
+        median(t_, n_);                                                                \
+    })
+
+/* The same without preparation. */
+#define TIME_MEDIAN(runs, stmt) TIME_MEDIAN_PREP(runs, (void)0, stmt)
+
+/* ---- options ---- */
+
+/* "256,512,1024" into sizes[0..*n): at most max of them (the rest is not
+ * read); 0 if something other than numbers and commas is met. */
+static inline int parse_size_list(char *s, int *sizes, int max, int *n)
+{
+    *n = 0;
+    while (*s && *n < max) {
+        sizes[(*n)++] = (int)strtol(s, &s, 10);
+        if (*s == ',') s++;
+        else if (*s) return 0;
+    }
+    return 1;
+}
+
+/* ---- memcpy baseline ---- */
 
 typedef struct copy_part {
     uint8_t *dst;
@@ -39,6 +101,8 @@ static inline void parallel_memcpy(void *dst, const void *src, size_t n, int thr
     copy_run(&parts[0]);
     for (int t = 1; t < threads; t++) pthread_join(tid[t], NULL);
 }
+
+/* ---- specimens ---- */
 
 /* Nearest-neighbour resampling of src to n^3: voxel i takes source voxel
  * floor((i + 1/2) * ns / n) on each axis. Built a word at a time. */

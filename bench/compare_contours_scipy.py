@@ -27,10 +27,7 @@ import argparse
 import json
 import math
 import os
-import statistics
-import struct
 import sys
-import time
 
 try:
     import numpy as np
@@ -40,22 +37,8 @@ except ImportError as e:
     sys.exit("compare_contours_scipy.py: %s (apt-get install python3-scipy python3-skimage, "
              "and run it with /usr/bin/python3)" % e)
 
-
-def read_nifti_u8(path):
-    """A NIfTI-1 .nii of uint8 samples as a bool array indexed [z, y, x]."""
-    with open(path, "rb") as f:
-        hdr = f.read(348)
-        if struct.unpack_from("<i", hdr, 0)[0] != 348:
-            raise ValueError("%s: not a little-endian NIfTI-1 file" % path)
-        dim = struct.unpack_from("<8h", hdr, 40)
-        dtype, bitpix = struct.unpack_from("<hh", hdr, 70)
-        vox_offset = int(struct.unpack_from("<f", hdr, 108)[0])
-        if (dtype, bitpix) != (2, 8):
-            raise ValueError("%s: datatype %d, expected uint8" % (path, dtype))
-        nx, ny, nz = dim[1], dim[2], dim[3]
-        f.seek(vox_offset)
-        data = np.frombuffer(f.read(nx * ny * nz), dtype=np.uint8)
-    return data.reshape(nz, ny, nx) != 0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # compare_common, from any cwd
+from compare_common import json_lines, read_nifti_u8, timed  # noqa: E402
 
 
 def scan(stack):
@@ -107,17 +90,6 @@ def blend(stack, masks, dists):
     return vol
 
 
-def timed(runs, fn):
-    fn()
-    times = []
-    out = None
-    for _ in range(runs):
-        t = time.perf_counter()
-        out = fn()
-        times.append((time.perf_counter() - t) * 1e3)
-    return statistics.median(times), out
-
-
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("dir")
@@ -128,7 +100,7 @@ def main():
     scan_ms, masks = timed(a.runs, lambda: scan(stack))
     edt_ms, dists = timed(a.runs, lambda: edt(masks))
     blend_ms, vol = timed(a.runs, lambda: blend(stack, masks, dists))
-    ours = read_nifti_u8(os.path.join(a.dir, "model.nii"))
+    ours = read_nifti_u8(os.path.join(a.dir, "model.nii")) != 0
     line = {"bench": "contours_scipy", "sections": len(masks), "size": stack["width"],
             "scan_ms": round(scan_ms, 3), "edt_ms": round(edt_ms, 3),
             "blend_ms": round(blend_ms, 3), "scipy_ms": round(scan_ms + edt_ms + blend_ms, 3),
@@ -136,8 +108,7 @@ def main():
     if vol.shape == ours.shape:
         line["voxels_differing"] = int((vol != ours).sum())
     if a.bench:
-        for l in open(a.bench):
-            o = json.loads(l)
+        for o in json_lines(a.bench):
             if o.get("case") == "interpolate":
                 line["bvox_ms"] = o["median_ms"]
                 line["threads"] = o["threads"]

@@ -49,6 +49,9 @@ except ImportError as e:
     sys.exit("compare_recon_skimage.py: %s (apt-get install python3-scipy python3-skimage, "
              "and run it with /usr/bin/python3)" % e)
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # compare_common, from any cwd
+from compare_common import json_lines  # noqa: E402
+
 
 def background(img):
     h, w = img.shape
@@ -142,8 +145,7 @@ def main():
     out["peer_ms"] = round(sum(steps.values()), 2)
     out["peer_object_pixels"] = runs[0][1]
     if args.bench:
-        for line in open(args.bench):
-            o = json.loads(line)
+        for o in json_lines(args.bench):
             if o.get("case") == "pipeline_1thread":
                 out["bvox_ms"] = o["sections_ms"]
                 out["speedup"] = round(out["peer_ms"] / o["sections_ms"], 1)

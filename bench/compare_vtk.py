@@ -27,10 +27,7 @@ import json
 import math
 import os
 import re
-import statistics
-import struct
 import sys
-import time
 
 try:
     import numpy as np
@@ -49,32 +46,8 @@ except ImportError as e:
     print("compare_vtk.py: no scikit-image (%s): apt-get install python3-skimage" % e,
           file=sys.stderr)
 
-
-def read_nifti_u8(path):
-    """A NIfTI-1 .nii of uint8 samples as a uint8 array indexed [z, y, x]."""
-    with open(path, "rb") as f:
-        hdr = f.read(348)
-        if struct.unpack_from("<i", hdr, 0)[0] != 348:
-            raise ValueError("%s: not a little-endian NIfTI-1 file" % path)
-        dim = struct.unpack_from("<8h", hdr, 40)
-        dtype, bitpix = struct.unpack_from("<hh", hdr, 70)
-        vox_offset = int(struct.unpack_from("<f", hdr, 108)[0])
-        if (dtype, bitpix) != (2, 8):
-            raise ValueError("%s: datatype %d, expected uint8" % (path, dtype))
-        nx, ny, nz = dim[1], dim[2], dim[3]
-        f.seek(vox_offset)
-        data = np.frombuffer(f.read(nx * ny * nz), dtype=np.uint8)
-    return data.reshape(nz, ny, nx)
-
-
-def timed(runs, fn):
-    out = fn()  # warm-up
-    times = []
-    for _ in range(runs):
-        t = time.perf_counter()
-        out = fn()
-        times.append((time.perf_counter() - t) * 1e3)
-    return statistics.median(times), out
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # compare_common, from any cwd
+from compare_common import bench_by_op, read_nifti_u8, timed  # noqa: E402
 
 
 def vtk_image(a):
@@ -143,15 +116,7 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     args = ap.parse_args()
 
-    bvox = {}
-    if args.bench and os.path.exists(args.bench):
-        with open(args.bench) as f:
-            for line in f:
-                line = line.strip()
-                if line.startswith("{"):
-                    o = json.loads(line)
-                    if "op" in o and "ms" in o:
-                        bvox[(o["op"], o["n"], o["pattern"])] = o
+    bvox = bench_by_op(args.bench) if args.bench and os.path.exists(args.bench) else {}
     if vtk is not None:
         vtk.vtkSMPTools.Initialize(args.threads)
 

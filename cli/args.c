@@ -127,6 +127,23 @@ int cli_parse_triple(const char *s, double out[3])
 
 int cli_is_option(const char *arg) { return arg[0] == '-' && arg[1] != '\0'; }
 
+int cli_parse_input_arg(const char *cmd, const char *arg, int *options_done, const char **in,
+                        void (*help)(FILE *))
+{
+    if (*options_done || !cli_is_option(arg)) {
+        if (*in) return BAD("unexpected argument '%s'", arg);
+        *in = arg;
+    } else if (!strcmp(arg, "--")) {
+        *options_done = 1;
+    } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
+        help(stdout);
+        return CLI_ARG_HELP;
+    } else {
+        return CLI_ARG_NOT_MINE;
+    }
+    return CLI_ARG_USED;
+}
+
 int cli_match_value(const char *cmd, int argc, char **argv, int *i, const char *name,
                     const char **value)
 {

@@ -14,8 +14,9 @@
 #include <stdio.h>
 #include <stdint.h>
 
-/* Result of offering argv[*i] to a parser. */
-enum { CLI_ARG_NOT_MINE = 0, CLI_ARG_USED = 1, CLI_ARG_BAD = -1 };
+/* Result of offering argv[*i] to a parser (CLI_ARG_HELP: cli_parse_input_arg
+ * printed the help; the command returns CLI_OK). */
+enum { CLI_ARG_NOT_MINE = 0, CLI_ARG_USED = 1, CLI_ARG_BAD = -1, CLI_ARG_HELP = 2 };
 
 /* Options of commands that read a volume. */
 typedef struct cli_read_args {
@@ -60,6 +61,17 @@ int cli_match_value(const char *cmd, int argc, char **argv, int *i, const char *
 
 /* 1 if arg is an option (starts with '-' and is not "-" alone). */
 int cli_is_option(const char *arg);
+
+/* The start of the argument loop of a command that takes one input IN:
+ * arg is IN (the first argument that is not an option, or one after "--";
+ * a second one is a usage error), "--" (sets *options_done) or --help/-h
+ * (help(stdout)). Returns CLI_ARG_USED, CLI_ARG_BAD (message printed),
+ * CLI_ARG_HELP, or CLI_ARG_NOT_MINE for the command's own options:
+ *     if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
+ *         if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
+ *     } else if (...the command's options...) */
+int cli_parse_input_arg(const char *cmd, const char *arg, int *options_done, const char **in,
+                        void (*help)(FILE *));
 
 /* -o/--output OUT (sets *out) and --output-format NAME (sets wo->format), for
  * the commands that write a volume. Same returns as cli_match_value. */

@@ -34,17 +34,11 @@ int cmd_info(int argc, char **argv)
     const char *cmd = "info", *path = NULL;
     cli_read_args ra;
     cli_read_args_init(&ra);
-    int json = 0, options_done = 0;
+    int json = 0, options_done = 0, r;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
-        if (options_done || !cli_is_option(arg)) {
-            if (path) return cli_usage_error(cmd, "unexpected argument '%s'", arg);
-            path = arg;
-        } else if (!strcmp(arg, "--")) {
-            options_done = 1;
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            return CLI_OK;
+        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &path, help))) {
+            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
         } else if (!strcmp(arg, "--json")) {
             json = 1;
         } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {

@@ -122,14 +122,8 @@ int cmd_render(int argc, char **argv)
     double x[4];
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
-        if (options_done || !cli_is_option(arg)) {
-            if (in) return cli_usage_error(cmd, "unexpected argument '%s'", arg);
-            in = arg;
-        } else if (!strcmp(arg, "--")) {
-            options_done = 1;
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            return CLI_OK;
+        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
+            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
         } else if (!strcmp(arg, "--average")) {
             o.average = 1;
         } else if (!strcmp(arg, "--sheet")) {

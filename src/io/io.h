@@ -116,6 +116,25 @@ extern const bvox__format bvox__format_raw;
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,
                              const bvox_write_opts *opts);
 
+/* libtiff on a memory buffer (tiff_memory.c), for the TIFF volume reader
+ * (tiff.c) and the TIFF section reader (recon/section_tiff.c). The source
+ * is the handle libtiff reads through and where its first error message is
+ * kept (never printed); it must outlive the TIFF. */
+struct tiff; /* libtiff's TIFF (tiffio.h) */
+typedef struct bvox__tiff_src {
+    const uint8_t *data;
+    uint64_t size, pos;
+    char err[200]; /* libtiff's first error, if have_err */
+    bool have_err;
+} bvox__tiff_src;
+/* Open data[0..size) read-only (TIFFClientOpenExt) with libtiff's single
+ * allocations capped at the memory budget; *out is NULL on failure
+ * ("NAME: not a readable TIFF file (libtiff's reason)"). TIFFClose it. */
+bvox_status bvox__tiff_open_memory(const uint8_t *data, size_t size, const char *name,
+                                   bvox__tiff_src *src, struct tiff **out);
+/* libtiff's first error message, or fallback when it gave none. */
+const char *bvox__tiff_error(const bvox__tiff_src *src, const char *fallback);
+
 /* NIfTI-1 output (nifti.c), shared with the label writer (nifti_labels.c):
  * the header and empty extension flag before the voxel data, for vol's
  * dimensions (each <= 32767: the caller checks) and geometry, samples of

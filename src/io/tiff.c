@@ -1,9 +1,10 @@
 /*
  * tiff.c — TIFF stacks (".tif", ".tiff"): every page is one z slice.
  *
- * Reading goes through libtiff on a memory buffer (TIFFClientOpenExt), so the
- * memory entry point and fuzzing work; libtiff's messages are captured per
- * handle (never printed) and the first one is quoted in our error. Pages must
+ * Reading goes through libtiff on a memory buffer (TIFFClientOpenExt, see
+ * bvox__tiff_open_memory in tiff_memory.c), so the memory entry point and
+ * fuzzing work; libtiff's messages are captured per handle (never printed)
+ * and the first one is quoted in our error. Pages must
  * all have one size and one sample type: 1, 8, 16, 32 or 64-bit grayscale
  * (unsigned, signed or float), strips or tiles, any codec libtiff has. They
  * are decoded into a bvox__gray and binarised with the user's options. Raw
@@ -25,77 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <tiffio.h>
-
-/* ------------------------------------------------- libtiff on a memory buffer */
-
-typedef struct memsrc {
-    const uint8_t *data;
-    uint64_t size, pos;
-} memsrc;
-
-static tmsize_t src_read(thandle_t h, void *buf, tmsize_t n)
-{
-    memsrc *m = h;
-    if (n <= 0 || m->pos >= m->size) return 0;
-    uint64_t k = m->size - m->pos;
-    if ((uint64_t)n < k) k = (uint64_t)n;
-    memcpy(buf, m->data + m->pos, (size_t)k);
-    m->pos += k;
-    return (tmsize_t)k;
-}
-
-static tmsize_t src_write(thandle_t h, void *buf, tmsize_t n) { return -1; }
-
-static toff_t src_seek(thandle_t h, toff_t off, int whence)
-{
-    memsrc *m = h;
-    if (whence == SEEK_SET) return m->pos = off;
-    uint64_t base = whence == SEEK_CUR ? m->pos : m->size;
-    int64_t d = (int64_t)off; /* SEEK_CUR / SEEK_END offsets may be negative */
-    if (d < 0) {
-        uint64_t back = (uint64_t)0 - (uint64_t)d;
-        if (back > base) return (toff_t)-1;
-        m->pos = base - back;
-    } else if (__builtin_add_overflow(base, (uint64_t)d, &m->pos)) {
-        return (toff_t)-1;
-    }
-    return m->pos;
-}
-
-static int src_close(thandle_t h) { return 0; }
-static toff_t src_size(thandle_t h) { return ((memsrc *)h)->size; }
-
-static int src_map(thandle_t h, void **base, toff_t *size)
-{
-    memsrc *m = h; /* libtiff only reads mapped data (files are mapped read-only) */
-    *base = (void *)m->data;
-    *size = m->size;
-    return 1;
-}
-
-static void src_unmap(thandle_t h, void *base, toff_t size) {}
-
-typedef struct tiff_err {
-    char msg[200];
-    bool have;
-} tiff_err;
-
-/* Keep libtiff's first error (usually the cause); returning 1 stops libtiff
- * from also calling the process-wide handlers, which print. */
-static int on_error(TIFF *tif, void *user, const char *module, const char *fmt, va_list ap)
-{
-    tiff_err *e = user;
-    if (!e->have) {
-        vsnprintf(e->msg, sizeof e->msg, fmt, ap);
-        e->have = true;
-    }
-    return 1;
-}
-
-static int on_warning(TIFF *tif, void *user, const char *module, const char *fmt, va_list ap)
-{
-    return 1;
-}
 
 static int tiff_sniff(const uint8_t *d, size_t n)
 {
@@ -290,14 +220,14 @@ static void copy_row(const page_fmt *pf, const uint8_t *src, uint32_t n, uint8_t
 }
 
 static bvox_status decode_fail(const char *name, uint32_t page, const char *what,
-                               const tiff_err *e)
+                               const bvox__tiff_src *e)
 {
     return bvox__fail(BVOX_EFORMAT, "%s: page %u: cannot decode %s (%s)", name, page + 1, what,
-                      e->have ? e->msg : "truncated or corrupt");
+                      bvox__tiff_error(e, "truncated or corrupt"));
 }
 
 static bvox_status read_page(TIFF *tif, const char *name, uint32_t page, const page_fmt *pf,
-                             const tiff_err *err, uint8_t *dst)
+                             const bvox__tiff_src *err, uint8_t *dst)
 {
     const size_t row_bytes = (size_t)pf->w * pf->elem;
     bool tiled = TIFFIsTiled(tif);
@@ -350,7 +280,7 @@ static bvox_status read_page(TIFF *tif, const char *name, uint32_t page, const p
  * Returns the offset of image 0 if this page is laid out so, 0 if not, and
  * UINT64_MAX if it is but the file ends before the last image. */
 static uint64_t imagej_contiguous(TIFF *tif, const page_fmt *pf, long images,
-                                  const memsrc *src)
+                                  const bvox__tiff_src *src)
 {
     uint16_t comp = COMPRESSION_NONE;
     uint64_t *off = NULL, *cnt = NULL;
@@ -370,8 +300,8 @@ static uint64_t imagej_contiguous(TIFF *tif, const page_fmt *pf, long images,
     return off[0];
 }
 
-static bvox_status read_pages(TIFF *tif, const memsrc *src, const char *name,
-                              const tiff_err *err, bvox__gray *g)
+static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *name,
+                              bvox__gray *g)
 {
     tdir_t n = TIFFNumberOfDirectories(tif);
     if (n == 0) return bvox__fail(BVOX_EFORMAT, "%s: TIFF has no pages", name);
@@ -419,7 +349,7 @@ static bvox_status read_pages(TIFF *tif, const memsrc *src, const char *name,
     for (tdir_t z = 0; z < n; z++) {
         if (z > 0 && !TIFFReadDirectory(tif))
             return bvox__fail(BVOX_EFORMAT, "%s: cannot read page %lu (%s)", name,
-                              (unsigned long)z + 1, err->have ? err->msg : "truncated");
+                              (unsigned long)z + 1, bvox__tiff_error(src, "truncated"));
         page_fmt pf;
         st = page_format(tif, name, z, &pf);
         if (st) return st;
@@ -430,14 +360,14 @@ static bvox_status read_pages(TIFF *tif, const memsrc *src, const char *name,
             return bvox__fail(BVOX_EFORMAT, "%s: page %lu has %u-bit %s samples, page 1 %u-bit %s",
                               name, (unsigned long)z + 1, pf.bps, bvox_dtype_name(pf.dtype),
                               first.bps, bvox_dtype_name(first.dtype));
-        st = read_page(tif, name, z, &pf, err, (uint8_t *)g->owned + (size_t)z * page_bytes);
+        st = read_page(tif, name, z, &pf, src, (uint8_t *)g->owned + (size_t)z * page_bytes);
         if (st) return st;
     }
     /* The page count stops at the first unreadable IFD: a chain that goes on
      * past the last page read means a truncated or corrupt file. */
     if (!TIFFLastDirectory(tif))
         return bvox__fail(BVOX_EFORMAT, "%s: page %lu cannot be read (%s)", name,
-                          (unsigned long)n + 1, err->have ? err->msg : "truncated or corrupt");
+                          (unsigned long)n + 1, bvox__tiff_error(src, "truncated or corrupt"));
     return BVOX_OK;
 }
 
@@ -446,25 +376,13 @@ static bvox_status tiff_read_memory(const uint8_t *data, size_t size, const char
 {
     *out = NULL;
     if (!name) name = "TIFF";
-    memsrc src = {data, size, 0};
-    tiff_err err = {{0}, false};
-    TIFFOpenOptions *o = TIFFOpenOptionsAlloc();
-    if (!o) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
-    TIFFOpenOptionsSetErrorHandlerExtR(o, on_error, &err);
-    TIFFOpenOptionsSetWarningHandlerExtR(o, on_warning, &err);
-    /* libtiff's own buffers (strip tables, codec state) stay within the budget. */
-    size_t budget = bvox_memory_budget();
-    TIFFOpenOptionsSetMaxSingleMemAlloc(o, (tmsize_t)(budget > ((size_t)1 << 62) ? (size_t)1 << 62
-                                                                               : budget));
-    TIFF *tif = TIFFClientOpenExt(name, "r", &src, src_read, src_write, src_seek, src_close,
-                                  src_size, src_map, src_unmap, o);
-    TIFFOpenOptionsFree(o);
-    if (!tif)
-        return bvox__fail(BVOX_EFORMAT, "%s: not a readable TIFF file (%s)", name,
-                          err.have ? err.msg : "bad header");
+    bvox__tiff_src src;
+    TIFF *tif;
+    bvox_status st = bvox__tiff_open_memory(data, size, name, &src, &tif);
+    if (st) return st;
     bvox__gray g;
     bvox__gray_init(&g);
-    bvox_status st = read_pages(tif, &src, name, &err, &g);
+    st = read_pages(tif, &src, name, &g);
     TIFFClose(tif);
     if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
     bvox__gray_release(&g);

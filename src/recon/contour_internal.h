@@ -18,6 +18,10 @@
 /* The name of a section for messages: "'name' (z = Z)" or "#index (z = Z)". */
 const char *bvox__section_label(const bvox_section *sec, int32_t index, char *buf, size_t size);
 
+/* Free the last section of s and remove it (contour_stack.c): a reader
+ * takes back the section it added when that section fails to read. */
+void bvox__stack_drop_last(bvox_contour_stack *s);
+
 /* Grow *ptr (elements of elem bytes, *cap of them) to hold at least need;
  * doubling. false on overflow / out of memory (message set). */
 bool bvox__grow(void **ptr, size_t elem, size_t need, size_t *cap, const char *what);
@@ -68,6 +72,9 @@ bvox_status bvox__sb_write_file(const bvox__strbuf *b, const char *path);
 
 /* 1-based line and column of byte pos of text. */
 void bvox__line_col(const char *text, size_t pos, int64_t *line, int64_t *col);
+/* Append code point c (at most 0x10FFFF) as UTF-8, 1 to 4 bytes, at
+ * out + *n (the JSON and XML readers' escapes). */
+void bvox__put_utf8(char *out, size_t *n, uint32_t c);
 /* Read a text file whole (at most BVOX__MAX_TEXT_BYTES, NUL added):
  * *data from malloc. */
 bvox_status bvox__read_text(const char *path, char **data, size_t *size);

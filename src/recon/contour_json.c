@@ -98,25 +98,6 @@ static int empty_container(lex *L, char close)
     return 0;
 }
 
-static void put_utf8(char *out, size_t *n, uint32_t c)
-{
-    if (c < 0x80) {
-        out[(*n)++] = (char)c;
-    } else if (c < 0x800) {
-        out[(*n)++] = (char)(0xC0 | (c >> 6));
-        out[(*n)++] = (char)(0x80 | (c & 0x3F));
-    } else if (c < 0x10000) {
-        out[(*n)++] = (char)(0xE0 | (c >> 12));
-        out[(*n)++] = (char)(0x80 | ((c >> 6) & 0x3F));
-        out[(*n)++] = (char)(0x80 | (c & 0x3F));
-    } else {
-        out[(*n)++] = (char)(0xF0 | (c >> 18));
-        out[(*n)++] = (char)(0x80 | ((c >> 12) & 0x3F));
-        out[(*n)++] = (char)(0x80 | ((c >> 6) & 0x3F));
-        out[(*n)++] = (char)(0x80 | (c & 0x3F));
-    }
-}
-
 static int hex4(const char *p, const char *end, uint32_t *v)
 {
     if (end - p < 4) return 0;
@@ -177,7 +158,7 @@ static bvox_status string(lex *L, char *out, size_t cap)
                     }
                 }
                 if (u >= 0xD800 && u < 0xE000) u = 0xFFFD; /* a lone surrogate */
-                put_utf8(tmp, &k, u);
+                bvox__put_utf8(tmp, &k, u);
                 break;
             }
             default: return lex_fail(L, L->p - 2, "bad escape '\\%c'", e);

@@ -360,13 +360,7 @@ static bvox_status read_one(const char *data, size_t size, const char *name, bvo
     *thickness = r->thickness;
     *mag = r->mag;
     free(r);
-    if (st && s->nsections > before) {
-        bvox_section *sec = &s->sections[--s->nsections];
-        for (int32_t c = 0; c < sec->ncontours; c++) free(sec->contours[c].points);
-        free(sec->contours);
-        free(sec->markers);
-        free(sec->name);
-    }
+    if (st && s->nsections > before) bvox__stack_drop_last(s); /* take the half-read one back */
     return st;
 }
 

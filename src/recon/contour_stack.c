@@ -84,6 +84,8 @@ static void section_free(bvox_section *sec)
     free(sec->name);
 }
 
+void bvox__stack_drop_last(bvox_contour_stack *s) { section_free(&s->sections[--s->nsections]); }
+
 void bvox_stack_destroy(bvox_contour_stack *stack)
 {
     if (!stack) return;

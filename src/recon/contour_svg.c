@@ -603,11 +603,7 @@ bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char
         if (made) {
             bvox_stack_destroy(made);
         } else if (s->nsections > before) { /* take the half-read section back */
-            bvox_section *sec = &s->sections[--s->nsections];
-            for (int32_t c = 0; c < sec->ncontours; c++) free(sec->contours[c].points);
-            free(sec->contours);
-            free(sec->markers);
-            free(sec->name);
+            bvox__stack_drop_last(s);
         }
         return st;
     }

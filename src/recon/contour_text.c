@@ -1,8 +1,8 @@
 /*
  * contour_text.c — small text helpers shared by the contour readers and
  * writers (JSON, SVG, Reconstruct XML): a growable string buffer, shortest
- * round-trip number text, escaping, line:column of an offset, and reading a
- * whole text file with a size limit. Writing goes through bvox__sink
+ * round-trip number text, escaping, line:column of an offset, UTF-8 output
+ * of a code point, and reading a whole text file with a size limit. Writing goes through bvox__sink
  * (temporary file, fsync, rename).
  */
 #include "contour_internal.h"
@@ -158,6 +158,25 @@ void bvox__line_col(const char *text, size_t pos, int64_t *line, int64_t *col)
     }
     *line = l;
     *col = c;
+}
+
+void bvox__put_utf8(char *out, size_t *n, uint32_t c)
+{
+    if (c < 0x80) {
+        out[(*n)++] = (char)c;
+    } else if (c < 0x800) {
+        out[(*n)++] = (char)(0xC0 | (c >> 6));
+        out[(*n)++] = (char)(0x80 | (c & 0x3F));
+    } else if (c < 0x10000) {
+        out[(*n)++] = (char)(0xE0 | (c >> 12));
+        out[(*n)++] = (char)(0x80 | ((c >> 6) & 0x3F));
+        out[(*n)++] = (char)(0x80 | (c & 0x3F));
+    } else {
+        out[(*n)++] = (char)(0xF0 | (c >> 18));
+        out[(*n)++] = (char)(0x80 | ((c >> 12) & 0x3F));
+        out[(*n)++] = (char)(0x80 | ((c >> 6) & 0x3F));
+        out[(*n)++] = (char)(0x80 | (c & 0x3F));
+    }
 }
 
 bvox_status bvox__read_text(const char *path, char **data, size_t *size)

@@ -226,25 +226,6 @@ const bvox__xml_attr *bvox__xml_attr_get(const bvox__xml *x, const char *name)
     return NULL;
 }
 
-static void put_utf8(char *out, size_t *n, unsigned long c)
-{
-    if (c < 0x80) {
-        out[(*n)++] = (char)c;
-    } else if (c < 0x800) {
-        out[(*n)++] = (char)(0xC0 | (c >> 6));
-        out[(*n)++] = (char)(0x80 | (c & 0x3F));
-    } else if (c < 0x10000) {
-        out[(*n)++] = (char)(0xE0 | (c >> 12));
-        out[(*n)++] = (char)(0x80 | ((c >> 6) & 0x3F));
-        out[(*n)++] = (char)(0x80 | (c & 0x3F));
-    } else {
-        out[(*n)++] = (char)(0xF0 | (c >> 18));
-        out[(*n)++] = (char)(0x80 | ((c >> 12) & 0x3F));
-        out[(*n)++] = (char)(0x80 | ((c >> 6) & 0x3F));
-        out[(*n)++] = (char)(0x80 | (c & 0x3F));
-    }
-}
-
 char *bvox__xml_attr_dup(const bvox__xml *x, const bvox__xml_attr *a, bvox_status *st)
 {
     *st = BVOX_OK;
@@ -288,7 +269,7 @@ char *bvox__xml_attr_dup(const bvox__xml *x, const bvox__xml_attr *a, bvox_statu
                 else v = v * (hex ? 16 : 10) + (unsigned long)dv;
             }
             if (ok && digits > 0 && v > 0 && v <= 0x10FFFF) {
-                put_utf8(out, &n, v);
+                bvox__put_utf8(out, &n, (uint32_t)v);
                 done = true;
             }
         }

@@ -6,7 +6,8 @@
  * can decode (palette, tiles, other depths, YCbCr, ...) goes through
  * TIFFReadRGBAImageOriented as 8-bit RGB. RGB becomes luminance. libtiff's
  * messages are caught (the library never prints) and its single
- * allocations are bounded by the memory budget.
+ * allocations are bounded by the memory budget (bvox__tiff_open_memory,
+ * shared with the TIFF volume reader: src/io/tiff_memory.c).
  */
 #include "section_internal.h"
 #include "io/io.h"
@@ -17,76 +18,10 @@
 #include <string.h>
 #include <tiffio.h>
 
-typedef struct memsrc {
-    const uint8_t *data;
-    uint64_t size, pos;
-} memsrc;
-
-static tmsize_t src_read(thandle_t h, void *buf, tmsize_t n)
-{
-    memsrc *m = h;
-    if (n <= 0 || m->pos >= m->size) return 0;
-    uint64_t k = m->size - m->pos;
-    if ((uint64_t)n < k) k = (uint64_t)n;
-    memcpy(buf, m->data + m->pos, (size_t)k);
-    m->pos += k;
-    return (tmsize_t)k;
-}
-
-static tmsize_t src_write(thandle_t h, void *buf, tmsize_t n) { return -1; }
-
-static toff_t src_seek(thandle_t h, toff_t off, int whence)
-{
-    memsrc *m = h;
-    if (whence == SEEK_SET) return m->pos = off;
-    uint64_t base = whence == SEEK_CUR ? m->pos : m->size;
-    int64_t d = (int64_t)off;
-    if (d < 0) {
-        uint64_t back = (uint64_t)0 - (uint64_t)d;
-        if (back > base) return (toff_t)-1;
-        m->pos = base - back;
-    } else if (__builtin_add_overflow(base, (uint64_t)d, &m->pos)) {
-        return (toff_t)-1;
-    }
-    return m->pos;
-}
-
-static int src_close(thandle_t h) { return 0; }
-static toff_t src_size(thandle_t h) { return ((memsrc *)h)->size; }
-
-static int src_map(thandle_t h, void **base, toff_t *size)
-{
-    memsrc *m = h;
-    *base = (void *)m->data;
-    *size = m->size;
-    return 1;
-}
-
-static void src_unmap(thandle_t h, void *base, toff_t size) {}
-
-typedef struct tiff_err {
-    char msg[200];
-    int have;
-} tiff_err;
-
-static int on_error(TIFF *tif, void *user, const char *module, const char *fmt, va_list ap)
-{
-    tiff_err *e = user;
-    if (!e->have) {
-        vsnprintf(e->msg, sizeof e->msg, fmt, ap);
-        e->have = 1;
-    }
-    return 1; /* handled: libtiff's default handler (which prints) is not called */
-}
-
-static int on_warning(TIFF *tif, void *user, const char *module, const char *fmt, va_list ap)
-{
-    return 1;
-}
-
 /* Strips of unsigned 8/16-bit gray or RGB, interleaved: as stored. */
-static bvox_status read_plain(TIFF *tif, const char *name, tiff_err *err, uint32_t w, uint32_t h,
-                              uint16_t bps, uint16_t spp, int invert, bvox_image **out)
+static bvox_status read_plain(TIFF *tif, const char *name, const bvox__tiff_src *err,
+                              uint32_t w, uint32_t h, uint16_t bps, uint16_t spp, int invert,
+                              bvox_image **out)
 {
     bvox_status st = bvox_image_create((int32_t)w, (int32_t)h, spp, bps, out);
     if (st) return st;
@@ -109,7 +44,7 @@ static bvox_status read_plain(TIFF *tif, const char *name, tiff_err *err, uint32
             bvox_image_destroy(*out);
             *out = NULL;
             return bvox__fail(BVOX_EFORMAT, "%s: row %u: %s", name, (unsigned)y,
-                              err->have ? err->msg : "truncated or corrupt");
+                              bvox__tiff_error(err, "truncated or corrupt"));
         }
         if (bps == 8) {
             uint8_t *dst = (*out)->pixels + (size_t)y * need;
@@ -128,8 +63,8 @@ static bvox_status read_plain(TIFF *tif, const char *name, tiff_err *err, uint32
 }
 
 /* Anything else libtiff decodes: 8-bit RGB(A) through its RGBA interface. */
-static bvox_status read_rgba(TIFF *tif, const char *name, tiff_err *err, uint32_t w, uint32_t h,
-                             bvox_image **out)
+static bvox_status read_rgba(TIFF *tif, const char *name, const bvox__tiff_src *err,
+                             uint32_t w, uint32_t h, bvox_image **out)
 {
     size_t n = (size_t)w * (size_t)h, bytes;
     if (!bvox__mul_size(n, sizeof(uint32_t), &bytes))
@@ -140,7 +75,7 @@ static bvox_status read_rgba(TIFF *tif, const char *name, tiff_err *err, uint32_
     if (!TIFFReadRGBAImageOriented(tif, w, h, raster, ORIENTATION_TOPLEFT, 0)) {
         bvox__free(raster, bytes);
         return bvox__fail(BVOX_EFORMAT, "%s: cannot decode the image (%s)", name,
-                          err->have ? err->msg : "unsupported layout");
+                          bvox__tiff_error(err, "unsupported layout"));
     }
     st = bvox_image_create((int32_t)w, (int32_t)h, 3, 8, out);
     if (!st)
@@ -158,25 +93,13 @@ bvox_status bvox__section_tiff_decode(const uint8_t *data, size_t size, const ch
 {
     *out = NULL;
     if (!name) name = "TIFF";
-    memsrc src = {data, size, 0};
-    tiff_err err = {{0}, 0};
-    TIFFOpenOptions *o = TIFFOpenOptionsAlloc();
-    if (!o) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
-    TIFFOpenOptionsSetErrorHandlerExtR(o, on_error, &err);
-    TIFFOpenOptionsSetWarningHandlerExtR(o, on_warning, &err);
-    size_t budget = bvox_memory_budget();
-    TIFFOpenOptionsSetMaxSingleMemAlloc(o, (tmsize_t)(budget > ((size_t)1 << 62) ? (size_t)1 << 62
-                                                                               : budget));
-    TIFF *tif = TIFFClientOpenExt(name, "r", &src, src_read, src_write, src_seek, src_close,
-                                  src_size, src_map, src_unmap, o);
-    TIFFOpenOptionsFree(o);
-    if (!tif)
-        return bvox__fail(BVOX_EFORMAT, "%s: not a readable TIFF file (%s)", name,
-                          err.have ? err.msg : "bad header");
+    bvox__tiff_src src;
+    TIFF *tif;
+    bvox_status st = bvox__tiff_open_memory(data, size, name, &src, &tif);
+    if (st) return st;
     uint32_t w = 0, h = 0;
     uint16_t bps = 1, spp = 1, photo = PHOTOMETRIC_MINISBLACK, planar = PLANARCONFIG_CONTIG,
              fmt = SAMPLEFORMAT_UINT;
-    bvox_status st = BVOX_OK;
     TIFFGetField(tif, TIFFTAG_IMAGEWIDTH, &w);
     TIFFGetField(tif, TIFFTAG_IMAGELENGTH, &h);
     TIFFGetFieldDefaulted(tif, TIFFTAG_BITSPERSAMPLE, &bps);
@@ -197,8 +120,8 @@ bvox_status bvox__section_tiff_decode(const uint8_t *data, size_t size, const ch
                     ((gray && spp == 1) ||
                      (photo == PHOTOMETRIC_RGB && spp == 3 && planar == PLANARCONFIG_CONTIG));
         bvox_image *img = NULL;
-        st = plain ? read_plain(tif, name, &err, w, h, bps, spp, photo == PHOTOMETRIC_MINISWHITE, &img)
-                   : read_rgba(tif, name, &err, w, h, &img);
+        st = plain ? read_plain(tif, name, &src, w, h, bps, spp, photo == PHOTOMETRIC_MINISWHITE, &img)
+                   : read_rgba(tif, name, &src, w, h, &img);
         if (!st && img->channels == 3) {
             st = bvox_section_gray(img, out);
             bvox_image_destroy(img);
