@@ -21,6 +21,7 @@
  * and case with its median and the ratio to bvox.
  */
 #include "internal.h"
+#include "bench_util.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -41,25 +42,6 @@ typedef struct options {
     int sizes[8];
     const char *save, *bunny;
 } options;
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : (t[n / 2 - 1] + t[n / 2]) / 2;
-}
 
 static FILE *jsonl; /* DIR/bvox.jsonl with --save */
 
@@ -98,9 +80,16 @@ static void bench_meshing(const options *o, const bvox_volume *v, const char *pa
         double t[64];
         int runs = o->runs > 64 ? 64 : o->runs;
         bvox_mesh *m = NULL;
-        if (bvox_mesh_from_volume(v, &mo, &m) != BVOX_OK) { /* warm-up */
-            fprintf(stderr, "bench_mesh: %s\n", bvox_errmsg());
-            return;
+        /* warm-up: 3 calls, the steady state (glibc's malloc moves its mmap
+         * threshold over the first frees of the output arrays: until then
+         * each call takes fresh pages from the kernel) */
+        for (int w = 0; w < 3; w++) {
+            bvox_mesh_destroy(m);
+            m = NULL;
+            if (bvox_mesh_from_volume(v, &mo, &m) != BVOX_OK) {
+                fprintf(stderr, "bench_mesh: %s\n", bvox_errmsg());
+                return;
+            }
         }
         for (int i = 0; i < runs; i++) {
             bvox_mesh_destroy(m);

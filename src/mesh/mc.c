@@ -6,16 +6,24 @@
  * The crossed edges of each kind are the bits of XORs of column words (x
  * edges: column ^ column to its right; y edges: column ^ column behind;
  * z edges: column ^ column shifted by one), and an edge's vertex number is
- * a running popcount: pass 1 stores, per word, how many crossed edges of its
- * kind come before it in its row, plus a total per row. Triangles (pass 2,
- * one buffer per chunk of rows, concatenated in order so the result does
- * not depend on the thread count) classify 64 cells from the 8 corner words
- * of a cell word, skip the word when all 8 are equal (uniform cells), and
- * look each vertex up as prefix + popcount of the mask bits below it.
- * Pass 3 writes the vertex positions, again in popcount order.
+ * a running popcount: pass 1 (each column word read once for the three
+ * kinds) stores, per edge column, how many crossed edges of its kind come
+ * before it in its row, plus a total per row (a small array: one entry per
+ * column, not per word). Triangles (pass 2, one region of the triangle
+ * array per chunk of rows, closed up in order so the result does not depend
+ * on the thread count) classify 64 cells from the 8 corner words of a cell
+ * word, skip the word when all 8 are equal (uniform cells), and number each
+ * vertex as its edge column's first vertex + the crossings of the words
+ * below (counted while walking up the column: the crossings of cube edge e
+ * in a cell word are the XOR of its two corner words) + the popcount of the
+ * mask bits below it. The vertex count is known after pass 1, so the
+ * vertex array is allocated before pass 2, which also writes the positions:
+ * each edge column's vertices by the one cell column that owns it. Chunks
+ * are taken dynamically by the threads (the surface is uneven).
  */
 #include "mesh_private.h"
 
+#include <assert.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,17 +49,28 @@ typedef struct chunk {
     bvox_status st;
 } chunk;
 
+/* A case as the fast path of pass 2 uses it: its triangles' corners as
+ * cube edges, in output order (orientation applied), unused entries 0;
+ * slow: a case with loop centres (the slow path adds them). */
+typedef struct fast_case {
+    uint8_t ntri, slow;
+    uint8_t v[15];
+} fast_case;
+
 typedef struct mc {
     bvox__grid g;
     const bvox_geometry *geo;
     const bvox__mc_case *tab;
     const uint64_t *zero; /* a zero column of cw words */
-    uint32_t *pre[3];
+    uint32_t *pre[3];     /* per edge column: crossings before it in its row */
     size_t pre_bytes[3];
+    const uint32_t *zrow; /* a zero prefix row (rows outside) */
+    size_t stride[3];     /* prefix entries per row: columns + 3 */
+    int64_t nrows[3];
     int64_t *rowcount[3]; /* then row bases */
     int64_t tbase[3];
     size_t row_cols[3];   /* columns per row of each edge kind */
-    size_t wpr[3];        /* words per column of each kind: wpc, wpc, cw */
+    fast_case fast[256];
     chunk *chunks;
     int nchunks;
     double *verts;
@@ -65,127 +84,133 @@ static inline const uint64_t *col(const mc *c, int32_t X, int32_t Y)
     if (X < 1 || X > g->nx || Y < 1 || Y > g->ny) return c->zero;
     return g->words + ((size_t)(Y - 1) * (size_t)g->nx + (size_t)(X - 1)) * g->wpc;
 }
-static inline uint64_t hiw(const mc *c, const uint64_t *p, size_t w)
+/* ---- pass 1: per-column prefix counts of crossed edges ---- */
+
+/* Row r of a kind's prefix array: stride entries, e[0] = 0, e[1 + i] = the
+ * crossings before edge column i, e[1 + ncol] = e[2 + ncol] = the row's
+ * total; so that column i's count, e[i + 2] - e[i + 1], is 0 for the
+ * columns just outside (i = -1 and i = ncol). Rows outside: zeros. */
+static inline const uint32_t *prow(const mc *c, int k, int64_t r)
 {
-    return w < c->g.wpc ? p[w] : 0;
+    if (r < 0 || r >= c->nrows[k]) return c->zrow;
+    return c->pre[k] + (size_t)r * c->stride[k];
 }
-static inline uint64_t low(const mc *c, const uint64_t *p, size_t w)
+static inline uint32_t pcount(const uint32_t *p, int64_t i)
 {
-    return (hiw(c, p, w) << 1) | (w ? p[w - 1] >> 63 : 0);
+    return p[i + 2] - p[i + 1];
+}
+/* Vertex index base of kind k's row r (0 outside). */
+static inline int64_t rbase(const mc *c, int k, int64_t r)
+{
+    if (r < 0 || r >= c->nrows[k]) return 0;
+    return c->tbase[k] + c->rowcount[k][r];
 }
 
-/* ---- pass 1: per-word prefix counts of crossed edges ---- */
-
-HOT static void count_row(mc *c, int kind, int32_t r)
+/* Row y of all three kinds at once, each column's words read once: y edges
+ * of row y (volume rows y - 1 and y), x and z edges of volume row y. */
+HOT static void count_row(mc *c, int32_t y)
 {
     const bvox__grid *g = &c->g;
     /* 64-bit: a row can hold more than 2^32 crossings (the total check then
      * refuses the mesh; the 32-bit prefixes are only used below that) */
-    uint64_t run = 0;
-    size_t ncol = c->row_cols[kind], nw = c->wpr[kind];
-    uint32_t *pre = c->pre[kind] + (size_t)r * ncol * nw;
-    for (size_t i = 0; i < ncol; i++) {
-        const uint64_t *a, *b = NULL;
-        if (kind == 0) { /* x edges: row Y = r + 1, X = i in 0..nx */
-            a = col(c, (int32_t)i, r + 1);
-            b = col(c, (int32_t)i + 1, r + 1);
-        } else if (kind == 1) { /* y edges: Y = r in 0..ny, X = i + 1 */
-            a = col(c, (int32_t)i + 1, r);
-            b = col(c, (int32_t)i + 1, r + 1);
+    uint64_t r0 = 0, r1 = 0, r2 = 0;
+    const size_t nw = g->wpc, nx = (size_t)g->nx;
+    const int has = y < g->ny; /* x and z rows exist */
+    uint32_t *p0 = has ? c->pre[0] + (size_t)y * c->stride[0] : NULL;
+    uint32_t *p1 = c->pre[1] + (size_t)y * c->stride[1];
+    uint32_t *p2 = has ? c->pre[2] + (size_t)y * c->stride[2] : NULL;
+    const uint64_t *left = c->zero;
+    /* volume rows y and y - 1 (NULL outside: the zero column instead) */
+    const uint64_t *row = has ? g->words + (size_t)y * nx * nw : NULL;
+    const uint64_t *prev = y > 0 ? g->words + (size_t)(y - 1) * nx * nw : NULL;
+    for (size_t x = 0; x < nx; x++) {
+        const uint64_t *cur = row ? row + x * nw : c->zero;
+        const uint64_t *above = prev ? prev + x * nw : c->zero;
+        p1[1 + x] = (uint32_t)r1;
+        if (has) {
+            p0[1 + x] = (uint32_t)r0;
+            p2[1 + x] = (uint32_t)r2;
+            uint64_t carry = 0;
+            for (size_t w = 0; w < nw; w++) {
+                uint64_t h = cur[w];
+                r0 += POPCOUNT(h ^ left[w]);
+                r1 += POPCOUNT(h ^ above[w]);
+                r2 += POPCOUNT(h ^ ((h << 1) | carry));
+                carry = h >> 63;
+            }
+            r2 += carry; /* the cell word past the column (nz % 64 == 0) */
         } else {
-            a = col(c, (int32_t)i + 1, r + 1);
+            for (size_t w = 0; w < nw; w++) r1 += POPCOUNT(above[w]);
         }
-        for (size_t w = 0; w < nw; w++) {
-            pre[i * nw + w] = (uint32_t)run;
-            uint64_t m = kind < 2 ? a[w] ^ b[w] : (hiw(c, a, w) ^ low(c, a, w));
-            if (m) run += POPCOUNT(m); /* most words: no crossing */
-        }
+        left = cur;
     }
-    c->rowcount[kind][r] = (int64_t)run;
-    (void)g;
+    p1[0] = 0;
+    p1[1 + nx] = p1[2 + nx] = (uint32_t)r1;
+    c->rowcount[1][y] = (int64_t)r1;
+    if (!has) return;
+    p0[1 + nx] = (uint32_t)r0; /* x edge column nx: the last column against 0s */
+    for (size_t w = 0; w < nw; w++) r0 += POPCOUNT(left[w]);
+    p0[0] = 0;
+    p0[2 + nx] = p0[3 + nx] = (uint32_t)r0;
+    p2[0] = 0;
+    p2[1 + nx] = p2[2 + nx] = (uint32_t)r2;
+    c->rowcount[0][y] = (int64_t)r0;
+    c->rowcount[2][y] = (int64_t)r2;
 }
 
 static void count_rows(void *ctx, int64_t begin, int64_t end)
 {
     mc *c = ctx;
-    for (int64_t y = begin; y < end; y++) {
-        count_row(c, 1, (int32_t)y);
-        if (y < c->g.ny) {
-            count_row(c, 0, (int32_t)y);
-            count_row(c, 2, (int32_t)y);
-        }
-    }
+    for (int64_t y = begin; y < end; y++) count_row(c, (int32_t)y);
 }
 
 /* ---- pass 2: triangles ---- */
 
-/* Where the vertices of the 12 cube edges of the cells of column (X, Y) are
- * numbered: the two columns whose XOR holds the edge's crossings (x and y
- * edges) or the column itself (z edges: lo ^ hi of the corner words), the
- * per-word prefix array of that edge column, and the kind and row base. */
-typedef struct cellcol {
-    const uint64_t *a[12], *b[12];
-    const uint32_t *pre[12];
-    int64_t base[12];
-} cellcol;
+/* The edge-column prefix rows around cell row Y and their vertex bases:
+ * x edges of rows Y-1 (x0) and Y (x1), y edges of row Y (y), z edges of
+ * rows Y-1 (z0) and Y (z1). */
+typedef struct cellrow {
+    const uint32_t *x0, *x1, *y, *z0, *z1;
+    int64_t bx0, bx1, by, bz0, bz1;
+} cellrow;
 
-static void cellcol_init(const mc *c, int32_t X, int32_t Y, const uint64_t *const p[4],
-                         cellcol *cc)
+static void cellrow_init(const mc *c, int32_t Y, cellrow *cr)
 {
-    const bvox__grid *g = &c->g;
-    /* x edges: rows Y-1 (e 0, 2) and Y (e 1, 3) at column X; y edges: row
-     * Y at columns X-1 (e 4, 6) and X (e 5, 7); z edges: rows Y-1, Y and
-     * columns X-1, X (e 8 + dx + 2 dy) */
-    const uint32_t *xp[2] = {NULL, NULL}, *yp[2] = {NULL, NULL}, *zp[4] = {NULL, NULL, NULL, NULL};
-    int64_t xb[2] = {0, 0}, yb = c->tbase[1] + c->rowcount[1][Y], zb[2] = {0, 0};
-    for (int o = 0; o < 2; o++) {
-        int32_t r = Y + o - 1;
-        if (r < 0 || r >= g->ny) continue;
-        xp[o] = c->pre[0] + ((size_t)r * c->row_cols[0] + (size_t)X) * g->wpc;
-        xb[o] = c->tbase[0] + c->rowcount[0][r];
-        zb[o] = c->tbase[2] + c->rowcount[2][r];
-        for (int dx = 0; dx < 2; dx++) {
-            int32_t i = X + dx - 1;
-            if (i >= 0 && i < g->nx)
-                zp[dx + 2 * o] = c->pre[2] + ((size_t)r * c->row_cols[2] + (size_t)i) * g->cw;
-        }
-    }
-    for (int dx = 0; dx < 2; dx++) {
-        int32_t i = X + dx - 1;
-        if (i >= 0 && i < g->nx)
-            yp[dx] = c->pre[1] + ((size_t)Y * c->row_cols[1] + (size_t)i) * g->wpc;
-    }
-    for (int e = 0; e < 4; e++) {
-        int o1 = e & 1;
-        cc->a[e] = p[2 * o1];
-        cc->b[e] = p[2 * o1 + 1];
-        cc->pre[e] = xp[o1];
-        cc->base[e] = xb[o1];
-        cc->a[4 + e] = p[o1];
-        cc->b[4 + e] = p[2 + o1];
-        cc->pre[4 + e] = yp[o1];
-        cc->base[4 + e] = yb;
-        cc->a[8 + e] = cc->b[8 + e] = p[e];
-        cc->pre[8 + e] = zp[e];
-        cc->base[8 + e] = zb[e >> 1];
-    }
+    cr->x0 = prow(c, 0, Y - 1);
+    cr->x1 = prow(c, 0, Y);
+    cr->y = prow(c, 1, Y);
+    cr->z0 = prow(c, 2, Y - 1);
+    cr->z1 = prow(c, 2, Y);
+    cr->bx0 = rbase(c, 0, Y - 1);
+    cr->bx1 = rbase(c, 0, Y);
+    cr->by = rbase(c, 1, Y);
+    cr->bz0 = rbase(c, 2, Y - 1);
+    cr->bz1 = rbase(c, 2, Y);
 }
 
-/* The vertex of cube edge e of cell Z (bit `bit` of cell word w, corner
- * words cw). Only called for crossed edges, which always have a prefix. */
-static inline __attribute__((always_inline)) int32_t vid(const cellcol *cc, const uint64_t cw[8], size_t w, unsigned bit,
-                          int e)
+/* 1 if some edge of the cells of column X is crossed. */
+static inline int column_has_surface(const cellrow *cr, int64_t X)
 {
-    if (e >= 8) {
-        int k = e - 8;
-        uint64_t m = (cw[k] ^ cw[4 + k]) & ((1ull << bit) - 1);
-        return (int32_t)(cc->base[e] + cc->pre[e][w] + POPCOUNT(m));
-    }
-    /* x and y edges at voxel height z = Z - 1 + dz (original coordinates) */
-    int64_t z = (int64_t)(w * 64 + bit) - 1 + ((e & 3) >> 1);
-    size_t ww = (size_t)z >> 6;
-    uint64_t m = (cc->a[e][ww] ^ cc->b[e][ww]) & ((1ull << (z & 63)) - 1);
-    return (int32_t)(cc->base[e] + cc->pre[e][ww] + POPCOUNT(m));
+    return (pcount(cr->x0, X) | pcount(cr->x1, X) | pcount(cr->y, X - 1) | pcount(cr->y, X) |
+            pcount(cr->z0, X - 1) | pcount(cr->z0, X) | pcount(cr->z1, X - 1) |
+            pcount(cr->z1, X)) != 0;
+}
+
+/* The first vertex index of the edge column of each of the 12 cube edges
+ * of the cells of column X: x edges: rows Y-1 (e 0, 2) and Y (e 1, 3) at
+ * column X; y edges: row Y at columns X-1 (e 4, 6) and X (e 5, 7); z edges:
+ * rows Y-1, Y and columns X-1, X (e 8 + dx + 2 dy). Edge columns outside
+ * the grid are never crossed (their base is never used). */
+static inline void column_bases(const cellrow *cr, int64_t X, int64_t base[12])
+{
+    base[0] = base[2] = cr->bx0 + cr->x0[1 + X];
+    base[1] = base[3] = cr->bx1 + cr->x1[1 + X];
+    base[4] = base[6] = cr->by + cr->y[X];
+    base[5] = base[7] = cr->by + cr->y[1 + X];
+    base[8] = cr->bz0 + cr->z0[X];
+    base[9] = cr->bz0 + cr->z0[1 + X];
+    base[10] = cr->bz1 + cr->z1[X];
+    base[11] = cr->bz1 + cr->z1[1 + X];
 }
 
 static bvox_status add_centre(chunk *ch, const bvox__mc_case *cs, int L, int32_t X, int32_t Y,
@@ -209,26 +234,42 @@ static bvox_status add_centre(chunk *ch, const bvox__mc_case *cs, int L, int32_t
     return BVOX_OK;
 }
 
-/* Crossed edges in edge column i of row r of a kind (0 outside), from the
- * prefixes of pass 1 (after the row bases were taken: rowcount[k][r] is the
- * row's base, rowcount[k][r + 1] the next one's). */
-static inline int64_t edge_col_count(const mc *c, int k, int64_t r, int64_t i)
+/* ---- vertex positions ---- */
+
+static inline void put(const mc *c, int64_t idx, double px, double py, double pz)
 {
-    size_t rows = k == 1 ? (size_t)c->g.ny + 1 : (size_t)c->g.ny;
-    if (r < 0 || (size_t)r >= rows || i < 0 || (size_t)i >= c->row_cols[k]) return 0;
-    const uint32_t *p = c->pre[k] + ((size_t)r * c->row_cols[k] + (size_t)i) * c->wpr[k];
-    int64_t next = (size_t)i + 1 < c->row_cols[k] ? (int64_t)p[c->wpr[k]]
-                                                  : c->rowcount[k][r + 1] - c->rowcount[k][r];
-    return next - (int64_t)p[0];
+    double *q = c->verts + 3 * idx;
+    if (c->axis_aligned) { /* the usual identity direction: 3 multiply-adds */
+        q[0] = c->geo->origin[0] + px * c->geo->spacing[0];
+        q[1] = c->geo->origin[1] + py * c->geo->spacing[1];
+        q[2] = c->geo->origin[2] + pz * c->geo->spacing[2];
+        return;
+    }
+    bvox__grid_world(c->geo, px, py, pz, q);
 }
 
-/* 1 if some edge of the cells of column (X, Y) is crossed. */
-static inline int column_has_surface(const mc *c, int32_t X, int32_t Y)
+/* The vertices of the crossings m (bits of cell word w) of one edge column,
+ * numbered from idx up, at index-space (px, py, w * 64 + bit + dz). x and y
+ * are the same for the whole column: with the identity direction only z is
+ * computed per vertex. */
+static inline void put_bits(const mc *c, int64_t idx, uint64_t m, size_t w, double px, double py,
+                            double dz)
 {
-    return edge_col_count(c, 0, Y - 1, X) || edge_col_count(c, 0, Y, X) ||
-           edge_col_count(c, 1, Y, X - 1) || edge_col_count(c, 1, Y, X) ||
-           edge_col_count(c, 2, Y - 1, X - 1) || edge_col_count(c, 2, Y - 1, X) ||
-           edge_col_count(c, 2, Y, X - 1) || edge_col_count(c, 2, Y, X);
+    const bvox_geometry *geo = c->geo;
+    if (c->axis_aligned) {
+        double wx = geo->origin[0] + px * geo->spacing[0];
+        double wy = geo->origin[1] + py * geo->spacing[1];
+        double oz = geo->origin[2], sz = geo->spacing[2];
+        double *q = c->verts + 3 * idx;
+        for (; m; m &= m - 1, q += 3) {
+            double pz = (double)(w * 64 + (size_t)__builtin_ctzll(m)) + dz;
+            q[0] = wx;
+            q[1] = wy;
+            q[2] = oz + pz * sz;
+        }
+        return;
+    }
+    for (; m; m &= m - 1) put(c, idx++, px, py, (double)(w * 64 + (size_t)__builtin_ctzll(m)) + dz);
 }
 
 HOT static void tri_chunks(void *ctx, int64_t begin, int64_t end)
@@ -237,20 +278,23 @@ HOT static void tri_chunks(void *ctx, int64_t begin, int64_t end)
     const bvox__grid *g = &c->g;
     const bvox__mc_case *tab = c->tab;
     const int i1 = c->mirrored ? 2 : 1, i2 = c->mirrored ? 1 : 2;
-    cellcol cc;
     for (int64_t k = begin; k < end; k++) {
         chunk *ch = &c->chunks[k];
         /* the hot counters live here, not in the chunk array, whose
          * neighbouring entries belong to other threads (false sharing) */
         int64_t nregion = 0, region_cap = ch->region_cap;
-        for (int32_t Y = ch->y0; Y < ch->y1 && !ch->st; Y++)
+        for (int32_t Y = ch->y0; Y < ch->y1 && !ch->st; Y++) {
+            cellrow cr;
+            cellrow_init(c, Y, &cr);
             for (int32_t X = 0; X <= g->nx && !ch->st; X++) {
+                if (!column_has_surface(&cr, X)) continue; /* all cells uniform */
                 const uint64_t *p[4] = {col(c, X, Y), col(c, X + 1, Y), col(c, X, Y + 1),
                                         col(c, X + 1, Y + 1)};
-                if (p[0] == c->zero && p[1] == c->zero && p[2] == c->zero && p[3] == c->zero)
-                    continue;
-                if (!column_has_surface(c, X, Y)) continue; /* all cells uniform */
-                int ready = 0;
+                /* id of cube edge e's vertex in cell bit b of word w: base[e]
+                 * (its edge column's first vertex + the crossings of the
+                 * column's words below w) + those below bit b in word w */
+                int64_t base[12];
+                column_bases(&cr, X, base);
                 uint64_t carry[4] = {0, 0, 0, 0};
                 for (size_t w = 0; w < g->cw; w++) {
                     uint64_t cw[8];
@@ -261,19 +305,61 @@ HOT static void tri_chunks(void *ctx, int64_t begin, int64_t end)
                         carry[i] = h >> 63;
                     }
                     uint64_t mixed = bvox__grid_mixed(cw);
-                    if (!mixed) continue;
-                    if (!ready) {
-                        cellcol_init(c, X, Y, p, &cc);
-                        ready = 1;
-                    }
+                    if (!mixed) continue; /* no edge of the word is crossed */
+                    /* crossings of each cube edge: the XOR of its corners
+                     * (bvox__mc_edge_corners, spelled out for the compiler) */
+                    const uint64_t xe[12] = {cw[0] ^ cw[1], cw[2] ^ cw[3], cw[4] ^ cw[5],
+                                             cw[6] ^ cw[7], cw[0] ^ cw[2], cw[1] ^ cw[3],
+                                             cw[4] ^ cw[6], cw[5] ^ cw[7], cw[0] ^ cw[4],
+                                             cw[1] ^ cw[5], cw[2] ^ cw[6], cw[3] ^ cw[7]};
+                    /* pass 3, the vertex positions, here: the cell column
+                     * (X, Y) writes those of 3 of its 12 edge columns, the
+                     * x edges of row Y at column X (cube edge 3), the y
+                     * edges of row Y at column X (7), the z edges of row Y
+                     * at column X (11): each edge column has exactly one
+                     * such cell column, a surface column, and each crossing
+                     * lies in a mixed word */
+                    if (xe[3]) put_bits(c, base[3], xe[3], w, X - 0.5, Y, 0);
+                    if (xe[7]) put_bits(c, base[7], xe[7], w, X, Y - 0.5, 0);
+                    if (xe[11]) put_bits(c, base[11], xe[11], w, X, Y, -0.5);
                     while (mixed) {
                         unsigned bit = (unsigned)__builtin_ctzll(mixed);
                         mixed &= mixed - 1;
-                        const bvox__mc_case *cs = &tab[bvox__grid_case(cw, bit)];
+                        unsigned kase = bvox__grid_case(cw, bit);
+                        const uint64_t below = (1ull << bit) - 1;
+                        const fast_case *fc = &c->fast[kase];
+                        if (!fc->slow && nregion + 5 <= region_cap) {
+                            /* the usual cell, without loops over its
+                             * edges or triangles: 2 triangles written,
+                             * 2 more when there are more, a 5th when
+                             * there is one (what lies past ntri is
+                             * overwritten by the next cell or unused),
+                             * each corner's id computed where it is
+                             * written */
+                            int32_t *o = ch->region + 3 * nregion;
+                            for (int j = 0; j < 6; j++) {
+                                int e = fc->v[j];
+                                o[j] = (int32_t)(base[e] + POPCOUNT(xe[e] & below));
+                            }
+                            if (fc->ntri > 2) {
+                                for (int j = 6; j < 12; j++) {
+                                    int e = fc->v[j];
+                                    o[j] = (int32_t)(base[e] + POPCOUNT(xe[e] & below));
+                                }
+                                if (fc->ntri > 4)
+                                    for (int j = 12; j < 15; j++) {
+                                        int e = fc->v[j];
+                                        o[j] = (int32_t)(base[e] + POPCOUNT(xe[e] & below));
+                                    }
+                            }
+                            nregion += fc->ntri;
+                            continue;
+                        }
+                        const bvox__mc_case *cs = &tab[kase];
                         int32_t ids[16];
                         for (unsigned em = cs->edges; em; em &= em - 1) {
                             int e = __builtin_ctz(em);
-                            ids[e] = vid(&cc, cw, w, bit, e);
+                            ids[e] = (int32_t)(base[e] + POPCOUNT(xe[e] & below));
                         }
                         for (unsigned lm = cs->centres; lm; lm &= lm - 1) {
                             int L = __builtin_ctz(lm);
@@ -302,59 +388,11 @@ HOT static void tri_chunks(void *ctx, int64_t begin, int64_t end)
                         }
                     }
                     if (ch->st) break;
+                    for (int e = 0; e < 12; e++) base[e] += POPCOUNT(xe[e]);
                 }
             }
+        }
         ch->nregion = nregion;
-    }
-}
-
-/* ---- pass 3: vertex positions ---- */
-
-static inline void put(const mc *c, int64_t idx, double px, double py, double pz)
-{
-    double *q = c->verts + 3 * idx;
-    if (c->axis_aligned) { /* the usual identity direction: 3 multiply-adds */
-        q[0] = c->geo->origin[0] + px * c->geo->spacing[0];
-        q[1] = c->geo->origin[1] + py * c->geo->spacing[1];
-        q[2] = c->geo->origin[2] + pz * c->geo->spacing[2];
-        return;
-    }
-    bvox__grid_world(c->geo, px, py, pz, q);
-}
-
-static void vert_rows(void *ctx, int64_t begin, int64_t end)
-{
-    mc *c = ctx;
-    const bvox__grid *g = &c->g;
-    for (int64_t yy = begin; yy < end; yy++) {
-        int32_t r = (int32_t)yy;
-        /* y edges of row r: between Y = r and r + 1 (edge columns without a
-         * crossing, most of them, are skipped on their prefix counts) */
-        int64_t idx = c->tbase[1] + c->rowcount[1][r];
-        for (int32_t X = 1; X <= g->nx; X++) {
-            if (!edge_col_count(c, 1, r, X - 1)) continue;
-            const uint64_t *a = col(c, X, r), *b = col(c, X, r + 1);
-            for (size_t w = 0; w < g->wpc; w++)
-                for (uint64_t m = a[w] ^ b[w]; m; m &= m - 1)
-                    put(c, idx++, X - 1, r - 0.5, (double)(w * 64 + (size_t)__builtin_ctzll(m)));
-        }
-        if (r >= g->ny) continue;
-        idx = c->tbase[0] + c->rowcount[0][r];
-        for (int32_t X = 0; X <= g->nx; X++) {
-            if (!edge_col_count(c, 0, r, X)) continue;
-            const uint64_t *a = col(c, X, r + 1), *b = col(c, X + 1, r + 1);
-            for (size_t w = 0; w < g->wpc; w++)
-                for (uint64_t m = a[w] ^ b[w]; m; m &= m - 1)
-                    put(c, idx++, X - 0.5, r, (double)(w * 64 + (size_t)__builtin_ctzll(m)));
-        }
-        idx = c->tbase[2] + c->rowcount[2][r];
-        for (int32_t X = 1; X <= g->nx; X++) {
-            if (!edge_col_count(c, 2, r, X - 1)) continue;
-            const uint64_t *a = col(c, X, r + 1);
-            for (size_t w = 0; w < g->cw; w++)
-                for (uint64_t m = hiw(c, a, w) ^ low(c, a, w); m; m &= m - 1)
-                    put(c, idx++, X - 1, r, (double)(w * 64 + (size_t)__builtin_ctzll(m)) - 0.5);
-        }
     }
 }
 
@@ -406,6 +444,7 @@ static void mc_release(mc *c)
         }
     free(c->chunks);
     free((void *)c->zero);
+    free((void *)c->zrow);
 }
 
 bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
@@ -418,25 +457,47 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
     static const double ident[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     c.axis_aligned = !memcmp(c.geo->direction, ident, sizeof ident);
     c.tab = bvox__mc_table();
+#ifndef NDEBUG
+    for (int e = 0; e < 12; e++) { /* the corners spelled out in tri_chunks */
+        static const uint8_t ec[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                          {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+        int c0, c1;
+        bvox__mc_edge_corners(e, &c0, &c1);
+        assert(c0 == ec[e][0] && c1 == ec[e][1]);
+    }
+#endif
+    for (int k = 0; k < 256; k++) {
+        const bvox__mc_case *cs = &c.tab[k];
+        fast_case *fc = &c.fast[k];
+        memset(fc, 0, sizeof *fc);
+        fc->ntri = cs->ntri;
+        fc->slow = cs->centres != 0 || cs->ntri > 5;
+        if (fc->slow) continue;
+        for (int t = 0; t < cs->ntri; t++) {
+            fc->v[3 * t] = cs->tri[t][0];
+            fc->v[3 * t + 1] = cs->tri[t][c.mirrored ? 2 : 1];
+            fc->v[3 * t + 2] = cs->tri[t][c.mirrored ? 1 : 2];
+        }
+    }
     const bvox__grid *g = &c.g;
     bvox_status st = BVOX_OK;
     c.zero = calloc(g->cw + 1, sizeof(uint64_t));
+    c.zrow = calloc((size_t)g->nx + 4, sizeof(uint32_t));
     size_t rows[3] = {(size_t)g->ny, (size_t)g->ny + 1, (size_t)g->ny};
     c.row_cols[0] = (size_t)g->nx + 1;
     c.row_cols[1] = (size_t)g->nx;
     c.row_cols[2] = (size_t)g->nx;
-    c.wpr[0] = c.wpr[1] = g->wpc;
-    c.wpr[2] = g->cw;
-    if (!c.zero) st = bvox__fail(BVOX_ENOMEM, "out of memory (marching cubes)");
+    if (!c.zero || !c.zrow) st = bvox__fail(BVOX_ENOMEM, "out of memory (marching cubes)");
     for (int k = 0; k < 3 && !st; k++) {
         size_t n;
-        if (!bvox__mul_size(rows[k] * c.row_cols[k], c.wpr[k] * sizeof(uint32_t), &n)) {
+        c.stride[k] = c.row_cols[k] + 3;
+        c.nrows[k] = (int64_t)rows[k];
+        if (!bvox__mul_size(rows[k], c.stride[k] * sizeof(uint32_t), &n)) {
             st = bvox__fail(BVOX_ETOOBIG, "volume too large to mesh");
             break;
         }
         c.pre_bytes[k] = n ? n : 1;
         c.pre[k] = bvox__alloc(c.pre_bytes[k], false, "marching cubes edge index", &st);
-        if (c.pre[k]) bvox__advise_huge(c.pre[k], c.pre_bytes[k]);
         c.rowcount[k] = calloc(rows[k] + 1, sizeof(int64_t));
         if (!c.pre[k]) break;
         if (!c.rowcount[k]) st = bvox__fail(BVOX_ENOMEM, "out of memory (marching cubes)");
@@ -445,7 +506,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         mc_release(&c);
         return st;
     }
-    dyn_for((int64_t)g->ny + 1, 8, count_rows, &c);
+    dyn_for((int64_t)g->ny + 1, 4, count_rows, &c);
     /* row totals -> row bases; kind totals -> kind bases */
     int64_t total = 0;
     for (int k = 0; k < 3; k++) {
@@ -497,7 +558,9 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
     if (tcap > INT32_MAX) tcap = INT32_MAX; /* the mesh limit: the spill path reports it */
     m->nvertices = 0;
     m->ntriangles = 0;
-    st = bvox__mesh_grow(m, 0, tcap);
+    /* the vertices of the crossed edges are known: allocated now and
+     * written with the triangles (loop centres, if any, are added after) */
+    st = bvox__mesh_grow(m, total, tcap);
     if (st) {
         mc_release(&c);
         return st;
@@ -508,7 +571,9 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         c.chunks[i].region = m->triangles + 3 * off;
         off += c.chunks[i].region_cap;
     }
+    c.verts = m->vertices;
     dyn_for(nch, 1, tri_chunks, &c);
+    m->nvertices = total; /* kept if the array grows for the centres */
     int64_t ntri = 0, ncent = 0;
     int spilled = 0;
     for (int i = 0; i < nch && !st; i++) {
@@ -526,14 +591,13 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         dst_bytes = (size_t)(ntri ? ntri : 1) * 3 * sizeof(int32_t);
         dst = bvox__alloc(dst_bytes, false, "mesh triangles", &st);
     }
-    if (!st) st = bvox__mesh_grow(m, total + ncent, 0);
+    if (!st && ncent) st = bvox__mesh_grow(m, total + ncent, 0);
     if (st) {
         if (dst != m->triangles && dst) bvox__free(dst, dst_bytes);
         mc_release(&c);
         return st;
     }
     c.verts = m->vertices;
-    dyn_for((int64_t)g->ny + 1, 8, vert_rows, &c);
     int64_t cb = total, tb = 0;
     for (int i = 0; i < nch; i++) {
         chunk *ch = &c.chunks[i];

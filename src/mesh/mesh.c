@@ -18,7 +18,7 @@ void bvox__advise_huge(void *p, size_t bytes)
      * freshly allocated buffer: one fault per 2 MiB instead of 512. Only a
      * hint (ignored where THP is off). */
     const uintptr_t huge = (uintptr_t)2 << 20;
-    if (bytes < 4 * huge) return;
+    if (bytes < 2 * huge) return;
     uintptr_t a = ((uintptr_t)p + huge - 1) & ~(huge - 1);
     uintptr_t b = ((uintptr_t)p + bytes) & ~(huge - 1);
     if (b > a) (void)madvise((void *)a, b - a, MADV_HUGEPAGE);
