@@ -304,6 +304,40 @@ static void progress(const bvox_recon_opts *o, bvox_recon_step step, int32_t don
 
 /* ------------------------------------------------------- images -> model */
 
+/* The end of both paths (images, contour file): unless st already failed,
+ * the aligned stack to a volume (when asked for) and the total time; then
+ * the outputs handed over, or everything freed on failure. */
+static bvox_status finish(const bvox_recon_opts *o, bvox_status st, double t_start,
+                          bvox_contour_stack *stack, bvox_recon_report *rep, bvox_volume **volume,
+                          bvox_contour_stack **stack_out, bvox_recon_report **report_out)
+{
+    bvox_volume *vol = NULL;
+    if (!st && volume) {
+        double t = now_ms();
+        bvox_stack_volume_opts vo = bvox_stack_volume_opts_default();
+        vo.z_spacing = o->z_spacing;
+        vo.interpolate = o->interpolate;
+        st = bvox_stack_to_volume(stack, &vo, &vol);
+        if (!st) {
+            rep->ms[BVOX_RECON_VOLUME] = now_ms() - t;
+            progress(o, BVOX_RECON_VOLUME, stack->nsections, stack->nsections);
+        }
+    }
+    if (st) {
+        bvox_recon_report_destroy(rep);
+        bvox_stack_destroy(stack);
+        bvox_volume_destroy(vol);
+        return st;
+    }
+    rep->ms[BVOX_RECON_TOTAL] = now_ms() - t_start;
+    if (volume) *volume = vol;
+    if (stack_out) *stack_out = stack;
+    else bvox_stack_destroy(stack);
+    if (report_out) *report_out = rep;
+    else bvox_recon_report_destroy(rep);
+    return BVOX_OK;
+}
+
 static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
                               const bvox_image *background, bvox_volume **volume,
                               bvox_contour_stack **stack_out, bvox_recon_report **report_out)
@@ -312,7 +346,6 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
     bvox_status st = BVOX_OK;
     bvox_recon_report *rep = NULL;
     bvox_contour_stack *stack = NULL;
-    bvox_volume *vol = NULL;
     bvox_contour_stack *mfile = NULL;
     if (o->markers_file && (st = bvox_stack_read(o->markers_file, &mfile))) return st;
     if (mfile && mfile->nsections != n) {
@@ -399,30 +432,9 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
         }
     }
     rep->ms[BVOX_RECON_ALIGN] += now_ms() - t0;
-    if (volume) {
-        t0 = now_ms();
-        bvox_stack_volume_opts vo = bvox_stack_volume_opts_default();
-        vo.z_spacing = o->z_spacing;
-        vo.interpolate = o->interpolate;
-        if ((st = bvox_stack_to_volume(stack, &vo, &vol))) goto done;
-        rep->ms[BVOX_RECON_VOLUME] = now_ms() - t0;
-        progress(o, BVOX_RECON_VOLUME, n, n);
-    }
-    rep->ms[BVOX_RECON_TOTAL] = now_ms() - t_start;
 done:
     bvox_stack_destroy(mfile);
-    if (st) {
-        bvox_recon_report_destroy(rep);
-        bvox_stack_destroy(stack);
-        bvox_volume_destroy(vol);
-        return st;
-    }
-    if (volume) *volume = vol;
-    if (stack_out) *stack_out = stack;
-    else bvox_stack_destroy(stack);
-    if (report_out) *report_out = rep;
-    else bvox_recon_report_destroy(rep);
-    return BVOX_OK;
+    return finish(o, st, t_start, stack, rep, volume, stack_out, report_out);
 }
 
 static bvox_status check_outputs(bvox_volume **volume, bvox_contour_stack **stack,
@@ -582,7 +594,6 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     double t0 = now_ms();
     bvox_contour_stack *stack = NULL;
     bvox_recon_report *rep = NULL;
-    bvox_volume *vol = NULL;
     if (o->markers_file)
         return bvox__fail(BVOX_EINVAL, "%s: a markers file goes with section images; a contour "
                                        "file carries its own markers", path);
@@ -626,29 +637,8 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     rep->width = stack->width;
     rep->height = stack->height;
     progress(o, BVOX_RECON_ALIGN, stack->nsections, stack->nsections);
-    if (volume) {
-        double t1 = now_ms();
-        bvox_stack_volume_opts vo = bvox_stack_volume_opts_default();
-        vo.z_spacing = o->z_spacing;
-        vo.interpolate = o->interpolate;
-        if ((st = bvox_stack_to_volume(stack, &vo, &vol))) goto done;
-        rep->ms[BVOX_RECON_VOLUME] = now_ms() - t1;
-        progress(o, BVOX_RECON_VOLUME, stack->nsections, stack->nsections);
-    }
-    rep->ms[BVOX_RECON_TOTAL] = now_ms() - t0;
 done:
-    if (st) {
-        bvox_stack_destroy(stack);
-        bvox_recon_report_destroy(rep);
-        bvox_volume_destroy(vol);
-        return st;
-    }
-    if (volume) *volume = vol;
-    if (stack_out) *stack_out = stack;
-    else bvox_stack_destroy(stack);
-    if (report_out) *report_out = rep;
-    else bvox_recon_report_destroy(rep);
-    return BVOX_OK;
+    return finish(o, st, t0, stack, rep, volume, stack_out, report_out);
 }
 
 static const char *base_name(const char *path)

@@ -90,4 +90,20 @@ struct bvox_surface {
 #define SURF_Z(e) ((int32_t)((e) >> 32 & 0xffff))
 #define SURF_NB(e) ((unsigned)((e) >> 48 & 63))
 
+/* The 6 neighbour words of word w of column (x, y) (-x, +x, -y, +y, -z, +z;
+ * outside the volume reads 0): a surface build and its update in a box. */
+static inline void bvox__surface_neighbours(const bvox_volume *v, int32_t x, int32_t y,
+                                            size_t w, uint64_t nb[6])
+{
+    const uint64_t *col = bvox__column_c(v, x, y);
+    const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
+    uint64_t word = col[w];
+    nb[0] = x > 0 ? col[w - wpc] : 0;
+    nb[1] = x + 1 < v->nx ? col[w + wpc] : 0;
+    nb[2] = y > 0 ? col[w - row] : 0;
+    nb[3] = y + 1 < v->ny ? col[w + row] : 0;
+    nb[4] = word << 1 | (w > 0 ? col[w - 1] >> 63 : 0);
+    nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
+}
+
 #endif

@@ -27,21 +27,6 @@ typedef struct build_ctx {
     uint64_t *entries; /* NULL in the counting pass */
 } build_ctx;
 
-/* The 6 neighbour words of word w of column (x, y). */
-static inline void neighbours(const bvox_volume *v, int32_t x, int32_t y, size_t w,
-                              uint64_t nb[6])
-{
-    const uint64_t *col = bvox__column_c(v, x, y);
-    const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
-    uint64_t word = col[w];
-    nb[0] = x > 0 ? col[w - wpc] : 0;
-    nb[1] = x + 1 < v->nx ? col[w + wpc] : 0;
-    nb[2] = y > 0 ? col[w - row] : 0;
-    nb[3] = y + 1 < v->ny ? col[w + row] : 0;
-    nb[4] = word << 1 | (w > 0 ? col[w - 1] >> 63 : 0);
-    nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
-}
-
 static void build_rows(void *arg, int64_t y0, int64_t y1)
 {
     build_ctx *c = arg;
@@ -53,7 +38,7 @@ static void build_rows(void *arg, int64_t y0, int64_t y1)
             for (size_t w = 0; w < v->wpc; w++) {
                 if (!col[w]) continue;
                 uint64_t nb[6];
-                neighbours(v, x, y, w, nb);
+                bvox__surface_neighbours(v, x, y, w, nb);
                 uint64_t b = col[w] & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
                 while (b) {
                     unsigned k = (unsigned)__builtin_ctzll(b);

@@ -14,19 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static inline void neighbours(const bvox_volume *v, int32_t x, int32_t y, size_t w, uint64_t nb[6])
-{
-    const uint64_t *col = bvox__column_c(v, x, y);
-    const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
-    uint64_t word = col[w];
-    nb[0] = x > 0 ? col[w - wpc] : 0;
-    nb[1] = x + 1 < v->nx ? col[w + wpc] : 0;
-    nb[2] = y > 0 ? col[w - row] : 0;
-    nb[3] = y + 1 < v->ny ? col[w + row] : 0;
-    nb[4] = word << 1 | (w > 0 ? col[w - 1] >> 63 : 0);
-    nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
-}
-
 /* The full build's order within a class: y, then x, then z. */
 static inline uint64_t order_key(uint64_t e)
 {
@@ -58,7 +45,7 @@ static void scan(const bvox_volume *v, const region *r, int64_t count[64], int64
                 int64_t zlo = r->lo[2] - (int64_t)w * 64, zhi = r->hi[2] - (int64_t)w * 64;
                 uint64_t mask = bvox__bit_range(zlo > 0 ? (unsigned)zlo : 0u, zhi < 64 ? (unsigned)zhi : 64u);
                 uint64_t nb[6];
-                neighbours(v, x, y, w, nb);
+                bvox__surface_neighbours(v, x, y, w, nb);
                 uint64_t b = col[w] & mask & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
                 while (b) {
                     unsigned k = (unsigned)__builtin_ctzll(b);

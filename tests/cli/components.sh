@@ -15,19 +15,6 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 . "$(dirname "$0")/lib/common.sh"
 
-
-# jcheck FILE PYEXPR: PYEXPR (about o, the one JSON object in FILE) holds.
-jcheck() {
-    python3 - "$@" <<'PY' || return 1
-import json, sys
-path, expr = sys.argv[1:]
-text = open(path).read()
-assert text.count("\n") == 1, "not one line of JSON: %r" % text[:200]
-o = json.loads(text)
-if not eval(expr):
-    sys.exit("%s: %s is false for %s" % (path, expr, text.strip()[:500]))
-PY
-}
 count() {
     "$BVOX" info "$@" --json >"$tmp/ij" || fail "info $* exited $?"
     python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["count"])' "$tmp/ij"

@@ -14,20 +14,6 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 . "$(dirname "$0")/lib/common.sh"
 
-
-# jcheck FILE PYEXPR: PYEXPR (about o, the one JSON object in FILE) holds.
-jcheck() {
-    python3 - "$@" <<'PY' || return 1
-import json, sys
-path, expr = sys.argv[1:]
-text = open(path).read()
-assert text.count("\n") == 1, "not one line of JSON: %r" % text
-o = json.loads(text)
-if not eval(expr):
-    sys.exit("%s: %s is false for %s" % (path, expr, text.strip()))
-PY
-}
-
 # info FILE [read options] -> $tmp/j ; count FILE -> the count
 info() { "$BVOX" info "$@" --json >"$tmp/j" || fail "info $1 exited $?"; }
 count() {

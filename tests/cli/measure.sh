@@ -14,25 +14,6 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 . "$(dirname "$0")/lib/common.sh"
 
-
-# jcheck FILE PYEXPR: PYEXPR (about o, the one JSON object in FILE; near(a, b)
-# compares numbers or nested lists to 1e-9) holds.
-jcheck() {
-    python3 - "$@" <<'PY' || return 1
-import json, math, sys
-path, expr = sys.argv[1:]
-text = open(path).read()
-assert text.count("\n") == 1, "not one line of JSON: %r" % text[:200]
-o = json.loads(text)
-def near(a, b):
-    if isinstance(b, list):
-        return isinstance(a, list) and len(a) == len(b) and all(near(x, y) for x, y in zip(a, b))
-    return a is not None and math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
-if not eval(expr):
-    sys.exit("%s: %s is false for %s" % (path, expr, text.strip()[:600]))
-PY
-}
-
 # A box of 4 x 3 x 2 voxels (x 1..4, y 1..3, z 1..2) of 0.5 x 0.5 x 2 mm.
 # Voxel faces: x 2*3*2 = 12 of 0.5*2 = 1 mm^2, y 2*4*2 = 16 of 1 mm^2,
 # z 2*4*3 = 24 of 0.25 mm^2: 34 mm^2. Centroid: indices (2.5, 2, 1.5) times

@@ -15,19 +15,6 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 . "$(dirname "$0")/lib/common.sh"
 
-# jcheck FILE PYEXPR: PYEXPR (about o, the JSON object in FILE) holds.
-jcheck() {
-    python3 - "$@" <<'PY' || return 1
-import json, math, sys
-path, expr = sys.argv[1:]
-text = open(path).read()
-assert text.count("\n") == 1, "not one line of JSON: %r" % text[:200]
-o = json.loads(text)
-near = lambda a, b, tol=1e-9: abs(a - b) <= tol * max(1.0, abs(b))
-assert eval(expr), (expr, o)
-PY
-}
-
 # A 6 x 4 x 3 box of voxels (x 2..7, y 1..4, z 1..3) in a 10 x 6 x 5 volume,
 # voxels 0.5 x 1 x 2 mm, origin (10, 20, 30).
 mk box 10 6 5 '2 <= x <= 7 and 1 <= y <= 4 and 1 <= z <= 3' --voxel-size 0.5,1,2 --unit mm

@@ -17,3 +17,26 @@ PY
     "$BVOX" convert "$tmp/$name.raw" "$tmp/$name.nii" --dims "$nx,$ny,$nz" --type u8 "$@" ||
         fail "making $name.nii"
 }
+
+# jcheck FILE PYEXPR: PYEXPR, about o (the one line of JSON in FILE), holds.
+# near(a, b) compares numbers or nested lists (relative 1e-9, absolute
+# 1e-12); near(a, b, tol) allows tol * max(1, |b|).
+jcheck() {
+    python3 - "$@" <<'PY' || return 1
+import json, math, sys
+path, expr = sys.argv[1:]
+text = open(path).read()
+assert text.count("\n") == 1, "not one line of JSON: %r" % text[:200]
+o = json.loads(text)
+def near(a, b, tol=None):
+    if isinstance(b, list):
+        return isinstance(a, list) and len(a) == len(b) and all(near(x, y, tol) for x, y in zip(a, b))
+    if a is None:
+        return False
+    if tol is not None:
+        return abs(a - b) <= tol * max(1.0, abs(b))
+    return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-12)
+if not eval(expr):
+    sys.exit("%s: %s is false for %s" % (path, expr, text.strip()[:600]))
+PY
+}
