@@ -10,7 +10,6 @@
 #include "cli.h"
 #include "json.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -201,38 +200,26 @@ static void write_report_json(FILE *f, const bvox_recon_report *r, const bvox_vo
     fputc('\n', f);
 }
 
-/* Write the report to a temporary file beside path, then rename it. */
+/* The report is built in memory and written atomically by the library (a
+ * temporary file in the target folder, synced, renamed). */
 static int save_report(const char *path, const bvox_recon_report *r, const bvox_volume *vol)
 {
-    size_t n = strlen(path);
-    char *tmp = malloc(n + 16);
-    if (!tmp) {
+    char *text = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    if (!f) {
         fprintf(stderr, "bvox: out of memory\n");
         return CLI_FAIL;
     }
-    snprintf(tmp, n + 16, "%s.tmpXXXXXX", path);
-    int fd = mkstemp(tmp);
-    FILE *f = fd >= 0 ? fdopen(fd, "w") : NULL;
-    if (!f) {
-        fprintf(stderr, "bvox: %s: %s\n", path, strerror(errno));
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        free(tmp);
-        return CLI_FAIL;
-    }
     write_report_json(f, r, vol);
-    int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, path) != 0) {
-        fprintf(stderr, "bvox: %s: %s\n", path, strerror(errno));
-        unlink(tmp);
-        free(tmp);
+    int bad = fclose(f) != 0;
+    bvox_status st = bad ? BVOX_ENOMEM : bvox_write_file_atomic(path, text, size);
+    free(text);
+    if (bad) {
+        fprintf(stderr, "bvox: out of memory\n");
         return CLI_FAIL;
     }
-    free(tmp);
-    return CLI_OK;
+    return st ? cli_fail() : CLI_OK;
 }
 
 static int ends_with(const char *s, const char *suffix)

@@ -313,6 +313,9 @@ typedef struct bvox_write_opts {
  * target folder, synced and then renamed: a failure leaves no partial file
  * and an existing file unchanged. */
 bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts);
+/* Write size bytes as the file path the same way (temporary file in the
+ * target folder, fsync, rename): for reports and other small outputs. */
+bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size);
 
 /* Write a label volume (e.g. from bvox_components_labels) as NIfTI-1, .nii
  * or .nii.gz by the path's suffix: labels holds nx*ny*nz values, x fastest

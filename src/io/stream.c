@@ -442,3 +442,18 @@ void bvox__dir_sink_abort(const char *tmp_dir)
 {
     if (tmp_dir) remove_dir_tree(tmp_dir);
 }
+
+bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size)
+{
+    bvox__clear_error();
+    if (!path || (!data && size)) return bvox__fail(BVOX_EINVAL, "bvox_write_file_atomic: NULL argument");
+    bvox__sink s;
+    bvox_status st = bvox__sink_open(path, 0, &s);
+    if (st) return st;
+    if (size) st = bvox__sink_write(&s, data, size);
+    if (st) {
+        bvox__sink_abort(&s);
+        return st;
+    }
+    return bvox__sink_commit(&s);
+}
