@@ -198,3 +198,27 @@ TEST(dir_sink_replaces_folder)
     CHECK_EQ(count_entries(harness_tmpdir()), 1);
     return 0;
 }
+
+/* The public one-shot writer: content replaced whole, and a failed write
+ * leaves the old file and no temporary file. */
+TEST(write_file_atomic)
+{
+    const char *path = harness_path("report.json");
+    CHECK(write_text(path, "old"));
+    CHECK_OK(bvox_write_file_atomic(path, "{\"a\": 1}\n", 9));
+    bvox__bytes b;
+    CHECK_OK(bvox__read_file(path, &b));
+    CHECK_EQ(b.size, 9);
+    CHECK(memcmp(b.data, "{\"a\": 1}\n", 9) == 0);
+    bvox__bytes_release(&b);
+    bvox__sink_fail_after(1);
+    CHECK_STATUS(bvox_write_file_atomic(path, "new", 3), BVOX_EIO);
+    bvox__sink_fail_after(0);
+    CHECK_OK(bvox__read_file(path, &b));
+    CHECK_EQ(b.size, 9);
+    bvox__bytes_release(&b);
+    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_STATUS(bvox_write_file_atomic(harness_path("no/such/dir/x"), "x", 1), BVOX_ENOTFOUND);
+    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    return 0;
+}
