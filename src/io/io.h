@@ -15,7 +15,7 @@
 #ifndef BVOX_IO_H
 #define BVOX_IO_H
 
-#include "../internal.h"
+#include "internal.h"
 
 #include <stdio.h>
 

@@ -17,7 +17,7 @@
 #ifndef BVOX_MESH_PRIVATE_H
 #define BVOX_MESH_PRIVATE_H
 
-#include "../internal.h"
+#include "internal.h"
 
 /* ---- mc_table.c ---- */
 typedef struct bvox__mc_case {

@@ -4,7 +4,7 @@
  * share: bounded tokens, line numbers for messages, strict numbers (the
  * whole token, finite).
  */
-#include "../io/io.h"
+#include "io/io.h"
 #include "mesh_private.h"
 
 #include <errno.h>

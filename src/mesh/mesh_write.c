@@ -4,7 +4,7 @@
  * OFF (text, %.17g). Written through a bvox__sink (temporary file, fsync,
  * rename) in 1 MiB blocks; a failure leaves no partial file.
  */
-#include "../io/io.h"
+#include "io/io.h"
 #include "mesh_private.h"
 
 #include <math.h>

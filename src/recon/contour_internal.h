@@ -6,7 +6,7 @@
 #ifndef BVOX_CONTOUR_INTERNAL_H
 #define BVOX_CONTOUR_INTERNAL_H
 
-#include "../internal.h"
+#include "internal.h"
 
 /* Limits on what a file (or a caller) may put into a stack. */
 #define BVOX__MAX_SECTIONS 65535

@@ -10,7 +10,7 @@
  *                   <Section one Reconstruct section.
  */
 #include "contour_internal.h"
-#include "../io/io.h"
+#include "io/io.h"
 
 #include <ctype.h>
 #include <dirent.h>

@@ -22,7 +22,7 @@
  * contour, markers as <circle class="marker">, the data-* attributes above.
  */
 #include "contour_internal.h"
-#include "../io/io.h"
+#include "io/io.h"
 
 #include <dirent.h>
 #include <math.h>

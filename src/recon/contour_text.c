@@ -6,7 +6,7 @@
  * (temporary file, fsync, rename).
  */
 #include "contour_internal.h"
-#include "../io/io.h"
+#include "io/io.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -21,7 +21,7 @@
  *     columns' z words, rows split over the threads.
  */
 #include "contour_internal.h"
-#include "../io/binarize_kernels.h" /* bvox__transpose64 */
+#include "io/binarize_kernels.h" /* bvox__transpose64 */
 
 #include <math.h>
 #include <stdlib.h>

@@ -10,7 +10,7 @@
  * since a cut face tint or an anaglyph has more than 256 colours.
  */
 #include "gif.h"
-#include "../io/io.h"
+#include "io/io.h"
 
 #include <gif_lib.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
  * (or released on the error path from a variable that survives the jump).
  */
 #include "render.h"
-#include "../io/io.h"
+#include "io/io.h"
 
 #include <png.h>
 #include <setjmp.h>

@@ -10,7 +10,7 @@
 #ifndef BVOX_RENDER_H
 #define BVOX_RENDER_H
 
-#include "../internal.h"
+#include "internal.h"
 
 enum { NB_XM = 1, NB_XP = 2, NB_YM = 4, NB_YP = 8, NB_ZM = 16, NB_ZP = 32 };
 

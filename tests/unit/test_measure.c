@@ -5,7 +5,7 @@
  * sizes; thread count and SIMD path must not change the result. */
 #include "harness.h"
 #include "internal.h"
-#include "measure.h"
+#include "measure/measure.h"
 #include "ref/measref.h"
 #include "ref/voxref.h"
 

@@ -13,7 +13,7 @@
  * into whole words before they are combined. Only the shape's bounding box
  * is visited, except for INTERSECTION, which must clear everything else.
  */
-#include "shapes_geom.h"
+#include "ops/shapes_geom.h"
 
 #include <math.h>
 #include <string.h>

@@ -30,7 +30,7 @@
  * triangles around g (Van Oosterom and Strackee's formula). For cubic voxels
  * this reproduces the published constants (0.0457778912 * 4 pi for an axis).
  */
-#include "measure.h"
+#include "measure/measure.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,7 @@
  * -mavx512vpopcntdq, chosen at run time only on CPUs with both): one
  * instruction counts the bits of eight words.
  */
-#include "../internal.h"
+#include "internal.h"
 
 #if defined(__x86_64__) && defined(__AVX512F__) && defined(__AVX512VPOPCNTDQ__)
 #include <immintrin.h>

@@ -4,7 +4,7 @@
  * baseline instruction set; popcount uses the bit-slicing formula because
  * baseline x86-64 has no POPCNT instruction.
  */
-#include "../internal.h"
+#include "internal.h"
 
 static uint64_t popcount(const uint64_t *w, size_t n)
 {

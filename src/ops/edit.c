@@ -6,7 +6,7 @@
  * (bvox__run_apply in edit.h), rows split over the worker threads; the
  * reported box is tight: exactly the voxels whose value changed.
  */
-#include "edit.h"
+#include "ops/edit.h"
 
 #include <string.h>
 

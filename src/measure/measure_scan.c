@@ -37,7 +37,7 @@
  * starts, P(m) = sum_{z<m} z^k in closed form, so a run costs two terms
  * however long it is, and starts/ends are found 64 at a time.
  */
-#include "measure.h"
+#include "measure/measure.h"
 
 #include <stdlib.h>
 #include <string.h>

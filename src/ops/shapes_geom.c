@@ -10,7 +10,7 @@
  * w0 = d0 - t0*u and w1 = e_z - uz*u. A cylinder or cone side is then the
  * quadratic |w(s)|^2 <= radius(t(s))^2 and the caps are a slab in s.
  */
-#include "shapes_geom.h"
+#include "ops/shapes_geom.h"
 
 #include <math.h>
 

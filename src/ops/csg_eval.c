@@ -8,7 +8,7 @@
  * parenthesised chain or a complement needs a temporary grid volume. Each
  * distinct file is loaded once and kept until the end.
  */
-#include "csg_expr.h"
+#include "ops/csg_expr.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -4,7 +4,7 @@
  * with vpshufb and vpsadbw (Mula, Kurz and Lemire, "Faster population counts
  * using AVX2 instructions", 2018).
  */
-#include "../internal.h"
+#include "internal.h"
 
 #if defined(__x86_64__) && defined(__AVX2__)
 #include <immintrin.h>

@@ -13,7 +13,7 @@
  * the whole column on one side. The run then changes the column with
  * whole-word masks; words the operation cannot change are not touched.
  */
-#include "edit.h"
+#include "ops/edit.h"
 
 #include <math.h>
 #include <string.h>

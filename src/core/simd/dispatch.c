@@ -3,7 +3,7 @@
  * features (or BVOX_SIMD=generic|avx2|avx512), race-free through an atomic
  * pointer: two threads racing on first use both store the same table.
  */
-#include "../internal.h"
+#include "internal.h"
 
 #include <stdatomic.h>
 #include <stdlib.h>

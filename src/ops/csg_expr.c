@@ -7,7 +7,7 @@
  * but missing files. Recursion depth is bounded by BVOX_CSG_MAX_DEPTH (each
  * '(' and '~' counts) and chains are built iteratively.
  */
-#include "csg_expr.h"
+#include "ops/csg_expr.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -12,7 +12,7 @@
  * components sharing a box) does it fall back to bvox_components_keep on the
  * whole volume.
  */
-#include "measure.h"
+#include "measure/measure.h"
 
 #include <stdlib.h>
 

@@ -15,7 +15,7 @@
  * volume's border, so the complement is labelled as is, with no padding
  * (padding would fail for a 65535-wide volume and cost a bigger copy).
  */
-#include "measure.h"
+#include "measure/measure.h"
 
 #include <math.h>
 #include <string.h>
