@@ -177,7 +177,7 @@ static char *temp_name_for(const char *path)
     size_t dirlen = slash ? (size_t)(slash - path + 1) : 0;
     const char *base = slash ? slash + 1 : path;
     size_t n = strlen(path) + 16;
-    char *t = malloc(n);
+    char *t = bvox__mem_alloc(n);
     if (t) snprintf(t, n, "%.*s.%s.XXXXXX", (int)dirlen, path, base);
     return t;
 }
@@ -200,7 +200,7 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     if (!*base) return bvox__fail(BVOX_EINVAL, "%s: output path names a folder, not a file", path);
-    s->final_path = strdup(path);
+    s->final_path = bvox__mem_strdup(path);
     s->tmp_path = temp_name_for(path);
     if (!s->final_path || !s->tmp_path) {
         sink_release(s);
@@ -225,7 +225,7 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
         return bvox__fail(BVOX_EIO, "%s: cannot open for writing", path);
     }
     if (gzip) {
-        z_stream *z = calloc(1, sizeof *z);
+        z_stream *z = bvox__mem_zalloc(1, sizeof *z);
         if (!z || deflateInit2(z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
             free(z);
             bvox__sink_abort(s);
@@ -333,7 +333,7 @@ bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
     *tmp_dir = NULL;
     size_t len = strlen(path);
     while (len > 1 && path[len - 1] == '/') len--;
-    char *trimmed = strndup(path, len);
+    char *trimmed = bvox__mem_strndup(path, len);
     if (!trimmed) return bvox__fail(BVOX_ENOMEM, "out of memory");
     struct stat sb;
     if (stat(trimmed, &sb) == 0 && !S_ISDIR(sb.st_mode)) {
@@ -365,7 +365,7 @@ bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
                           strerror(errno));
     size_t len = strlen(path);
     while (len > 1 && path[len - 1] == '/') len--;
-    char *target = strndup(path, len);
+    char *target = bvox__mem_strndup(path, len);
     if (!target) return bvox__fail(BVOX_ENOMEM, "out of memory");
     /* rename(2) replaces an empty folder only: move an existing one aside first,
      * and remove it once the new one is in place. */
@@ -373,7 +373,7 @@ bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
     struct stat sb;
     if (stat(target, &sb) == 0) {
         size_t n = len + 16;
-        old = malloc(n);
+        old = bvox__mem_alloc(n);
         if (old) snprintf(old, n, "%s.old.XXXXXX", target);
         if (!old || !mkdtemp(old) || rename(target, old) != 0) {
             bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot replace the existing folder: %s",
@@ -425,7 +425,7 @@ static void remove_dir_tree(const char *dir)
         while ((e = readdir(d))) {
             if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
             size_t n = strlen(dir) + strlen(e->d_name) + 2;
-            char *p = malloc(n);
+            char *p = bvox__mem_alloc(n);
             if (!p) continue;
             snprintf(p, n, "%s/%s", dir, e->d_name);
             struct stat sb;

@@ -65,7 +65,7 @@ bvox_status bvox_mesh_create(bvox_mesh **out)
 {
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_create: out is NULL");
     *out = NULL;
-    bvox_mesh *m = calloc(1, sizeof *m);
+    bvox_mesh *m = bvox__mem_zalloc(1, sizeof *m);
     if (!m) return bvox__fail(BVOX_ENOMEM, "out of memory (mesh)");
     *out = m;
     return BVOX_OK;

@@ -363,7 +363,7 @@ static bvox_status section(lex *L, bvox_contour_stack *s, uint8_t *has_z, ptbuf 
             char name[256];
             if ((st = string(L, name, sizeof name))) return st;
             free(sec->name);
-            sec->name = strdup(name);
+            sec->name = bvox__mem_strdup(name);
             if (!sec->name) return bvox__fail(BVOX_ENOMEM, "out of memory");
         } else if (!strcmp(key, "contours")) {
             if ((st = contours(L, sec, index, buf))) return st;
@@ -386,7 +386,7 @@ static bvox_status positive(lex *L, const char *at, double v, const char *what)
 static bvox_status parse(lex *L, bvox_contour_stack *s)
 {
     bvox_status st;
-    uint8_t *has_z = malloc(BVOX__MAX_SECTIONS);
+    uint8_t *has_z = bvox__mem_alloc(BVOX__MAX_SECTIONS);
     ptbuf buf = {NULL, 0, 0};
     if (!has_z) return bvox__fail(BVOX_ENOMEM, "out of memory");
     int got_sections = 0, more = 1;

@@ -583,7 +583,7 @@ bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char
     }
     const char *base = strrchr(name, '/');
     base = base ? base + 1 : name;
-    svg_reader *r = calloc(1, sizeof *r);
+    svg_reader *r = bvox__mem_zalloc(1, sizeof *r);
     if (!r) {
         bvox_stack_destroy(made);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -735,7 +735,7 @@ bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *
     bvox_status st = bvox__dir_sink_open(dir, &tmp);
     if (st) return st;
     size_t flen = strlen(tmp) + 40;
-    char *file = malloc(flen);
+    char *file = bvox__mem_alloc(flen);
     if (!file) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     int digits = stack->nsections >= 10000 ? 5 : 4;
     for (int32_t i = 0; i < stack->nsections && !st; i++) {

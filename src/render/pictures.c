@@ -89,7 +89,7 @@ bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
 {
     if (!dir) return bvox__fail(BVOX_EINVAL, "pictures: no folder");
     size_t size = strlen(dir) + 16;
-    char *path = malloc(size);
+    char *path = bvox__mem_alloc(size);
     if (!path) return bvox__fail(BVOX_ENOMEM, "out of memory");
     bvox_status st = BVOX_OK;
     for (int k = 1; k <= 4 && !st; k++) {
