@@ -357,7 +357,16 @@ bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
 static void remove_dir_tree(const char *dir);
 static bool sync_dir_files(const char *dir);
 
+static bvox_status dir_commit(const char *tmp_dir, const char *path);
+
 bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
+{
+    bvox_status st = dir_commit(tmp_dir, path);
+    if (st) remove_dir_tree(tmp_dir); /* a failed commit leaves no partial folder */
+    return st;
+}
+
+static bvox_status dir_commit(const char *tmp_dir, const char *path)
 {
     /* the files must be on disk before the folder is renamed into place */
     if (!sync_dir_files(tmp_dir))
@@ -374,11 +383,15 @@ bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
     if (stat(target, &sb) == 0) {
         size_t n = len + 16;
         old = bvox__mem_alloc(n);
-        if (old) snprintf(old, n, "%s.old.XXXXXX", target);
-        if (!old || !mkdtemp(old) || rename(target, old) != 0) {
+        if (!old) {
+            free(target);
+            return bvox__fail(BVOX_ENOMEM, "out of memory");
+        }
+        snprintf(old, n, "%s.old.XXXXXX", target);
+        if (!mkdtemp(old) || rename(target, old) != 0) {
             bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot replace the existing folder: %s",
                                         path, strerror(errno));
-            if (old) rmdir(old);
+            rmdir(old);
             free(old);
             free(target);
             return st;
@@ -417,24 +430,35 @@ static bool sync_dir_files(const char *dir)
     return ok;
 }
 
+/* Remove what the folder open as dfd holds, then close dfd. Works on names
+ * relative to the folder, so cleaning up after a failed write never needs
+ * an allocation that could itself fail. */
+static void remove_dir_contents(int dfd)
+{
+    DIR *d = fdopendir(dfd);
+    if (!d) {
+        close(dfd);
+        return;
+    }
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        struct stat sb;
+        if (fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(sb.st_mode)) {
+            int sub = openat(dirfd(d), e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+            if (sub >= 0) remove_dir_contents(sub);
+            unlinkat(dirfd(d), e->d_name, AT_REMOVEDIR);
+        } else {
+            unlinkat(dirfd(d), e->d_name, 0);
+        }
+    }
+    closedir(d);
+}
+
 static void remove_dir_tree(const char *dir)
 {
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d))) {
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-            size_t n = strlen(dir) + strlen(e->d_name) + 2;
-            char *p = bvox__mem_alloc(n);
-            if (!p) continue;
-            snprintf(p, n, "%s/%s", dir, e->d_name);
-            struct stat sb;
-            if (lstat(p, &sb) == 0 && S_ISDIR(sb.st_mode)) remove_dir_tree(p);
-            else unlink(p);
-            free(p);
-        }
-        closedir(d);
-    }
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd >= 0) remove_dir_contents(fd);
     rmdir(dir);
 }
 

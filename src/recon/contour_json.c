@@ -309,6 +309,7 @@ static bvox_status contours(lex *L, bvox_section *sec, int32_t index, ptbuf *buf
             return section_label_fail(L, at, sec, index, what);
         }
         if ((st = bvox_section_add_contour(sec, buf->p, (int32_t)m, 0, -1))) {
+            if (st == BVOX_ENOMEM) return st; /* not a format error */
             char what[300];
             snprintf(what, sizeof what, "%s", bvox_errmsg());
             return section_label_fail(L, at, sec, index, what);
@@ -330,6 +331,7 @@ static bvox_status markers(lex *L, bvox_section *sec, int32_t index)
         bvox_point2 m;
         if ((st = point(L, &m))) return st;
         if ((st = bvox_section_add_marker(sec, m))) {
+            if (st == BVOX_ENOMEM) return st; /* not a format error */
             char what[300];
             snprintf(what, sizeof what, "%s", bvox_errmsg());
             return section_label_fail(L, at, sec, index, what);

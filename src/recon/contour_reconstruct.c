@@ -277,7 +277,7 @@ static bvox_status commit(rsec *r)
             } else {
                 st = bvox_section_add_contour(r->sec, pd->p, pd->n, 0, -1);
             }
-            if (st) {
+            if (st && st != BVOX_ENOMEM) { /* out of memory is not a format error */
                 char what[300];
                 snprintf(what, sizeof what, "%s", bvox_errmsg());
                 st = rfail(r, r->at, what);

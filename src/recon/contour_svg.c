@@ -186,6 +186,7 @@ static bvox_status flush(svg_reader *r)
     }
     bvox_status st = bvox_section_add_contour(r->sec, r->pts, (int32_t)m, 0, -1);
     if (st) {
+        if (st == BVOX_ENOMEM) return st; /* not a format error */
         char what[300];
         snprintf(what, sizeof what, "%s", bvox_errmsg());
         return sec_fail(r, what);
@@ -482,6 +483,7 @@ static bvox_status element(svg_reader *r, const bvox_xform2 *T)
         if (attr_contains(x, "class", "marker") || attr_contains(x, "id", "marker")) {
             st = bvox_section_add_marker(r->sec, bvox_xform2_apply(T, (bvox_point2){cx, cy}));
             if (st) {
+                if (st == BVOX_ENOMEM) return st; /* not a format error */
                 char what[300];
                 snprintf(what, sizeof what, "%s", bvox_errmsg());
                 return sec_fail(r, what);
