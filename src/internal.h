@@ -39,6 +39,7 @@ void bvox__error_prefix(const char *prefix);
 
 /* ---- alloc.c: the one allocation seam (both kinds: see core/alloc.h) ---- */
 #include "core/alloc.h"
+#include "core/check.h" /* BVOX_ASSERT, BVOX_CHECK_VOLUME...: debug-build invariants */
 /* Overflow-safe a*b; returns false on overflow. */
 static inline bool bvox__mul_size(size_t a, size_t b, size_t *out)
 {

@@ -85,11 +85,13 @@ void bvox_volume_destroy(bvox_volume *vol)
 
 bvox_status bvox_volume_copy(const bvox_volume *vol, bvox_volume **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox_dims d = {vol->nx, vol->ny, vol->nz};
     bvox_status st = create(d, false, out);
     if (st) return st;
     memcpy((*out)->words, vol->words, vol->nwords * sizeof(uint64_t));
     (*out)->geom = vol->geom;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 }
 

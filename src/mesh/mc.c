@@ -23,7 +23,6 @@
  */
 #include "mesh_private.h"
 
-#include <assert.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -463,7 +462,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
                                           {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
         int c0, c1;
         bvox__mc_edge_corners(e, &c0, &c1);
-        assert(c0 == ec[e][0] && c1 == ec[e][1]);
+        BVOX_ASSERT(c0 == ec[e][0] && c1 == ec[e][1]);
     }
 #endif
     for (int k = 0; k < 256; k++) {

@@ -378,6 +378,7 @@ bvox_status bvox_mesh_measure(const bvox_mesh *m, bvox_mesh_info *info)
 bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *opts,
                                   bvox_mesh **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_from_volume: out is NULL");
     *out = NULL;
@@ -399,5 +400,6 @@ bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *
         return st;
     }
     *out = m;
+    BVOX_CHECK_MESH(*out);
     return BVOX_OK;
 }

@@ -182,6 +182,7 @@ const char *bvox_mesh_format_for_path(const char *path)
 
 bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *format, int ascii)
 {
+    BVOX_CHECK_MESH(m);
     bvox__clear_error();
     if (!path || !m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_write: NULL argument");
     const char *f = format ? format : bvox_mesh_format_for_path(path);

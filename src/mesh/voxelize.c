@@ -360,6 +360,7 @@ static bvox_status run_axis(vox *v, int a)
 bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
                                bvox_volume **out, bvox_voxelize_report *report)
 {
+    BVOX_CHECK_MESH(m);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
     *out = NULL;
@@ -458,5 +459,6 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
         report->method = method;
     }
     *out = vol;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 }

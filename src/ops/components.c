@@ -490,6 +490,7 @@ static bvox_status check_conn(int conn)
 
 bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_components **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     bvox_status st = check_conn(conn);
     if (st) return st;
@@ -669,5 +670,6 @@ bvox_status bvox_components_keep_if(const bvox_components *c,
     free(z0);
     free(z1);
     free(flags);
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }

@@ -202,5 +202,6 @@ bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts, bvox
     for (int32_t i = 0; i < c.nfiles; i++) bvox_volume_destroy(c.files[i].vol);
     free(c.files);
     bvox__csg_tree_free(&t);
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }

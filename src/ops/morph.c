@@ -307,17 +307,21 @@ static bvox_status ball(const bvox_volume *in, double radius, bool erode, bvox_v
 
 bvox_status bvox_morph_dilate(const bvox_volume *in, int conn, bvox_volume **out)
 {
-    return neighbourhood(in, conn, false, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(neighbourhood(in, conn, false, out), BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_erode(const bvox_volume *in, int conn, bvox_volume **out)
 {
-    return neighbourhood(in, conn, true, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(neighbourhood(in, conn, true, out), BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius, bvox_volume **out)
 {
-    return ball(in, radius, false, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(ball(in, radius, false, out), BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_erode_ball(const bvox_volume *in, double radius, bvox_volume **out)
 {
-    return ball(in, radius, true, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(ball(in, radius, true, out), BVOX_CHECK_VOLUME, *out);
 }

@@ -294,6 +294,7 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
 
 bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_contour_stack **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_volume_to_contours: out is NULL");
     *out = NULL;
@@ -351,5 +352,6 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
         return st;
     }
     *out = s;
+    BVOX_CHECK_STACK(*out);
     return BVOX_OK;
 }

@@ -483,6 +483,10 @@ bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char 
     if (!st) st = run_images(w, n, &o, o.background_image, volume, stack, report);
     free_work(w, n);
     free(auto_names);
+    if (!st) {
+        if (volume) BVOX_CHECK_VOLUME(*volume);
+        if (stack) BVOX_CHECK_STACK(*stack);
+    }
     return st;
 }
 

@@ -272,6 +272,7 @@ static bvox_status extent(const bvox_contour_stack *st, int32_t margin, sv *s)
 bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_stack_volume_opts *opts,
                                  bvox_volume **out)
 {
+    BVOX_CHECK_STACK(stack);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_to_volume: out is NULL");
     *out = NULL;
@@ -435,6 +436,7 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
     if (st) goto fail;
     sv_release(&s);
     *out = s.vol;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 fail:
     sv_release(&s);
