@@ -784,3 +784,156 @@ TEST(render_sheet_mosaic_turntable)
     bvox_volume_destroy(fixture);
     return 0;
 }
+
+/* ------------------------------------------------ more of the library */
+
+static bvox_status op_demo_pictures(void)
+{
+    bvox_status st = bvox_demo_pictures(fixture, wdir);
+    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 4);
+    return st;
+}
+
+TEST(demo_pictures)
+{
+    CHECK(make_fixture() == 0);
+    wdir = outdir("out");
+    SWEEP(op_demo_pictures, wdir);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+
+/* A journalled edit session: two steps, undo both, redo one. */
+static bvox_status op_journal(void)
+{
+    bvox_volume *v;
+    bvox_status st = bvox_volume_copy(fixture, &v);
+    if (st) return st;
+    bvox_journal *j = (bvox_journal *)1;
+    st = bvox_journal_create(bvox_volume_dims(v), 0, &j);
+    OUT_IS_NULL(st, j);
+    const bvox_box a = {0, 0, 0, 10, 9, 40}, b = {5, 5, 30, 21, 18, 70};
+    if (!st) {
+        bvox_journal_begin(j);
+        st = bvox_journal_record(j, v, a);
+        if (!st) st = bvox_edit_fill_box(v, a, 1, NULL);
+        if (!st) st = bvox_journal_sync(j, v);
+        bvox_journal_end(j);
+    }
+    if (!st) {
+        bvox_journal_begin(j);
+        st = bvox_journal_record(j, v, b);
+        if (!st) st = bvox_edit_keep_box(v, (bvox_box){0, 0, 0, 21, 18, 50}, NULL);
+        if (!st) st = bvox_journal_sync(j, v);
+        bvox_journal_end(j);
+    }
+    int done = 0;
+    for (int k = 0; k < 2 && !st; k++) st = bvox_journal_undo(j, v, &done, NULL);
+    if (!st) OP_CHECK(same_as_fixture(v));
+    if (!st) st = bvox_journal_redo(j, v, &done, NULL);
+    if (!st) OP_CHECK(done && bvox_volume_count(v) > fixture_count);
+    bvox_journal_destroy(j == (bvox_journal *)1 ? NULL : j);
+    bvox_volume_destroy(v);
+    return st;
+}
+
+TEST(journal_edits)
+{
+    CHECK(make_fixture() == 0);
+    SWEEP(op_journal, NULL);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+
+/* Surface built, updated after an edit, cast; shaded, filtered, zoomed. */
+static bvox_status op_surface_images(void)
+{
+    bvox_volume *v;
+    bvox_status st = bvox_volume_copy(fixture, &v);
+    if (st) return st;
+    bvox_surface *s = (bvox_surface *)1;
+    st = bvox_surface_build(v, &s);
+    OUT_IS_NULL(st, s);
+    if (st) s = NULL;
+    if (!st) st = bvox_edit_fill_box(v, (bvox_box){3, 3, 50, 9, 9, 60}, 1, NULL);
+    if (!st) st = bvox_surface_update(s, v, (bvox_box){3, 3, 50, 9, 9, 60});
+    bvox_preimage *pre = NULL;
+    bvox_projection proj = BVOX_PROJECTION_INIT;
+    proj.azimuth = 30, proj.elevation = 20, proj.width = 40, proj.height = 36;
+    if (!st) st = bvox_surface_cast(s, &proj, &pre);
+    bvox_image *img[6] = {NULL};
+    bvox_light light = BVOX_LIGHT_INIT;
+    const int32_t k[9] = {0, -1, 0, -1, 5, -1, 0, -1, 0};
+    if (!st) st = bvox_shade_gradient(pre, BVOX_GRADIENT_SOBEL, &light, &img[0]);
+    if (!st) st = bvox_image_colormap(img[0], BVOX_CMAP_BONE, &img[1]);
+    if (!st) st = bvox_image_zoom(img[1], 2, &img[2]);
+    if (!st) st = bvox_image_zoom2_average(img[2], &img[3]);
+    if (!st) st = bvox_image_convolve(img[3], k, 1, 0, &img[4]);
+    if (!st) st = bvox_image_pan(img[4], 3, -2, &img[5]);
+    if (!st) OP_CHECK(img[5]->width == 160 && img[5]->channels == 3);
+    for (int i = 0; i < 6; i++) bvox_image_destroy(img[i]);
+    bvox_preimage_destroy(pre);
+    bvox_surface_destroy(s);
+    bvox_volume_destroy(v);
+    return st;
+}
+
+TEST(surface_and_image_ops)
+{
+    CHECK(make_fixture() == 0);
+    SWEEP(op_surface_images, NULL);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+
+/* CSG with file operands (read through bvox_read) and a placement. */
+static bvox_status op_csg_files(void)
+{
+    bvox_volume *v = (bvox_volume *)1;
+    char expr[4096];
+    snprintf(expr, sizeof expr, "'%s' - '%s' @ 2,1,3 + sphere(r=3)", rpath, rpath);
+    bvox_status st = bvox_csg_eval(expr, NULL, &v);
+    OUT_IS_NULL(st, v);
+    if (st) return st;
+    OP_CHECK(bvox_volume_check(v) == BVOX_OK && bvox_volume_count(v) > 0);
+    bvox_volume_destroy(v);
+    return BVOX_OK;
+}
+
+TEST(csg_eval_files)
+{
+    CHECK(make_fixture() == 0);
+    wdir = outdir("in");
+    rpath = in_out(wdir, "a.nii.gz");
+    CHECK_OK(bvox_write(rpath, fixture, NULL));
+    SWEEP(op_csg_files, NULL);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+
+/* A gray 16-bit NIfTI (a label map) read with Otsu and with a label. */
+TEST(nifti_gray_binarize)
+{
+    CHECK(make_fixture() == 0);
+    size_t n = (size_t)21 * 18 * 70;
+    labels = (uint32_t *)bvox__mem_zalloc(n, sizeof *labels);
+    CHECK(labels != NULL);
+    bvox_components *c;
+    CHECK_OK(bvox_components_find(fixture, 6, &c));
+    CHECK_EQ(bvox_components_count(c), 3);
+    bvox_components_labels(c, labels);
+    bvox_components_destroy(c);
+    wdir = outdir("in");
+    rpath = in_out(wdir, "labels.nii.gz");
+    CHECK_OK(bvox_write_labels_nifti(rpath, fixture, labels));
+    free(labels);
+    ropts = (bvox_read_opts)BVOX_READ_OPTS_INIT;
+    ropts.binarize.mode = BVOX_BIN_OTSU;
+    SWEEP(op_read, NULL); /* labels 1..3 against 0: Otsu splits at 0 */
+    CHECK(load_file(rpath) == 0);
+    ropts.format = "nifti";
+    SWEEP(op_read_memory, NULL);
+    free(mem_data);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
