@@ -937,3 +937,48 @@ TEST(nifti_gray_binarize)
     bvox_volume_destroy(fixture);
     return 0;
 }
+
+/* A RECONSTRUCT series (NAME.ser and its section files NAME.1, NAME.2). */
+static int write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    CHECK(fputs(text, f) >= 0);
+    CHECK(fclose(f) == 0);
+    return 0;
+}
+
+static int series_sections;
+
+static bvox_status op_series(void)
+{
+    bvox_contour_stack *s = (bvox_contour_stack *)1;
+    bvox_status st = bvox_stack_read(rpath, &s);
+    OUT_IS_NULL(st, s);
+    if (st) return st;
+    OP_CHECK(s->nsections == series_sections && s->sections[0].ncontours == 2);
+    bvox_stack_destroy(s);
+    return BVOX_OK;
+}
+
+TEST(reconstruct_series)
+{
+    wdir = outdir("series");
+    CHECK(write_text(in_out(wdir, "rec.ser"), "<?xml version=\"1.0\"?>\n"
+                     "<Series index=\"1\" viewport=\"0 0 0.00254\"/>\n") == 0);
+    CHECK(write_text(in_out(wdir, "rec.1"), "<?xml version=\"1.0\"?>\n"
+                     "<Section index=\"1\" thickness=\"0.05\">\n"
+                     "<Transform dim=\"1\" xcoef=\" 0.5 1 0 0 0 0\" ycoef=\" 0.25 0 1 0 0 0\">\n"
+                     "<Contour name=\"d001\" closed=\"true\" points=\"1 1, 2 1, 2 2, 1 2,\"/>\n"
+                     "<Contour name=\"d002\" closed=\"true\" points=\"4 4, 6 4, 6 6, 4 6,\"/>\n"
+                     "<Contour name=\"marker1\" points=\"3.5 3.25, 3.7 3.25, 3.6 3.45\"/>\n"
+                     "</Transform></Section>\n") == 0);
+    CHECK(write_text(in_out(wdir, "rec.2"), "<Section index=\"2\" thickness=\"0.05\">\n"
+                     "<Transform dim=\"0\" xcoef=\" 0 1 0 0 0 0\" ycoef=\" 0 0 1 0 0 0\">\n"
+                     "<Contour name=\"d001\" points=\"2 2, 4 2, 4 4, 2 4\"/>\n"
+                     "</Transform></Section>\n") == 0);
+    series_sections = 2;
+    rpath = in_out(wdir, "rec.ser");
+    SWEEP(op_series, NULL);
+    return 0;
+}
