@@ -370,25 +370,36 @@ static int inside_of(const bvox_contour *a, const bvox_contour *b)
     return 2 * votes > n;
 }
 
+static double contour_area(const bvox_contour *c)
+{
+    return fabs(bvox_polygon_signed_area(c->points, c->npoints));
+}
+
 void bvox__section_nest(bvox_section *sec)
 {
     int32_t n = sec->ncontours;
     if (n > 4096) return;
+    /* the areas once each; without memory for them, each is computed where
+     * it is needed: slower, the same answer, so nesting cannot fail */
     double *area = bvox__mem_alloc((size_t)n * sizeof *area + 1);
-    if (!area) return;
-    for (int32_t i = 0; i < n; i++)
-        area[i] = fabs(bvox_polygon_signed_area(sec->contours[i].points, sec->contours[i].npoints));
+    if (area)
+        for (int32_t i = 0; i < n; i++) area[i] = contour_area(&sec->contours[i]);
+#define AREA(k) (area ? area[k] : contour_area(&sec->contours[k]))
     for (int32_t i = 0; i < n; i++) {
         int depth = 0;
         int32_t parent = -1;
+        double ai = AREA(i);
         for (int32_t j = 0; j < n; j++) {
-            if (j == i || area[j] < area[i] || (area[j] == area[i] && j > i)) continue;
+            if (j == i) continue;
+            double aj = AREA(j);
+            if (aj < ai || (aj == ai && j > i)) continue;
             if (!inside_of(&sec->contours[i], &sec->contours[j])) continue;
             depth++;
-            if (parent < 0 || area[j] < area[parent]) parent = j;
+            if (parent < 0 || aj < AREA(parent)) parent = j;
         }
         sec->contours[i].hole = depth % 2;
         sec->contours[i].parent = parent;
     }
+#undef AREA
     free(area);
 }

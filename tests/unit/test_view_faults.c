@@ -68,9 +68,12 @@ static int sweep(const char *what, bvox_status (*op)(void))
 {
     size_t base = bvox_memory_in_use();
     for (long n = 1; n < 100000; n++) {
+        long before = bvox__alloc_count();
         bvox__alloc_fail_after(n);
         bvox_status st = op();
         bvox__alloc_fail_after(0);
+        int injected = bvox__alloc_count() - before >= n;
+        if (st == BVOX_OK && injected) continue; /* absorbed: later ones still to test */
         if (bvox_memory_in_use() != base) {
             fprintf(stderr, "%s: allocation %ld failed left budgeted bytes\n", what, n);
             return 1;
@@ -79,7 +82,7 @@ static int sweep(const char *what, bvox_status (*op)(void))
             if (n == 1) fprintf(stderr, "%s: allocates nothing\n", what);
             return n == 1;
         }
-        if (st != BVOX_ENOMEM) {
+        if (st != BVOX_ENOMEM || !injected) {
             fprintf(stderr, "%s: allocation %ld failed gave %s\n", what, n, bvox_status_name(st));
             return 1;
         }
