@@ -40,8 +40,9 @@ char *bvox__mem_strndup(const char *s, size_t n);
 /* Test hook: make the n-th following allocation (of either kind) fail with
  * BVOX_ENOMEM (n = 1: the next one); 0 disables. */
 void bvox__alloc_fail_after(long n);
-/* Allocations attempted since the process started (both kinds): lets a
- * test see whether a call allocates at all. */
-long bvox__alloc_count(void);
+/* Allocations still to go before the armed failure: 0 once it has
+ * happened (or when off). Read before disarming, it tells a test whether the
+ * call reached the failing allocation. */
+long bvox__alloc_fail_pending(void);
 
 #endif
