@@ -46,8 +46,11 @@ typedef struct vw_event {
 int vw_key_parse(const char *text, int *key, unsigned *mods);
 const char *vw_key_name(int key); /* static buffer for printable keys */
 
-typedef enum vw_shade { VW_SHADE_DEPTH, VW_SHADE_BINARY, VW_SHADE_GRADIENT, VW_SHADE_COMBINED,
-                        VW_NSHADE } vw_shade;
+/* The shading modes, in the order the s key cycles them: the library's
+ * (the 3D pane is shaded by bvox_shade_codes and bvox_shade_table_build). */
+typedef enum vw_shade { VW_SHADE_DEPTH = BVOX_SHADE_DEPTH, VW_SHADE_BINARY = BVOX_SHADE_BINARY,
+                        VW_SHADE_GRADIENT = BVOX_SHADE_GRADIENT,
+                        VW_SHADE_COMBINED = BVOX_SHADE_BINARY_DEPTH, VW_NSHADE } vw_shade;
 typedef enum vw_layout { VW_LAYOUT_3D, VW_LAYOUT_ORTHO, VW_LAYOUT_MOSAIC } vw_layout;
 typedef enum vw_prim { VW_PRIM_NONE, VW_PRIM_SPHERE, VW_PRIM_BOX, VW_PRIM_CYLINDER, VW_NPRIM } vw_prim;
 typedef enum vw_pane_kind { VW_PANE_3D, VW_PANE_XY, VW_PANE_XZ, VW_PANE_YZ, VW_PANE_MOSAIC } vw_pane_kind;
@@ -66,7 +69,7 @@ typedef struct vw_3d {
     int w, h;
     int32_t *depth;   /* -1 background; pixel units of the cast */
     uint8_t *ncode;   /* the cast's code (normal | cue << 5) */
-    uint16_t *code;   /* the shading mode's code (bit 13: cut face) */
+    uint16_t *code;   /* the shading codes (bvox_shade_codes) */
     /* the frame of the cast, shifted to the pane's pixel (0, 0) */
     double eye[9], origin[3], pixel, step;
     int32_t depth_range;
@@ -131,7 +134,7 @@ typedef struct vw_state {
     int width, height;
     uint8_t *rgb;            /* width*height*3 */
     vw_3d view3d;
-    uint8_t lut[8193][3];    /* codes 0..4095, cut face 4096..4351, background 8192 */
+    bvox_shade_table lut;    /* RGB of the pane's shading codes */
     /* dirty flags */
     int need_surface, need_cast, need_code, need_lut, need_mosaic;
     /* bookkeeping */
