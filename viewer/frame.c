@@ -37,25 +37,6 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4])
-{
-    int W = s->width, H = s->height, w2 = W / 2, h2 = H / 2;
-    switch (s->layout) {
-    case VW_LAYOUT_ORTHO:
-        rects[0] = (vw_rect){0, 0, w2, h2}, kinds[0] = VW_PANE_3D;
-        rects[1] = (vw_rect){w2, 0, W - w2, h2}, kinds[1] = VW_PANE_XY;
-        rects[2] = (vw_rect){0, h2, w2, H - h2}, kinds[2] = VW_PANE_XZ;
-        rects[3] = (vw_rect){w2, h2, W - w2, H - h2}, kinds[3] = VW_PANE_YZ;
-        return 4;
-    case VW_LAYOUT_MOSAIC:
-        rects[0] = (vw_rect){0, 0, W, H}, kinds[0] = VW_PANE_MOSAIC;
-        return 1;
-    default:
-        rects[0] = (vw_rect){0, 0, W, H}, kinds[0] = VW_PANE_3D;
-        return 1;
-    }
-}
-
 /* ------------------------------------------------------------ display */
 
 static const bvox_volume *displayed(const vw_state *s)
@@ -547,13 +528,5 @@ bvox_status vw_render(vw_state *s)
     double end = vw_now();
     s->times.compose = (end - c0) * 1e3;
     s->times.total = (end - t0) * 1e3;
-    return BVOX_OK;
-}
-
-bvox_status vw_canvas_image(const vw_state *s, bvox_image **out)
-{
-    bvox_status st = bvox_image_create(s->width, s->height, 3, 8, out);
-    if (st) return st;
-    memcpy((*out)->pixels, s->rgb, (size_t)s->width * (size_t)s->height * 3);
     return BVOX_OK;
 }

@@ -155,7 +155,7 @@ typedef struct vw_state {
 bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out);
 void vw_close(vw_state *s);
 
-/* ---- view_state.c: camera and state changes ---- */
+/* ---- view_state.c: the state and its geometry (calls no other viewer file) ---- */
 void vw_set_axis_view(vw_state *s, bvox_view view);
 void vw_set_iso_view(vw_state *s, int corner); /* corner 0..7: signs of x, y, z */
 /* Turn by a trackball drag from (x0, y0) to (x1, y1) in a pane of w x h. */
@@ -166,20 +166,28 @@ void vw_orthonormalize(double R[9]);
 /* The cut plane as m . p + e (physical axis frame); world plane for bvox_cut_plane. */
 void vw_cut_plane_local(const vw_state *s, double m[3], double *e);
 void vw_cut_plane_world(const vw_state *s, double plane[4]);
-/* Handle one event (the keys and mouse of the help screen). */
-void vw_handle(vw_state *s, const vw_event *ev);
+/* Turn the cut plane's normal by angle (radians) about axis (physical frame). */
+void vw_cut_tilt(vw_state *s, const double *axis, double angle);
+/* The panes of the current layout. Returns their number. */
+int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4]);
+/* The smallest voxel size (a step of one voxel in physical units). */
+double vw_min_spacing(const vw_state *s);
+/* The shape of the current primitive at the cursor. */
+void vw_primitive_shape(const vw_state *s, bvox_shape *shape);
+/* The canvas as an image (RGB, a copy). */
+bvox_status vw_canvas_image(const vw_state *s, bvox_image **out);
 /* The help text: NULL-terminated lines. */
 extern const char *const vw_help_lines[];
 
-/* ---- frame.c: drawing ---- */
-/* The panes of the current layout. Returns their number. */
-int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4]);
+/* ---- input.c: events (on view_state.c, edits.c, frame.c) ---- */
+/* Handle one event (the keys and mouse of the help screen). */
+void vw_handle(vw_state *s, const vw_event *ev);
+
+/* ---- frame.c: drawing (on view_state.c, font.c, pick.c) ---- */
 /* Bring the canvas up to date (casts only what changed). */
 bvox_status vw_render(vw_state *s);
 /* Only the shading table and its application (a light change). */
 void vw_apply_lut(vw_state *s);
-/* The canvas as an image (RGB, a copy). */
-bvox_status vw_canvas_image(const vw_state *s, bvox_image **out);
 
 /* ---- pick.c: ray from a pixel of the 3D pane to the first 1-voxel ---- */
 /* The ray of pane pixel (u, v) (pixel centres at integers) in the physical
@@ -192,14 +200,12 @@ int vw_pick_ray(const bvox_volume *vol, const double sp[3], const double p0[3],
 /* Pick under canvas pixel (x, y) of the 3D pane (or a slice pane). */
 int vw_pick(vw_state *s, int x, int y, int32_t hit[3]);
 
-/* ---- edits.c: journalled edits (undo/redo) ---- */
+/* ---- edits.c: journalled edits, undo/redo (on view_state.c) ---- */
 bvox_status vw_brush(vw_state *s, const int32_t at[3]);
 bvox_status vw_edit_box(vw_state *s, int keep);
 bvox_status vw_apply_primitive(vw_state *s, bvox_csg_op op);
 bvox_status vw_apply_cut(vw_state *s);
 bvox_status vw_undo(vw_state *s, int redo);
-/* The shape of the current primitive at the cursor. */
-void vw_primitive_shape(const vw_state *s, bvox_shape *shape);
 /* After the model changed inside *changed (half-open; NULL: anywhere):
  * the count, and the surface (updated in that box only when no cut is
  * shown, else rebuilt) at the next frame. */
