@@ -779,9 +779,10 @@ int bvox_shade_mode_parse(const char *name);            /* -1 if unknown */
  *                 the table darkens level t by 1 - k (t + 0.5) / 16, k =
  *                 light.depth_cue or 0.5 when that is 0
  *   cut face:     BVOX_SCODE_CUT | d * 255 / (depth_range - 1): pixels whose
- *                 entry point lies on the kept side of the plane within about
- *                 one voxel plus a depth step of it (as bvox_render's
- *                 projections); lit flat by the plane's normal (depth mode:
+ *                 entry point lies within half a voxel's extent plus half a
+ *                 depth step of the plane, counted into the kept side (as
+ *                 bvox_render's projections: every face the cut exposed,
+ *                 and a thin rim of the old surface beside it); lit flat by the plane's normal (depth mode:
  *                 its depth shade, binary+depth: times its depth factor) and
  *                 tinted with cut_color
  *   background:   BVOX_SCODE_BACKGROUND
@@ -849,8 +850,9 @@ typedef enum bvox_stereo {
  * The cut face: for an axis view, the pixels whose hit voxel is seen through
  * a face the cut exposed (the voxel in front of it was in the object); for a
  * projection, whose pre-image keeps depth only to a pixel unit, those whose
- * hit point lies on the kept side within about one voxel (along the plane's
- * normal) plus a depth step of the plane. They are lit flat with the plane's
+ * hit point lies within half a voxel's extent plus half a depth step (along
+ * the plane's normal) of the plane, counted into the kept side: every face
+ * the cut exposed, and a thin rim of the old surface. They are lit flat with the plane's
  * own normal (depth shading: their depth shade) and tinted
  * with cut_color, and the image is RGB; without a cut it is gray (anaglyphs
  * are RGB). */

@@ -66,8 +66,10 @@ void bvox__depth_normal(const bvox_preimage *pre, bvox_gradient op, int32_t x, i
                         double n[3]);
 /* The cut face of a projection (shade_table.c): the plane m . p + e, kept
  * side >= 0; a foreground pixel is on the face when its entry point (the
- * middle of its depth step) lies within one voxel along m's fastest axis plus
- * half a voxel's extent plus a depth step of the plane. */
+ * middle of its depth step) has m . p + e below half a voxel's extent along
+ * m plus half a depth step's: every pixel that shows a face the cut exposed
+ * passes (see the proof in bvox__cut_test_init), and only a thin rim of the
+ * original surface next to the plane passes with them. */
 typedef struct bvox__cut_test {
     double m[3], e, limit;
 } bvox__cut_test;

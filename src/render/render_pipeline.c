@@ -9,10 +9,10 @@
  * towards the viewer: it is on the cut face iff the voxel in front of it was
  * in the object, i.e. the cut removed it. No tolerance. A projection's
  * pre-image keeps the depth only to a pixel unit and neither the voxel nor
- * the face, so there the entry point is tested against the plane instead: on
- * the kept side within one voxel (along the plane normal's fastest axis) plus
- * half a voxel's extent and one depth step, which every voxel the cut exposed
- * satisfies (and a rim of the original surface that close to the plane).
+ * the face, so there the entry point is tested against the plane instead
+ * (bvox__cut_test, shared with the viewer's shading codes): within half a
+ * voxel's extent plus half a depth step of the plane, which every face the
+ * cut exposed satisfies (and a thin rim of the original surface beside it).
  */
 #include "scene.h"
 

@@ -42,15 +42,21 @@ static bvox_status opts_check(const bvox_shade_opts *o)
 
 void bvox__cut_test_init(bvox__cut_test *t, const double m[3], double e, const bvox_preimage *p)
 {
-    double shift = 0, half = 0;
+    /* A voxel the cut exposed has its centre c on the kept side and, across
+     * the face the ray enters by, a removed neighbour q: f(q) < 0 <= f(c), so
+     * f < f(c) / 2 < |m_a| s_a / 2 at the middle of that face, and anywhere
+     * on the face f < sum_a |m_a| s_a / 2 ("half"). The pre-image keeps the
+     * entry depth floored to a step: tested at the middle of the step, f is
+     * off by at most |m . view| step / 2 (plus float rounding of the depth). */
+    double half = 0, mv = 0;
     for (int a = 0; a < 3; a++) {
         t->m[a] = m[a];
-        double s = fabs(m[a]) * p->spacing[a];
-        shift = s > shift ? s : shift;
-        half += 0.5 * s;
+        half += 0.5 * fabs(m[a]) * p->spacing[a];
+        mv += m[a] * p->eye[6 + a];
     }
     t->e = e;
-    t->limit = shift + half + sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]) * p->depth_step;
+    const double mlen = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    t->limit = half + (0.5 * fabs(mv) + 1e-3 * mlen) * p->depth_step;
 }
 
 int bvox__cut_test_at(const bvox__cut_test *t, const bvox_preimage *p, int32_t c, int32_t r,

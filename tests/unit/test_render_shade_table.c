@@ -79,20 +79,31 @@ TEST(codes_cut_face)
     uint16_t c[4];
     bvox_shade_opts o = hand_opts(BVOX_SHADE_BINARY);
     o.cut = 1;
-    /* z >= 4.5 kept: the entry point z = d + 0.5 is on the face when
-     * d + 0.5 - 4.5 < 1 (a voxel) + 0.5 (half its extent) + 1 (a step) */
-    o.plane[0] = 0, o.plane[1] = 0, o.plane[2] = 1, o.plane[3] = -4.5;
+    /* z >= 5.5 kept: the face the cut exposed is z = 5.5, entered at depth
+     * 5; a pixel is on it when its entry point, the middle of its depth step
+     * (z = d + 0.5), has z - 5.5 < half a voxel (0.5) + half a step (0.5) */
+    o.plane[0] = 0, o.plane[1] = 0, o.plane[2] = 1, o.plane[3] = -5.5;
     CHECK_OK(bvox_shade_codes(&p, &o, c));
     CHECK_EQ(c[0], BVOX_SCODE_BACKGROUND);
-    CHECK_EQ(c[2], BVOX_SCODE_CUT | 141);
-    CHECK_EQ(c[3], hand_code[3]); /* 9 + 0.5 - 4.5 = 5: the far side, not on the face */
-    hand_depth[2] = 6;            /* 2.0 < 2.5: still on it */
-    CHECK_OK(bvox_shade_codes(&p, &o, c));
-    CHECK_EQ(c[2], BVOX_SCODE_CUT | 170);
-    hand_depth[2] = 7; /* 3.0: not */
+    CHECK_EQ(c[2], BVOX_SCODE_CUT | 141); /* d 5: 0 */
+    CHECK_EQ(c[3], hand_code[3]);         /* d 9: 4, far behind the plane */
+    hand_depth[2] = 7;                    /* 2: not on it */
     CHECK_OK(bvox_shade_codes(&p, &o, c));
     hand_depth[2] = 5;
     CHECK_EQ(c[2], hand_code[2]);
+    /* thick sections: voxels 3 long in z, the plane z >= 16.5 (1.5 past the
+     * centre 15 of voxel 5): half a voxel is 1.5 and half a step 0.5, so an
+     * entry at z = d + 0.5 is on the face while below 16.5 + 2 = 18.5 */
+    p.spacing[2] = 3;
+    p.depth_range = 30;
+    o.plane[3] = -16.5;
+    hand_depth[3] = 17; /* 17.5: on it */
+    CHECK_OK(bvox_shade_codes(&p, &o, c));
+    CHECK_EQ(c[3], BVOX_SCODE_CUT | 149); /* 17 * 255 / 29 */
+    hand_depth[3] = 19; /* 19.5: not */
+    CHECK_OK(bvox_shade_codes(&p, &o, c));
+    CHECK_EQ(c[3], hand_code[3]);
+    hand_depth[3] = 9;
     return 0;
 }
 
