@@ -477,6 +477,7 @@ static void draw_help(vw_state *s)
 
 bvox_status vw_render(vw_state *s)
 {
+    assert(vw_state_ok(s));
     double t0 = vw_now(), t;
     bvox_status st;
     memset(&s->times, 0, sizeof s->times);
@@ -528,5 +529,6 @@ bvox_status vw_render(vw_state *s)
     double end = vw_now();
     s->times.compose = (end - c0) * 1e3;
     s->times.total = (end - t0) * 1e3;
+    assert(vw_state_ok(s));
     return BVOX_OK;
 }

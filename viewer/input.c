@@ -8,6 +8,7 @@
  */
 #include "view.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -175,6 +176,7 @@ static void brush_at(vw_state *s, int x, int y)
 
 void vw_handle(vw_state *s, const vw_event *ev)
 {
+    assert(vw_state_ok(s));
     vw_rect r;
     vw_pane_kind kind;
     switch (ev->type) {
@@ -298,4 +300,5 @@ void vw_handle(vw_state *s, const vw_event *ev)
         break;
     }
     clamp_cursor(s);
+    assert(vw_state_ok(s));
 }

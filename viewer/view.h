@@ -176,6 +176,11 @@ double vw_min_spacing(const vw_state *s);
 void vw_primitive_shape(const vw_state *s, bvox_shape *shape);
 /* The canvas as an image (RGB, a copy). */
 bvox_status vw_canvas_image(const vw_state *s, bvox_image **out);
+/* Debug invariant of the state (a rotation for the camera, the cursor in
+ * the volume, known modes, the pane's arrays together): asserted where the
+ * event handler and the frame take and hand back the state; release builds
+ * (NDEBUG) compile the asserts out. */
+int vw_state_ok(const vw_state *s);
 /* The help text: NULL-terminated lines. */
 extern const char *const vw_help_lines[];
 

@@ -235,6 +235,31 @@ bvox_status vw_canvas_image(const vw_state *s, bvox_image **out)
     return BVOX_OK;
 }
 
+/* ------------------------------------------------------------ invariants */
+
+int vw_state_ok(const vw_state *s)
+{
+    if (!s || !s->model || !s->rgb || !s->journal || s->width < 64 || s->height < 64) return 0;
+    for (int i = 0; i < 3; i++) /* the camera stays a rotation */
+        for (int j = 0; j < 3; j++) {
+            double d = s->R[i * 3] * s->R[j * 3] + s->R[i * 3 + 1] * s->R[j * 3 + 1] +
+                       s->R[i * 3 + 2] * s->R[j * 3 + 2];
+            if (!(fabs(d - (i == j)) < 1e-6)) return 0;
+        }
+    if (!(s->zoom > 0) || (unsigned)s->shade >= VW_NSHADE || (unsigned)s->layout > VW_LAYOUT_MOSAIC ||
+        (unsigned)s->prim >= VW_NPRIM || s->sel_n < 0 || s->sel_n > 2)
+        return 0;
+    const int32_t n[3] = {s->dims.nx, s->dims.ny, s->dims.nz};
+    for (int a = 0; a < 3; a++)
+        if (s->cursor[a] < 0 || s->cursor[a] >= n[a] || !(s->sp[a] > 0)) return 0;
+    if (s->cut && !(fabs(dot3(s->cut_n, s->cut_n) - 1) < 1e-6)) return 0;
+    const vw_3d *v = &s->view3d; /* the pane's arrays exist together, of w x h */
+    if ((v->depth != NULL) != (v->w > 0) || (v->ncode != NULL) != (v->w > 0) ||
+        (v->code != NULL) != (v->w > 0) || v->w < 0 || v->h < 0)
+        return 0;
+    return !v->valid || (v->depth && v->pixel > 0 && v->step > 0);
+}
+
 /* ------------------------------------------------------------ open/close */
 
 bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
