@@ -152,22 +152,19 @@ static uint8_t round8(double v)
 }
 
 /* The gray level of every code below BVOX_SCODE_CUT that the mode uses;
- * returns how many. */
+ * returns how many (-1: bvox_lut_light failed, its message set). */
 static int gray_levels(const bvox_preimage *pre, const bvox_shade_opts *o, const double l[3],
                        uint8_t gray[BVOX_SCODE_CUT])
 {
     const bvox_light *L = &o->light;
-    double n[27][3];
-    for (unsigned k = 0; k < 27; k++) bvox__normal_eye(pre, k, n[k]);
+    bvox_lut lut;
     switch (o->mode) {
     case BVOX_SHADE_DEPTH:
         for (int c = 0; c < DEPTH_LEVELS; c++) gray[c] = bvox__depth_value(&o->depth, c / 255.0);
         return DEPTH_LEVELS;
-    case BVOX_SHADE_BINARY:
-        for (unsigned c = 0; c < 256; c++) {
-            unsigned k = BVOX_CODE_NORMAL(c);
-            gray[c] = k >= 27 ? L->background : round8(bvox__phong(L, l, n[k], BVOX_CODE_CUE(c)));
-        }
+    case BVOX_SHADE_BINARY: /* the paper's table itself */
+        if (bvox_lut_light(pre, L, &lut)) return -1;
+        memcpy(gray, lut.value, 256);
         return 256;
     case BVOX_SHADE_GRADIENT:
         /* the bin's centre on the unit hemisphere facing the viewer */
@@ -184,12 +181,12 @@ static int gray_levels(const bvox_preimage *pre, const bvox_shade_opts *o, const
         /* binary + depth: the normal lit without the 3-bit cue, then the
          * depth factor of the level's middle */
         const double k = L->depth_cue > 0 ? L->depth_cue : 0.5;
-        uint8_t lit[32];
-        for (unsigned c = 0; c < 32; c++)
-            lit[c] = c >= 27 ? L->background : round8(bvox__phong(L, l, n[c], 0));
+        bvox_light flat = *L;
+        flat.depth_cue = 0;
+        if (bvox_lut_light(pre, &flat, &lut)) return -1;
         for (int t = 0; t < CUE_LEVELS; t++)
             for (int c = 0; c < 32; c++)
-                gray[c | t << 5] = (uint8_t)(lit[c] * (1 - k * (t + 0.5) / CUE_LEVELS) + 0.5);
+                gray[c | t << 5] = (uint8_t)(lut.value[c] * (1 - k * (t + 0.5) / CUE_LEVELS) + 0.5);
         return 32 * CUE_LEVELS;
     }
     }
@@ -207,6 +204,7 @@ bvox_status bvox_shade_table_build(const bvox_preimage *pre, const bvox_shade_op
     uint8_t gray[BVOX_SCODE_CUT];
     memset(gray, 0, sizeof gray);
     int n = gray_levels(pre, opts, l, gray);
+    if (n < 0) return BVOX_EINVAL; /* bvox_lut_light said why */
     memset(table->rgb, 0, sizeof table->rgb);
     /* the object's colour; white keeps the gray exactly ((g 255 + 127) / 255 = g) */
     for (int c = 0; c < n; c++)
