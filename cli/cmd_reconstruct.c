@@ -63,7 +63,7 @@ static void help(FILE *f)
           "  --save-steps DIR       each section's steps as PNG files in the folder DIR\n"
           "                         (created): NAME.1_flat.png (background corrected),\n"
           "                         NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png\n"
-          "  --quiet                no progress on stderr\n"
+          "  --quiet, -q            no progress and no warnings on stderr\n"
           "  --output-format NAME   force the model's format\n"
           "  --help                 show this help\n",
           f);
@@ -351,8 +351,9 @@ int cmd_reconstruct(int argc, char **argv)
         } else if (VALUE("--report")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             report_path = v;
-        } else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) {
+        } else if (!strcmp(arg, "-q")) {
             quiet = 1;
+            bvox_set_warning_handler(NULL, NULL);
         } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
             free(inputs);
             return CLI_USAGE;
@@ -364,6 +365,7 @@ int cmd_reconstruct(int argc, char **argv)
     if (thr_given && otsu_given) USAGE("--threshold and --otsu exclude each other");
     if (markers_given > 1) USAGE("--markers and --markers-file exclude each other");
     if (bg_given > 1) USAGE("--background and --no-background exclude each other");
+    if (cli_quiet) quiet = 1;
     progress_state ps = {isatty(2), -1, 0};
     if (!quiet) {
         o.progress = on_progress;
@@ -385,7 +387,7 @@ int cmd_reconstruct(int argc, char **argv)
     free(inputs);
     if (st) return cli_fail();
     int rc = CLI_OK;
-    for (int32_t i = 0; i < rep->nsections; i++)
+    for (int32_t i = 0; i < rep->nsections && !quiet; i++)
         if (rep->sections[i].message[0])
             fprintf(stderr, "bvox: warning: %s\n", rep->sections[i].message);
     if (out && bvox_write(out, vol, &wo)) rc = cli_fail();

@@ -48,6 +48,20 @@ const char *bvox_status_name(bvox_status status);
  * valid until the next bvox call in this thread. */
 const char *bvox_errmsg(void);
 
+/* Warnings: the library never prints. Where it makes an assumption the user
+ * should know about (a missing voxel size taken as 1, an SVG element skipped,
+ * a self-crossing contour repaired), it formats one line without a trailing
+ * newline ("section 3: contour 2 crosses itself at (10.5, 4); filled by ...")
+ * and passes it to the handler set here; with no handler the warning is
+ * dropped. The handler belongs to the calling thread (a thread-local setting:
+ * set it in each thread that wants warnings); warnings are raised only in the
+ * thread that called the library function. fn NULL removes the handler. */
+typedef void (*bvox_warning_fn)(const char *message, void *user);
+void bvox_set_warning_handler(bvox_warning_fn fn, void *user);
+/* Number of warnings raised in this thread since it started (handler or not):
+ * lets a caller tell whether a call warned. */
+uint64_t bvox_warning_count(void);
+
 /* The library version, e.g. "0.1.0". */
 const char *bvox_version(void);
 

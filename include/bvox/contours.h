@@ -36,6 +36,8 @@ typedef struct bvox_section {
     int32_t ncontours;
     bvox_point2 *markers;    /* reference marker centres (pixels), may be 0 */
     int32_t nmarkers;
+    int32_t z_from_index;    /* 1: the file gave no z; z = index * the stack's spacing, so
+                                a spacing given later (--spacing) re-places the section */
 } bvox_section;
 
 typedef struct bvox_contour_stack {
@@ -47,7 +49,15 @@ typedef struct bvox_contour_stack {
     int32_t nsections;
     double origin[2];        /* physical x, y of pixel coordinate (0, 0), in unit; so
                                 that model -> contours -> model keeps its position */
+    uint32_t given;          /* BVOX_STACK_GIVEN_*: which of pixel, spacing, unit the
+                                file stated (the others are defaults: reconstruct warns) */
 } bvox_contour_stack;
+
+enum {
+    BVOX_STACK_GIVEN_PIXEL = 1,
+    BVOX_STACK_GIVEN_SPACING = 2,
+    BVOX_STACK_GIVEN_UNIT = 4,
+};
 
 /* An empty stack: unit "", pixel 1, spacing 1, width = height = 0. */
 bvox_status bvox_stack_create(bvox_contour_stack **out);

@@ -433,18 +433,28 @@ static bvox_status root_attrs(svg_reader *r, int *has_z)
     }
     if (num_attr(r, "data-z", &v, &st)) {
         r->sec->z = v;
+        r->sec->z_from_index = 0;
         *has_z = 1;
     }
     if (st) return st;
-    if (num_attr(r, "data-pixel", &v, &st) && v > 0 && v < 1e12) r->stack->pixel = v;
+    if (num_attr(r, "data-pixel", &v, &st) && v > 0 && v < 1e12) {
+        r->stack->pixel = v;
+        r->stack->given |= BVOX_STACK_GIVEN_PIXEL;
+    }
     if (st) return st;
-    if (num_attr(r, "data-spacing", &v, &st) && v > 0 && v < 1e12) r->stack->spacing = v;
+    if (num_attr(r, "data-spacing", &v, &st) && v > 0 && v < 1e12) {
+        r->stack->spacing = v;
+        r->stack->given |= BVOX_STACK_GIVEN_SPACING;
+    }
     if (st) return st;
     const bvox__xml_attr *a = bvox__xml_attr_get(&r->x, "data-unit");
     if (a) {
         char *t = bvox__xml_attr_dup(&r->x, a, &st);
         if (!t) return st;
-        if (strlen(t) < sizeof r->stack->unit) strcpy(r->stack->unit, t);
+        if (strlen(t) < sizeof r->stack->unit) {
+            strcpy(r->stack->unit, t);
+            if (t[0]) r->stack->given |= BVOX_STACK_GIVEN_UNIT;
+        }
         free(t);
     }
     a = bvox__xml_attr_get(&r->x, "data-name");
@@ -590,6 +600,7 @@ bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char
     }
     int32_t before = s->nsections;
     st = bvox_stack_add_section(s, z, base, &r->sec);
+    if (!st) r->sec->z_from_index = 1; /* until the root's data-z says otherwise */
     if (!st) {
         r->stack = s;
         r->index = before;

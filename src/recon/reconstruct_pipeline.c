@@ -588,6 +588,35 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
     return BVOX_OK;
 }
 
+/* The options' pixel, spacing and unit override the file's. Sections whose
+ * file gave no z sit at index x spacing, so a spacing given now re-places
+ * them (three SVGs with --spacing 5 are 5 apart, not 1). What neither the file
+ * nor the options said is a default the user must hear about: one warning. */
+static void apply_scale(const char *path, const bvox_recon_opts *o, bvox_contour_stack *stack)
+{
+    if (o->pixel > 0) stack->pixel = o->pixel;
+    if (o->spacing > 0) {
+        stack->spacing = o->spacing;
+        for (int32_t i = 0; i < stack->nsections; i++)
+            if (stack->sections[i].z_from_index) stack->sections[i].z = i * o->spacing;
+    }
+    if (o->unit[0]) {
+        memcpy(stack->unit, o->unit, sizeof stack->unit);
+        stack->unit[sizeof stack->unit - 1] = '\0';
+    }
+    int implicit_z = 0;
+    for (int32_t i = 0; i < stack->nsections; i++) implicit_z |= stack->sections[i].z_from_index;
+    char missing[96] = "";
+    if (!(o->pixel > 0) && !(stack->given & BVOX_STACK_GIVEN_PIXEL))
+        strcat(missing, ", pixel size 1 (--pixel)");
+    if (stack->nsections > 1 && implicit_z && !(o->spacing > 0) &&
+        !(stack->given & BVOX_STACK_GIVEN_SPACING))
+        strcat(missing, ", section spacing 1 (--spacing)");
+    if (!o->unit[0] && !stack->unit[0]) strcat(missing, ", no unit (--unit)");
+    if (missing[0])
+        bvox__warn("%s: not stated in the file or the options, assumed:%s", path, missing + 1);
+}
+
 static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_volume **volume,
                              bvox_contour_stack **stack_out, bvox_recon_report **report_out)
 {
@@ -610,12 +639,7 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
             goto done;
         }
     double t_read = now_ms() - t0;
-    if (o->pixel > 0) stack->pixel = o->pixel;
-    if (o->spacing > 0) stack->spacing = o->spacing;
-    if (o->unit[0]) {
-        memcpy(stack->unit, o->unit, sizeof stack->unit);
-        stack->unit[sizeof stack->unit - 1] = '\0';
-    }
+    apply_scale(path, o, stack);
     int any_markers = 0;
     for (int32_t i = 0; i < stack->nsections; i++) any_markers |= stack->sections[i].nmarkers > 0;
     if (o->align && any_markers) {
