@@ -57,6 +57,11 @@ static void help(FILE *f)
           "  --no-interpolate       copy the nearest section instead of interpolating\n"
           "  --simplify TOL         simplify traced contours to TOL pixels (default: exact)\n"
           "  --smooth-contours N    moving average over 2N+1 contour points (area kept)\n"
+          "  --svg-select SEL       SVG sections: read only elements named by SEL, a list of\n"
+          "                         id:NAME, class:NAME, layer:NAME or NAME (default: every\n"
+          "                         visible outline; a full-canvas background is skipped)\n"
+          "  --strict               refuse a contour that crosses itself (default: fill it\n"
+          "                         even-odd and warn)\n"
           "  --save-contours OUT    the aligned contours: OUT.json, or a folder of SVG files\n"
           "  --report REPORT.json   per section: markers, transform, residual, fallback;\n"
           "                         the time of each step\n"
@@ -345,6 +350,11 @@ int cmd_reconstruct(int argc, char **argv)
         } else if (VALUE("--save-contours")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             save = v;
+        } else if (VALUE("--svg-select")) {
+            if (r == CLI_ARG_BAD) goto bad_value;
+            o.svg_select = v;
+        } else if (!strcmp(arg, "--strict")) {
+            o.strict = 1;
         } else if (VALUE("--save-steps")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             o.save_steps = v;

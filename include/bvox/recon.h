@@ -255,6 +255,12 @@ typedef struct bvox_recon_opts {
     char unit[16];                /* "" (default): none, or the file's */
     double z_spacing;             /* output slice spacing; 0 (default): pixel (isotropic) */
     int interpolate;              /* 1 (default): shape-based interpolation */
+    /* contour inputs */
+    const char *svg_select;       /* SVG sections: which elements are outlines
+                                     (bvox_stack_read_opts.svg_select); NULL: all visible */
+    int strict;                   /* 1: refuse a contour crossing itself; 0 (default): fill it
+                                     even-odd and warn (contours crossing each other are
+                                     always refused) */
     /* looking at the steps */
     const char *save_steps;       /* an existing folder, or NULL (default): each image
                                      section's steps as PNG files NAME.1_flat.png (after the

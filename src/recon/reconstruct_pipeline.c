@@ -9,6 +9,7 @@
  * interpolation to the output slice spacing).
  */
 #include "section_internal.h"
+#include "contour_internal.h"
 #include "io/io.h"
 
 #include <dirent.h>
@@ -626,18 +627,13 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     if (o->markers_file)
         return bvox__fail(BVOX_EINVAL, "%s: a markers file goes with section images; a contour "
                                        "file carries its own markers", path);
-    bvox_status st = bvox_stack_read(path, &stack);
+    bvox_stack_read_opts ro = {o->svg_select};
+    bvox_status st = bvox_stack_read_with(path, &ro, &stack);
     if (st) return st;
-    /* traced contours that cross each other or themselves are a tracing
-     * mistake: refused, naming the section (the even-odd fill would make a
-     * silent mess of them) */
-    for (int32_t i = 0; i < stack->nsections; i++)
-        if ((st = bvox_section_check_simple(&stack->sections[i], i))) {
-            char msg[512];
-            snprintf(msg, sizeof msg, "%s", bvox_errmsg());
-            st = bvox__fail(st, "%s: %s", path, msg);
-            goto done;
-        }
+    /* contours crossing each other are a tracing mistake: refused, naming the
+     * section; one crossing itself (jitter) is kept and warned about unless
+     * strict (contour_repair.c) */
+    if ((st = bvox__stack_check_crossings(path, stack, o->strict))) goto done;
     double t_read = now_ms() - t0;
     apply_scale(path, o, stack);
     int any_markers = 0;

@@ -58,4 +58,57 @@ printf '{"unit":"um","pixel":1,"spacing":2,"canvasWidth":640,"sections":[{"z":0,
 grep -q 'warning: .*unknown key "canvasWidth"' "$tmp/err" || fail "no warning for canvasWidth: $(cat "$tmp/err")"
 [ "$(grep -c 'unknown key "layer"' "$tmp/err")" -eq 1 ] || fail "layer not warned exactly once: $(cat "$tmp/err")"
 grep -q 'assumed' "$tmp/err" && fail "a stack that states pixel, spacing and unit warned: $(cat "$tmp/err")"
+# 3. an editor's drawing: a full-canvas background rect (a page of 210 x 297
+# mm with a viewBox), a hidden layer, and two layers of tracings. Only the
+# visible outlines are read (a 10 x 10 square: 100 voxels per section), the
+# skipped elements are counted in one warning per file; --svg-select reads
+# one layer; a selection naming nothing is refused.
+mkdir "$tmp/ink"
+for i in 1 2; do
+    cat >"$tmp/ink/s$i.svg" <<SVG
+<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+     width="210mm" height="297mm" viewBox="0 0 210 297">
+  <rect x="0" y="0" width="210" height="297" style="fill:#ffffff"/>
+  <g inkscape:groupmode="layer" inkscape:label="cells" id="layer1">
+    <polygon points="5,5 15,5 15,15 5,15"/>
+  </g>
+  <g inkscape:groupmode="layer" inkscape:label="nucleus" id="layer2">
+    <circle cx="50" cy="50" r="4" class="nuc"/>
+  </g>
+  <g inkscape:label="sketch" style="display:none">
+    <rect x="100" y="100" width="50" height="50"/>
+    <path d="M 100 100 L 150 100 L 150 150 Z"/>
+  </g>
+</svg>
+SVG
+done
+"$BVOX" reconstruct "$tmp/ink" --pixel 1 --spacing 1 --unit um --svg-select layer:cells \
+    -o "$tmp/cells.nii" 2>"$tmp/err" || fail "reconstruct --svg-select layer:cells: $(cat "$tmp/err")"
+"$BVOX" info "$tmp/cells.nii" --json >"$tmp/c.json"
+python3 -c "import json,sys; o=json.load(open(sys.argv[1])); assert o['count']==200, o" "$tmp/c.json" ||
+    fail "the selected layer is not exactly the traced squares: $(cat "$tmp/c.json")"
+[ "$(grep -c '^bvox: warning: .*s[12].svg: skipped 1 full-canvas background <rect> (line 3), 2 hidden elements, 1 element not named by --svg-select' "$tmp/err")" -eq 2 ] ||
+    fail "skipped elements not listed per file: $(cat "$tmp/err")"
+"$BVOX" reconstruct "$tmp/ink" --pixel 1 --spacing 1 --unit um -o "$tmp/all.nii" 2>"$tmp/err" ||
+    fail "reconstruct of the drawing"
+"$BVOX" info "$tmp/all.nii" --json >"$tmp/a.json"
+python3 -c "import json,sys; o=json.load(open(sys.argv[1])); assert 200 < o['count'] < 400, o" "$tmp/a.json" ||
+    fail "background or hidden layer read as an outline: $(cat "$tmp/a.json")"
+"$BVOX" reconstruct "$tmp/ink" --svg-select class:nuc --quiet -o "$tmp/n.nii" || fail "--svg-select class:"
+"$BVOX" reconstruct "$tmp/ink" --svg-select id:nothing -o "$tmp/x.nii" 2>"$tmp/err" &&
+    fail "a selection naming nothing was accepted"
+grep -q "names no outline" "$tmp/err" || fail "no message for an empty selection: $(cat "$tmp/err")"
+
+# 4. tablet jitter: the outline overshoots its start by 0.3 pixel and so
+# crosses itself: kept (the square's 100 voxels), one warning naming the
+# section, the contour and the place; --strict refuses it
+printf '{"unit":"um","pixel":1,"spacing":1,"sections":[{"z":0,"contours":[[[5,5],[15,5],[15,15],[5,15],[5,4.7],[5.3,5.2]]]}]}' >"$tmp/jit.json"
+"$BVOX" reconstruct "$tmp/jit.json" -o "$tmp/jit.nii" 2>"$tmp/err" || fail "jitter refused: $(cat "$tmp/err")"
+grep -q '^bvox: warning: .*jit.json: section 1.*contour 1 crosses itself (edges .* near ' "$tmp/err" ||
+    fail "jitter not warned: $(cat "$tmp/err")"
+"$BVOX" info "$tmp/jit.nii" --json >"$tmp/j.json"
+python3 -c "import json,sys; o=json.load(open(sys.argv[1])); assert o['count']==100, o" "$tmp/j.json" ||
+    fail "jittered square is not 100 voxels: $(cat "$tmp/j.json")"
+"$BVOX" reconstruct "$tmp/jit.json" --strict -o "$tmp/jit2.nii" 2>"$tmp/err" && fail "--strict accepted it"
+grep -q 'crosses itself' "$tmp/err" || fail "--strict message: $(cat "$tmp/err")"
 echo "recon_assumptions: ok"
