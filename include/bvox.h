@@ -471,7 +471,12 @@ typedef struct bvox_measures {
     double principal_moments[3];
     double principal_inertia[3];
     double equivalent_diameter; /* of the sphere of the same volume: (6V/pi)^(1/3) */
-    double sphericity;      /* pi^(1/3) (6V)^(2/3) / area: 1 for a ball, less otherwise */
+    /* pi^(1/3) (6V)^(2/3) / area: 1 for a ball, less otherwise. Never above 1:
+     * the smooth area estimate is within about 0.5 % on round objects, so a
+     * ball may come out a little above 1 and is reported as 1. NaN (JSON
+     * null) below BVOX_SPHERICITY_MIN_VOXELS voxels, where the estimate errs
+     * by 2-17 % (a 2x2x2 cube would read 1.17); 0 for an empty volume. */
+    double sphericity;
     /* Topology with 26-connectivity for the object and 6-connectivity for the
      * background (scikit-image's euler_number(connectivity=3), the Euler
      * characteristic of the union of the closed voxel cubes):
@@ -482,7 +487,13 @@ typedef struct bvox_measures {
                                the border of the volume */
     int64_t tunnels;        /* components + cavities - euler (the genus for
                                one component without cavities) */
+    int64_t cavities_26;    /* the same cavities counted with 26-connectivity for the
+                               background (the pairing of a 6-connected object): at
+                               most cavities, since diagonal steps join more */
 } bvox_measures;
+
+/* Fewer voxels than this: sphericity is NaN (not estimated). */
+#define BVOX_SPHERICITY_MIN_VOXELS 1000
 
 /* All the measures of vol. Runs on whole words (split over the worker
  * threads) plus two labellings (the object, the complement) for the
