@@ -126,6 +126,11 @@ typedef struct bvox_geometry {
     double origin[3];
     double direction[9];
     char unit[16];
+    /* The space the origin and direction are in, as NIfTI's xform codes: 0
+     * unknown (bvox writes scanner), 1 scanner, 2 aligned, 3 Talairach, 4
+     * MNI-152. Read from NIfTI's sform (else qform) code and written back, so
+     * an MNI atlas stays MNI through convert; other formats keep 0. */
+    int32_t space;
 } bvox_geometry;
 
 /* spacing 1, origin 0, identity direction, empty unit. */
