@@ -43,4 +43,30 @@ mk cube 8 8 8 'x < 4' --voxel-size 0.5,0.5,0.5
 [ ! -s "$tmp/err" ] || fail "isotropic unitless volume warned: $(cat "$tmp/err")"
 "$BVOX" info "$tmp/c.binvox" --json >"$tmp/i.json"
 jcheck "$tmp/i.json" 'near(o["voxel_size"], [0.5, 0.5, 0.5])' || fail "binvox scale not kept"
+# OME-TIFF: written with OME-XML physical sizes (tifffile, an independent
+# reader, sees an OME series of the right shape and sizes); an OME-TIFF made
+# by tifffile in nanometres reads back in nm.
+"$BVOX" convert "$tmp/box.nii" "$tmp/box.ome.tif" || fail "convert to .ome.tif"
+/usr/bin/python3 - "$tmp/box.ome.tif" <<'PY' || fail "tifffile reads no OME sizes from bvox's .ome.tif"
+import sys, tifffile, xml.etree.ElementTree as ET
+t = tifffile.TiffFile(sys.argv[1])
+assert t.is_ome and t.series[0].shape == (8, 8, 8), (t.is_ome, t.series[0].shape)
+px = ET.fromstring(t.ome_metadata).find(".//{*}Pixels").attrib
+assert (float(px["PhysicalSizeX"]), float(px["PhysicalSizeZ"])) == (1.0, 2.0), px
+assert px["PhysicalSizeXUnit"] == "mm", px
+assert int((t.series[0].asarray() > 0).sum()) == 64, "voxels"
+PY
+"$BVOX" info "$tmp/box.ome.tif" --json >"$tmp/i.json"
+jcheck "$tmp/i.json" 'near(o["voxel_size"], [1, 1, 2]) and o["unit"] == "mm" and o["count"] == 64' ||
+    fail ".ome.tif round trip: $(cat "$tmp/i.json")"
+/usr/bin/python3 - "$tmp/nm.ome.tif" <<'PY' || fail "tifffile could not write the nm OME-TIFF"
+import sys, numpy as np, tifffile
+a = np.zeros((5, 6, 7), np.uint8)
+a[1:4, 2:5, 3:6] = 1
+tifffile.imwrite(sys.argv[1], a, metadata={"axes": "ZYX", "PhysicalSizeX": 20, "PhysicalSizeXUnit": "nm",
+                 "PhysicalSizeY": 20, "PhysicalSizeYUnit": "nm", "PhysicalSizeZ": 0.05, "PhysicalSizeZUnit": "\u00b5m"})
+PY
+"$BVOX" info "$tmp/nm.ome.tif" --json >"$tmp/i.json"
+jcheck "$tmp/i.json" 'near(o["voxel_size"], [20, 20, 50]) and o["unit"] == "nm" and o["count"] == 27' ||
+    fail "OME-TIFF in nm: $(cat "$tmp/i.json")"
 echo "geometry_kept: ok"
