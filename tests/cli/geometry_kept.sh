@@ -69,4 +69,15 @@ PY
 "$BVOX" info "$tmp/nm.ome.tif" --json >"$tmp/i.json"
 jcheck "$tmp/i.json" 'near(o["voxel_size"], [20, 20, 50]) and o["unit"] == "nm" and o["count"] == 27' ||
     fail "OME-TIFF in nm: $(cat "$tmp/i.json")"
+# STL cannot keep two vertices at one place: a cuberille mesh of two voxels
+# touching along an edge is written with a warning (STL) or silently (PLY);
+# marching cubes (no shared positions) never warns.
+mk edge 4 4 4 '(x, y, z) in ((1, 1, 1), (2, 2, 1))'
+"$BVOX" mesh "$tmp/edge.nii" -o "$tmp/e.stl" --method cuberille 2>"$tmp/err" || fail "cuberille to STL"
+grep -q '^bvox: warning: .*e.stl: [0-9]* vertices share their position .* write .ply, .obj or .off' "$tmp/err" ||
+    fail "cuberille STL not warned: $(cat "$tmp/err")"
+"$BVOX" mesh "$tmp/edge.nii" -o "$tmp/e.ply" --method cuberille 2>"$tmp/err" || fail "cuberille to PLY"
+grep -q warning "$tmp/err" && fail "PLY warned: $(cat "$tmp/err")"
+"$BVOX" mesh "$tmp/edge.nii" -o "$tmp/m.stl" 2>"$tmp/err" || fail "mc to STL"
+grep -q warning "$tmp/err" && fail "marching cubes STL warned: $(cat "$tmp/err")"
 echo "geometry_kept: ok"
