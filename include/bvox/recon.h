@@ -191,6 +191,9 @@ typedef struct bvox_align_result {
     int32_t matched;     /* markers matched with the neighbour */
     double residual;     /* RMS distance (pixels) of the matched markers after the step */
     int fallback;        /* 1: no usable match: step = identity (the neighbour's transform) */
+    int by_contours;     /* 1: the markers were unusable and bvox_reconstruct aligned the
+                            section by its traced contours onto its neighbour's instead
+                            (step and residual are that registration's; fallback stays 1) */
 } bvox_align_result;
 
 /* Align n sections by their markers, chained to the reference section

@@ -258,6 +258,44 @@ done:
     return st;
 }
 
+/* Sections whose markers failed: registered by their contours onto the
+ * adjacent section towards the reference, going outwards so that the
+ * neighbour is final first (align_contours.c). A section too small to
+ * register keeps the old fallback (its neighbour's transform). */
+static bvox_status align_by_contours(bvox_recon_report *rep, const sec_work *w)
+{
+    int32_t n = rep->nsections, ref = rep->reference;
+    for (int dir = -1; dir <= 1; dir += 2)
+        for (int32_t k = ref + dir; k >= 0 && k < n; k += dir) {
+            bvox_recon_section_report *s = &rep->sections[k];
+            const bvox_recon_section_report *nb = &rep->sections[k - dir];
+            if (!s->align.fallback) continue;
+            s->align.neighbour = k - dir;
+            s->align.transform = nb->align.transform;
+            bvox_sim2 step;
+            double rms;
+            bvox_status st = bvox__contours_register(w[k].contours, w[k].ncontours,
+                                                     w[k - dir].contours, w[k - dir].ncontours,
+                                                     &step, &rms);
+            if (st == BVOX_ENOMEM) return st;
+            if (st) continue;
+            s->align.step = step;
+            s->align.residual = rms;
+            s->align.by_contours = 1;
+            s->align.transform = bvox_sim2_compose(&nb->align.transform, &step);
+            size_t len = strlen(s->message);
+            if (len + 80 < sizeof s->message && len > 0) {
+                char *cut = strstr(s->message, ": no alignment");
+                if (cut) len = (size_t)(cut - s->message);
+                snprintf(s->message + len, sizeof s->message - len,
+                         ": aligned by its contours to '%s' instead (residual %.2f px)", nb->name,
+                         rms);
+            }
+        }
+    bvox__clear_error();
+    return BVOX_OK;
+}
+
 static bvox_xform2 to_xform(const bvox_sim2 *t)
 {
     return bvox_xform2_similarity(t->angle, t->scale, t->tx, t->ty);
@@ -406,6 +444,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
     /* alignment */
     double t0 = now_ms();
     if (o->align && (find_markers || mfile) && (st = align_report(rep, o))) goto done;
+    if (rep->aligned && rep->fallbacks && (st = align_by_contours(rep, w))) goto done;
     rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
     progress(o, BVOX_RECON_ALIGN, n, n);
     /* the stack */
