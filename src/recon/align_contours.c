@@ -78,8 +78,9 @@ static bvox_status sample(const bvox_contour *c, int32_t nc, cloud *out)
         int32_t m = out->n - first, w = (int32_t)(NORMAL_SPAN / (2 * step)) + 1;
         for (int32_t i = 0; i < m; i++) {
             bvox_point2 a = out->p[first + (i - w % m + m) % m], b = out->p[first + (i + w) % m];
-            double tx = b.x - a.x, ty = b.y - a.y, len = hypot(tx, ty);
-            out->normal[first + i] = len > 0 ? (bvox_point2){-ty / len, tx / len} : (bvox_point2){0, 0};
+            double tx = b.x - a.x, ty = b.y - a.y, chord = hypot(tx, ty);
+            out->normal[first + i] =
+                chord > 0 ? (bvox_point2){-ty / chord, tx / chord} : (bvox_point2){0, 0};
         }
     }
     return BVOX_OK;
