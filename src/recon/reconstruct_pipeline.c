@@ -12,6 +12,7 @@
 #include "contour_internal.h"
 #include "io/io.h"
 
+#include <ctype.h>
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
@@ -706,6 +707,37 @@ static const char *base_name(const char *path)
     return s ? s + 1 : path;
 }
 
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+/* blank.png, flatfield.tif, background_01.png, Flat-Field.TIF, empty.png */
+static int looks_blank(const char *name)
+{
+    static const char *const words[] = {"blank", "flat", "background", "empty", "dark"};
+    char low[64];
+    size_t n = strlen(name);
+    if (n >= sizeof low) return 0;
+    for (size_t i = 0; i <= n; i++) low[i] = (char)tolower((unsigned char)name[i]);
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
+        if (!strncmp(low, words[i], strlen(words[i]))) return 1;
+    return 0;
+}
+
+/* Section images carry no spacing between them, and bvox does not read a
+ * pixel size from them: what the options do not give is assumed and said. */
+static void warn_image_scale(const bvox_recon_opts *o)
+{
+    char missing[96] = "";
+    if (!(o->pixel > 0)) strcat(missing, ", pixel size 1 (--pixel)");
+    if (!(o->spacing > 0)) strcat(missing, ", section spacing 1 (--spacing)");
+    if (!o->unit[0]) strcat(missing, ", no unit (--unit)");
+    if (missing[0]) bvox__warn("section images: not given, assumed:%s", missing + 1);
+}
+
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
                              bvox_volume **volume, bvox_contour_stack **stack,
                              bvox_recon_report **report)
@@ -744,10 +776,24 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;
     }
+    int32_t nsec = 0;
     for (int32_t i = 0; i < n; i++) {
-        w[i].path = paths[i];
-        w[i].name = base_name(paths[i]);
+        /* the blank given as --background is not also a section */
+        if (o.background && same_file(paths[i], o.background)) continue;
+        if (!o.background && !o.background_image && looks_blank(base_name(paths[i])))
+            bvox__warn("%s: named like a blank (flat-field) image, but used as a section; give "
+                       "it as --background to correct the light with it",
+                       paths[i]);
+        w[nsec].path = paths[i];
+        w[nsec].name = base_name(paths[i]);
+        nsec++;
     }
+    n = nsec;
+    if (n < 1) {
+        st = bvox__fail(BVOX_EINVAL, "reconstruct: no sections besides the background image");
+        goto done;
+    }
+    warn_image_scale(&o);
     if (!o.background_image && o.background) {
         if ((st = bvox_section_read(o.background, &background))) goto done;
         o.background_image = background;

@@ -10,6 +10,7 @@ BVOX=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "$0")/lib/common.sh"
 
 # three SVG sections, a 10 x 10 pixel square each, no data-z
 mkdir "$tmp/svg"
@@ -111,4 +112,29 @@ python3 -c "import json,sys; o=json.load(open(sys.argv[1])); assert o['count']==
     fail "jittered square is not 100 voxels: $(cat "$tmp/j.json")"
 "$BVOX" reconstruct "$tmp/jit.json" --strict -o "$tmp/jit2.nii" 2>"$tmp/err" && fail "--strict accepted it"
 grep -q 'crosses itself' "$tmp/err" || fail "--strict message: $(cat "$tmp/err")"
+# 5. a folder of section images that also holds the blank: given as
+# --background it is not a section too; not given, it is named in a warning;
+# the scale not given is said once
+mkdir "$tmp/img"
+python3 - "$(dirname "$0")" "$tmp/img" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from pngtool import write_png
+d = sys.argv[2]
+w = h = 32
+write_png(d + "/blank.png", w, h, [200] * (w * h))
+for k in range(3):
+    write_png(d + "/s%d.png" % (k + 1), w, h,
+              [60 if 8 <= x < 24 and 8 <= y < 24 else 200 for y in range(h) for x in range(w)])
+PY
+"$BVOX" reconstruct "$tmp/img" --background "$tmp/img/blank.png" --pixel 1 --spacing 1 --unit um \
+    --report "$tmp/rep.json" -o "$tmp/img.nii" 2>"$tmp/err" || fail "reconstruct with the blank in the folder: $(cat "$tmp/err")"
+jcheck "$tmp/rep.json" 'o["sections"] == 3' || fail "the blank was also used as a section: $(cat "$tmp/rep.json")"
+grep -q warning "$tmp/err" && fail "warned with everything given: $(cat "$tmp/err")"
+"$BVOX" reconstruct "$tmp/img" --report "$tmp/rep.json" -o "$tmp/img.nii" 2>"$tmp/err" ||
+    fail "reconstruct without --background"
+jcheck "$tmp/rep.json" 'o["sections"] == 4' || fail "sections without --background"
+grep -q '^bvox: warning: .*blank.png: named like a blank' "$tmp/err" || fail "blank not named: $(cat "$tmp/err")"
+grep -q '^bvox: warning: section images: not given, assumed: pixel size 1 (--pixel), section spacing 1 (--spacing), no unit (--unit)$' "$tmp/err" ||
+    fail "assumed scale not said: $(cat "$tmp/err")"
 echo "recon_assumptions: ok"
