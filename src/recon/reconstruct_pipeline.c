@@ -378,11 +378,60 @@ static bvox_status finish(const bvox_recon_opts *o, bvox_status st, double t_sta
     return BVOX_OK;
 }
 
-static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
+/* --markers auto (markers.count BVOX_MARKERS_AUTO): up to 9 sections spread
+ * over the stack go through the same steps with every marker candidate
+ * kept; the count is the median of what they found (one section that lost a
+ * marker or has a spurious blob does not move it). Under 2: no markers, and
+ * a warning (the sections are not aligned). */
+static bvox_status auto_marker_count(const sec_work *w, int32_t n, bvox_recon_opts *o,
+                                     const bvox_image *background)
+{
+    int32_t found[9], samples = n < 9 ? n : 9;
+    bvox_recon_opts probe = *o;
+    probe.markers.count = MAX_MARKERS;
+    probe.save_steps = NULL;
+    for (int32_t s = 0; s < samples; s++) {
+        int32_t i = samples == 1 ? 0 : (int32_t)((int64_t)s * (n - 1) / (samples - 1));
+        sec_work tmp;
+        memset(&tmp, 0, sizeof tmp);
+        tmp.path = w[i].path;
+        tmp.image = w[i].image;
+        tmp.name = w[i].name;
+        bvox_status st = process(&tmp, &probe, background, 1);
+        bvox_contours_free(tmp.contours, tmp.ncontours);
+        if (st) return st;
+        found[s] = tmp.nmarkers > MAX_MARKERS ? MAX_MARKERS : tmp.nmarkers;
+    }
+    for (int32_t a = 1; a < samples; a++) /* insertion sort: at most 9 */
+        for (int32_t b = a; b > 0 && found[b - 1] > found[b]; b--) {
+            int32_t t = found[b];
+            found[b] = found[b - 1];
+            found[b - 1] = t;
+        }
+    int32_t count = found[samples / 2];
+    if (count < 2) {
+        bvox__warn("--markers auto: fewer than 2 markers in the sampled sections: not aligned");
+        o->markers.count = 0;
+    } else {
+        bvox__warn("--markers auto: %d markers per section (the median of %d sections)",
+                   (int)count, (int)samples);
+        o->markers.count = count;
+    }
+    return BVOX_OK;
+}
+
+static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opts,
                               const bvox_image *background, bvox_volume **volume,
                               bvox_contour_stack **stack_out, bvox_recon_report **report_out)
 {
     double t_start = now_ms();
+    bvox_recon_opts auto_opts = *opts;
+    const bvox_recon_opts *o = opts;
+    if (opts->markers.count == BVOX_MARKERS_AUTO && !opts->markers_file) {
+        bvox_status st = auto_marker_count(w, n, &auto_opts, background);
+        if (st) return st;
+        o = &auto_opts;
+    }
     bvox_status st = BVOX_OK;
     bvox_recon_report *rep = NULL;
     bvox_contour_stack *stack = NULL;

@@ -239,4 +239,12 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] || fail "no sections exited $rc"
+# --markers auto counts the 3 markers itself (said in a warning) and gives
+# the same alignment and model as --markers 3
+"$BVOX" reconstruct "$tmp/sec" --markers auto --spacing 2 --unit um -o "$tmp/auto.nii" \
+    --report "$tmp/ra.json" 2>"$tmp/err" || { cat "$tmp/err"; fail "--markers auto exited $?"; }
+grep -q '^bvox: warning: --markers auto: 3 markers per section' "$tmp/err" || { cat "$tmp/err"; fail "auto count not said"; }
+jcheck "$tmp/ra.json" 'o["fallbacks"] == 0 and all(s["markers_found"] == 3 for s in o["per_section"])' ||
+    fail "--markers auto report"
+cmp "$tmp/auto.nii" "$tmp/m.nii" || fail "--markers auto gives another model than --markers 3"
 exit 0
