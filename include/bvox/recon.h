@@ -253,6 +253,12 @@ typedef struct bvox_recon_opts {
     bvox_marker_opts markers;     /* markers.count 0: no detection (default) */
     const char *markers_file;     /* a contour stack file (bvox_stack_read) whose section i
                                      holds the markers of section i; NULL */
+    const char *marker_coords;    /* a contour stack file whose first section's markers are
+                                     where the reference section's markers belong (pixels of
+                                     the section images, in a frame of the user's: an atlas,
+                                     a block face): the aligned stack is moved into that
+                                     frame (markers matched as between sections, any turn);
+                                     NULL: the reference section's own frame */
     int align;                    /* 1 (default): align by markers when there are any */
     int32_t reference;            /* reference section; -1 (default): the middle one */
     /* geometry */

@@ -297,6 +297,38 @@ static bvox_status align_by_contours(bvox_recon_report *rep, const sec_work *w)
     return BVOX_OK;
 }
 
+/* --marker-coords: the reference section's markers matched with the given
+ * positions (any turn; the shift, turn and scale limits of the options
+ * otherwise), and every section's transform carried into that frame. */
+static bvox_status align_to_frame(bvox_recon_report *rep, const bvox_recon_opts *o)
+{
+    bvox_contour_stack *f = NULL;
+    bvox_status st = bvox_stack_read(o->marker_coords, &f);
+    if (st) return st;
+    const bvox_recon_section_report *ref = &rep->sections[rep->reference];
+    if (f->nsections < 1 || f->sections[0].nmarkers < 2) {
+        bvox_stack_destroy(f);
+        return bvox__fail(BVOX_EINVAL, "%s: needs at least 2 marker positions in its first section",
+                          o->marker_coords);
+    }
+    bvox_marker_opts mo = o->markers;
+    mo.max_angle = M_PI;
+    bvox_sim2 g;
+    int32_t matched = 0;
+    double rms = 0;
+    st = bvox_markers_match(ref->markers, ref->nmarkers > MAX_MARKERS ? MAX_MARKERS : ref->nmarkers,
+                            f->sections[0].markers, f->sections[0].nmarkers, &mo, &g, NULL,
+                            &matched, &rms);
+    bvox_stack_destroy(f);
+    if (st)
+        return bvox__fail(st, "%s: the reference section '%s' has no 2 markers that match the "
+                              "given positions",
+                          o->marker_coords, ref->name);
+    for (int32_t i = 0; i < rep->nsections; i++)
+        rep->sections[i].align.transform = bvox_sim2_compose(&g, &rep->sections[i].align.transform);
+    return BVOX_OK;
+}
+
 static bvox_xform2 to_xform(const bvox_sim2 *t)
 {
     return bvox_xform2_similarity(t->angle, t->scale, t->tx, t->ty);
@@ -495,6 +527,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opt
     double t0 = now_ms();
     if (o->align && (find_markers || mfile) && (st = align_report(rep, o))) goto done;
     if (rep->aligned && rep->fallbacks && (st = align_by_contours(rep, w))) goto done;
+    if (rep->aligned && o->marker_coords && (st = align_to_frame(rep, o))) goto done;
     rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
     progress(o, BVOX_RECON_ALIGN, n, n);
     /* the stack */
