@@ -258,7 +258,8 @@ jcheck "$tmp/rf.json" 'all(abs(o["per_section"][6]["transform"][k] - v) < 1e-3 f
     fail "reference section not put into the given frame"
 jcheck "$tmp/rf.json" 'all(abs(s["transform"]["angle_deg"] - 90) < 10 for s in o["per_section"])' ||
     fail "other sections not carried into the frame"
-"$BVOX" reconstruct "$tmp/sec" --markers 3 --marker-coords "$tmp/two.json" -o "$tmp/x.nii" 2>"$tmp/err" &&
+printf '{"sections":[{"markers":[[1,1]]}]}' >"$tmp/one.json"
+"$BVOX" reconstruct "$tmp/sec" --markers 3 --marker-coords "$tmp/one.json" -o "$tmp/x.nii" 2>"$tmp/err" &&
     fail "marker coords without markers accepted"
 grep -q "needs at least 2 marker positions" "$tmp/err" || { cat "$tmp/err"; fail "marker coords message"; }
 exit 0
