@@ -63,6 +63,8 @@ static void help(FILE *f)
           "  --svg-select SEL       SVG sections: read only elements named by SEL, a list of\n"
           "                         id:NAME, class:NAME, layer:NAME or NAME (default: every\n"
           "                         visible outline; a full-canvas background is skipped)\n"
+          "  --object NAME          a PyReconstruct .jser series: only the traces of object\n"
+          "                         NAME (default: every object)\n"
           "  --strict               refuse a contour that crosses itself (default: fill it\n"
           "                         even-odd and warn)\n"
           "  --save-contours OUT    the aligned contours: OUT.json, or a folder of SVG files\n"
@@ -361,6 +363,9 @@ int cmd_reconstruct(int argc, char **argv)
         } else if (VALUE("--svg-select")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             o.svg_select = v;
+        } else if (VALUE("--object")) {
+            if (r == CLI_ARG_BAD) goto bad_value;
+            o.object = v;
         } else if (!strcmp(arg, "--strict")) {
             o.strict = 1;
         } else if (VALUE("--save-steps")) {
