@@ -43,16 +43,23 @@
 
 #define MAX_UM 1e9      /* |coordinate| in microns */
 #define MAX_NAMES 6     /* object names listed when --object matches none */
+/* JSON values (nodes, 32 bytes each) a file may hold: 512 MiB. A list of
+ * numbers only (a trace's xs, a transform) is one node, so a series of a
+ * million traces needs about 11 million. */
+#define MAX_NODES ((size_t)1 << 24)
 
-enum { J_NULL, J_BOOL, J_NUM, J_STR, J_ARR, J_OBJ };
+/* J_NUMS: an array of numbers only, kept as its text (checked when parsed,
+ * read again by num_list). */
+enum { J_NULL, J_BOOL, J_NUM, J_STR, J_ARR, J_OBJ, J_NUMS };
 
 /* Children of an array follow `first` through `next`; an object's are
- * key, value, key, value... (n counts members). A string is raw text. */
+ * key, value, key, value... (n counts members). A string is raw text;
+ * off/len fit 32 bits as the text is at most BVOX__MAX_TEXT_BYTES. */
 typedef struct jnode {
     uint8_t type, b;
     int32_t n, first, next;
+    uint32_t off, len;
     double num;
-    size_t off, len;
 } jnode;
 
 typedef struct jdoc {
@@ -84,7 +91,9 @@ static void jws(jdoc *d)
 
 static bvox_status new_node(jdoc *d, int type, int32_t *idx)
 {
-    if (d->nnodes >= INT32_MAX - 1) return jfail(d, d->p, "too many JSON values");
+    if (d->nnodes >= MAX_NODES)
+        return jfail(d, d->p, "more than %zu JSON values (lists of numbers count as one)",
+                     MAX_NODES);
     if (!bvox__grow((void **)&d->nodes, sizeof *d->nodes, d->nnodes + 1, &d->cap, "JSON values"))
         return BVOX_ENOMEM;
     jnode *n = &d->nodes[d->nnodes];
@@ -113,13 +122,72 @@ static bvox_status jstring(jdoc *d, int32_t *idx)
     if (d->p >= d->end) return jfail(d, at, "unterminated string");
     bvox_status st = new_node(d, J_STR, idx);
     if (st) return st;
-    d->nodes[*idx].off = (size_t)(s - d->text);
-    d->nodes[*idx].len = (size_t)(d->p - s);
+    d->nodes[*idx].off = (uint32_t)(s - d->text);
+    d->nodes[*idx].len = (uint32_t)(d->p - s);
     d->p++;
     return BVOX_OK;
 }
 
 static bvox_status jvalue(jdoc *d, int depth, int32_t *idx);
+
+/* A JSON number at d->p into *v (d->p moved past it). */
+static bvox_status jnumber(jdoc *d, double *v)
+{
+    const char *s = d->p, *p = s;
+    if (p < d->end && *p == '-') p++;
+    if (p < d->end && (*p == 'N' || *p == 'I'))
+        return jfail(d, s, "NaN or Infinity is not a number bvox reads");
+    if (p >= d->end || !(*p >= '0' && *p <= '9')) return jfail(d, s, "expected a value");
+    while (p < d->end && ((*p >= '0' && *p <= '9') || *p == '.' || *p == 'e' || *p == 'E' ||
+                          *p == '+' || *p == '-'))
+        p++;
+    if (p - s > 64) return jfail(d, s, "a number of %d characters", (int)(p - s));
+    char buf[72], *e;
+    memcpy(buf, s, (size_t)(p - s));
+    buf[p - s] = '\0';
+    double x = strtod(buf, &e);
+    if (*e) return jfail(d, s, "bad number '%s'", buf);
+    if (!isfinite(x)) return jfail(d, s, "number %s out of range", buf);
+    *v = x;
+    d->p = p;
+    return BVOX_OK;
+}
+
+/* After '[': a list of numbers only, up to its ']', as one J_NUMS node;
+ * 0 (d->p unchanged) if it holds anything else. */
+static bvox_status jnums(jdoc *d, const char *open, int32_t *idx, int *done)
+{
+    const char *save = d->p;
+    int32_t count = 0;
+    *done = 0;
+    for (;;) {
+        jws(d);
+        if (d->p >= d->end || !(*d->p == '-' || (*d->p >= '0' && *d->p <= '9'))) break;
+        double v;
+        bvox_status st = jnumber(d, &v);
+        if (st) return st;
+        if (count == INT32_MAX) return jfail(d, open, "too many elements");
+        count++;
+        jws(d);
+        if (d->p < d->end && *d->p == ',') {
+            d->p++;
+            continue;
+        }
+        if (d->p < d->end && *d->p == ']') {
+            bvox_status st2 = new_node(d, J_NUMS, idx);
+            if (st2) return st2;
+            d->nodes[*idx].off = (uint32_t)(open + 1 - d->text);
+            d->nodes[*idx].len = (uint32_t)(d->p - open - 1);
+            d->nodes[*idx].n = count;
+            d->p++;
+            *done = 1;
+            return BVOX_OK;
+        }
+        break;
+    }
+    d->p = save;
+    return BVOX_OK;
+}
 
 /* An array or object: children linked in order. */
 static bvox_status jcontainer(jdoc *d, int depth, int32_t *idx)
@@ -128,7 +196,12 @@ static bvox_status jcontainer(jdoc *d, int depth, int32_t *idx)
     char close = obj ? '}' : ']';
     const char *at = d->p++;
     if (depth >= BVOX__MAX_DEPTH) return jfail(d, at, "nesting deeper than %d levels", BVOX__MAX_DEPTH);
-    bvox_status st = new_node(d, obj ? J_OBJ : J_ARR, idx);
+    bvox_status st;
+    if (!obj) {
+        int done;
+        if ((st = jnums(d, at, idx, &done)) || done) return st;
+    }
+    st = new_node(d, obj ? J_OBJ : J_ARR, idx);
     if (st) return st;
     int32_t last = -1, count = 0;
     jws(d);
@@ -187,25 +260,11 @@ static bvox_status jvalue(jdoc *d, int depth, int32_t *idx)
             return BVOX_OK;
         }
     }
-    const char *s = d->p, *p = s;
-    if (p < d->end && *p == '-') p++;
-    if (p < d->end && (*p == 'N' || *p == 'I'))
-        return jfail(d, s, "NaN or Infinity is not a number bvox reads");
-    if (p >= d->end || !(*p >= '0' && *p <= '9')) return jfail(d, s, "expected a value");
-    while (p < d->end && ((*p >= '0' && *p <= '9') || *p == '.' || *p == 'e' || *p == 'E' ||
-                          *p == '+' || *p == '-'))
-        p++;
-    if (p - s > 64) return jfail(d, s, "a number of %d characters", (int)(p - s));
-    char buf[72], *e;
-    memcpy(buf, s, (size_t)(p - s));
-    buf[p - s] = '\0';
-    double x = strtod(buf, &e);
-    if (*e) return jfail(d, s, "bad number '%s'", buf);
-    if (!isfinite(x)) return jfail(d, s, "number %s out of range", buf);
-    bvox_status st = new_node(d, J_NUM, idx);
+    double x;
+    bvox_status st = jnumber(d, &x);
     if (st) return st;
+    if ((st = new_node(d, J_NUM, idx))) return st;
     d->nodes[*idx].num = x;
-    d->p = p;
     return BVOX_OK;
 }
 
@@ -345,15 +404,15 @@ static bvox_status num_list(reader *r, int32_t i, const char *what, const char *
         }
         return BVOX_OK;
     }
-    if (N(d, i)->type != J_STR)
+    if (N(d, i)->type != J_STR && N(d, i)->type != J_NUMS)
         return bvox__fail(BVOX_EFORMAT, "%s: section %s: a trace's %s is not a list of numbers",
                           d->name, sec, what);
     const char *s = d->text + N(d, i)->off, *e = s + N(d, i)->len;
     while (s < e) {
-        while (s < e && (*s == ' ' || *s == ',' || *s == '[' || *s == ']' || *s == '\t')) s++;
+        while (s < e && strchr(" ,[]\t\r\n", *s)) s++;
         if (s >= e) break;
         const char *t = s;
-        while (t < e && *t != ' ' && *t != ',' && *t != ']' && *t != '\t') t++;
+        while (t < e && !strchr(" ,[]\t\r\n", *t)) t++;
         char buf[72], *end;
         if (t - s > 64) return jfail(d, s, "section %s: a number of %d characters", sec, (int)(t - s));
         memcpy(buf, s, (size_t)(t - s));
@@ -515,7 +574,7 @@ static bvox_status gather(reader *r, secref **out, int32_t *nout, int32_t *serie
     int32_t root = 0, secs = jget(d, root, "sections");
     *series = jget(d, root, "series");
     int32_t cap = N(d, root)->n + (secs >= 0 ? N(d, secs)->n : 0);
-    if (secs >= 0 && N(d, secs)->type != J_ARR)
+    if (secs >= 0 && N(d, secs)->type != J_ARR && N(d, secs)->type != J_NUMS)
         return bvox__fail(BVOX_EFORMAT, "%s: \"sections\" is not a list", d->name);
     secref *v = bvox__mem_alloc((size_t)(cap > 0 ? cap : 1) * sizeof *v);
     if (!v) return bvox__fail(BVOX_ENOMEM, "out of memory");
