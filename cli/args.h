@@ -9,6 +9,7 @@
 #define BVOX_CLI_ARGS_H
 
 #include "bvox.h"
+#include "opts.h"
 
 #include <stddef.h>
 #include <stdio.h>
@@ -44,6 +45,25 @@ int cli_parse_shared_option(const char *cmd, int argc, char **argv, int *i, cli_
 /* Help text of the options above, for the subcommands' --help. */
 void cli_print_read_options_help(FILE *f);
 void cli_print_process_options_help(FILE *f);
+
+/* The read options as three groups of options (binarisation, raw layout,
+ * geometry), for a cli_read_args inside a command's args, and the process
+ * options (--max-memory, --threads: applied at once, they are process-wide). */
+extern const cli_group cli_read_groups[3];
+extern const cli_group cli_process_group;
+#define CLI_USE_READ(type, member)                                                          \
+    {&cli_read_groups[0], offsetof(type, member)}, {&cli_read_groups[1], offsetof(type, member)}, \
+    {&cli_read_groups[2], offsetof(type, member)}
+#define CLI_USE_PROCESS {&cli_process_group, 0}
+/* Takers of --dims, --voxel-size and --unit into a cli_read_args (for
+ * commands that build a grid from them without reading). */
+int cli_take_dims(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+int cli_take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+int cli_take_unit(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+/* --output-format NAME into the const char * member of type. */
+#define CLI_OPT_OUTPUT_FORMAT(type, member)                                                 \
+    {"--output-format", 0, CLI_STR, "NAME", "force the output format ({formats})",           \
+     CLI_AT(type, member)}
 
 /* bvox_read with the parsed options, then the --voxel-size/--unit override
  * (a PNG stack or an uncalibrated TIFF has no z spacing of its own). */
