@@ -308,6 +308,9 @@ const cli_group cli_read_groups[3] = {
     {"Geometry (raw input, or to override what a file says)", geometry_opts, NULL},
 };
 
+const char *const cli_conn_choices[] = {"6", "18", "26", NULL};
+const char *const cli_mesh_formats[] = {"stl", "ply", "obj", "off", NULL};
+
 /* ------------------------------------------------------------ process options */
 
 static int take_max_memory(const char *cmd, const cli_opt *o, const char *v, void *t)

@@ -60,6 +60,10 @@ extern const cli_group cli_process_group;
 int cli_take_dims(const char *cmd, const cli_opt *o, const char *v, void *read_args);
 int cli_take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *read_args);
 int cli_take_unit(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+/* "6", "18", "26": the connectivities of --conn. */
+extern const char *const cli_conn_choices[];
+/* "stl", "ply", "obj", "off": the mesh formats (--mesh-format). */
+extern const char *const cli_mesh_formats[];
 /* --output-format NAME into the const char * member of type. */
 #define CLI_OPT_OUTPUT_FORMAT(type, member)                                                 \
     {"--output-format", 0, CLI_STR, "NAME", "force the output format ({formats})",           \
