@@ -173,8 +173,7 @@ void cli_read_args_init(cli_read_args *a)
     a->opts = init;
 }
 
-#define STR_(x) #x
-#define STR(x) STR_(x)
+_Static_assert(BVOX_MAX_DIM == 65535, "CLI_BAD_DIMS names BVOX_MAX_DIM");
 
 /* One binarisation chosen: mode set, and only one of them on a command line. */
 static int binarize_chosen(const char *cmd, cli_read_args *a, bvox_binarize_mode mode)
@@ -284,7 +283,7 @@ static const char *const endians[] = {"little", "big", NULL};
 
 static const cli_opt raw_opts[] = {
     {"--dims", 0, CLI_STR, "NX,NY,NZ", "dimensions in voxels", WHOLE, .fn = cli_take_dims,
-     .bad = "--dims: '%s' is not NX,NY,NZ with each in 1.." STR(BVOX_MAX_DIM)},
+     .bad = CLI_BAD_DIMS},
     {"--type", 0, CLI_STR, "T", "u8 i8 u16 i16 u32 i32 u64 i64 f32 f64", WHOLE, .fn = take_type,
      .bad = "--type: unknown sample type '%s'"},
     {"--endian", 0, CLI_CHOICE, NULL, "byte order", R(opts.raw_big_endian), .def = "little",
@@ -296,9 +295,9 @@ static const cli_opt raw_opts[] = {
 
 static const cli_opt geometry_opts[] = {
     {"--voxel-size", 0, CLI_TRIPLE, "SX,SY,SZ", "voxel size in physical units", WHOLE,
-     .fn = cli_take_voxel_size, .bad = "--voxel-size: '%s' is not SX,SY,SZ (each > 0)"},
+     .fn = cli_take_voxel_size, .bad = CLI_BAD_VOXEL_SIZE},
     {"--unit", 0, CLI_STR, "U", "length unit, e.g. mm or um", WHOLE, .fn = cli_take_unit,
-     .bad = "--unit: '%s' is too long"},
+     .bad = CLI_BAD_UNIT},
     {NULL},
 };
 

@@ -60,6 +60,10 @@ extern const cli_group cli_process_group;
 int cli_take_dims(const char *cmd, const cli_opt *o, const char *v, void *read_args);
 int cli_take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *read_args);
 int cli_take_unit(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+/* The messages of a bad --dims, --voxel-size, --unit (one %s: the value). */
+#define CLI_BAD_DIMS "--dims: '%s' is not NX,NY,NZ with each in 1..65535" /* BVOX_MAX_DIM */
+#define CLI_BAD_VOXEL_SIZE "--voxel-size: '%s' is not SX,SY,SZ (each > 0)"
+#define CLI_BAD_UNIT "--unit: '%s' is too long"
 /* "6", "18", "26": the connectivities of --conn. */
 extern const char *const cli_conn_choices[];
 /* "stl", "ply", "obj", "off": the mesh formats (--mesh-format). */

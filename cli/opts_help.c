@@ -56,6 +56,12 @@ static void print_option(FILE *f, const cli_opt *o)
     }
 }
 
+static void close_group(FILE *f, const cli_spec *s, int use, int home)
+{
+    if (use == home) print_option(f, &help_opt);
+    if (s->uses[use].group && s->uses[use].group->note) fputs(s->uses[use].group->note, f);
+}
+
 void cli_print_help(FILE *f, const cli_spec *s)
 {
     const char *u = s->usage;
@@ -68,21 +74,26 @@ void cli_print_help(FILE *f, const cli_spec *s)
     if (s->about) fprintf(f, "\n%s", s->about);
     for (const cli_section *sec = s->sections; sec && sec->title; sec++)
         fprintf(f, "\n%s:\n%s", sec->title, sec->text);
+    /* The --help line closes the group called "Options" (else the first). */
+    int home = 0;
+    for (int k = 0; k < CLI_MAX_USES && s->uses[k].group; k++)
+        if (!strcmp(s->uses[k].group->title, "Options")) {
+            home = k;
+            break;
+        }
     int use = 0, index = 0, last = -1;
     const cli_group *g = NULL;
     const cli_opt *o;
     while ((o = cli_next_option(s, &use, &index, &g))) {
         if (use != last) {
-            if (last == 0) print_option(f, &help_opt);
-            if (last >= 0 && s->uses[last].group->note) fputs(s->uses[last].group->note, f);
+            if (last >= 0) close_group(f, s, last, home);
             fprintf(f, "\n%s:\n", g->title);
             last = use;
         }
         print_option(f, o);
     }
     if (last < 0) fputs("\nOptions:\n", f);
-    if (last <= 0) print_option(f, &help_opt);
-    if (last >= 0 && s->uses[last].group->note) fputs(s->uses[last].group->note, f);
+    close_group(f, s, last < 0 ? home : last, home);
     if (s->notes) fprintf(f, "\n%s", s->notes);
     if (s->examples)
         fprintf(f, "\nExample%s:\n%s", strchr(s->examples, '\n') != strrchr(s->examples, '\n')
