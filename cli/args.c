@@ -1,5 +1,6 @@
 /*
- * args.c — the option parsing shared by every subcommand (see args.h), and
+ * args.c — the options shared by the subcommands (see args.h): the read and
+ * process option groups, strict number parsing, and
  * the two ways a command reports a problem: cli_fail for a failed library
  * call (exit 1), cli_usage_error for a wrong command line (exit 2).
  */
@@ -32,9 +33,6 @@ int cli_usage_error(const char *cmd, const char *fmt, ...)
     va_end(ap);
     return CLI_USAGE;
 }
-
-/* A usage error inside an option parser: print it, answer CLI_ARG_BAD. */
-#define BAD(...) (cli_usage_error(cmd, __VA_ARGS__), CLI_ARG_BAD)
 
 /* ------------------------------------------------------------ numbers */
 
@@ -127,42 +125,6 @@ int cli_parse_triple(const char *s, double out[3])
 /* ------------------------------------------------------------ matching */
 
 int cli_is_option(const char *arg) { return arg[0] == '-' && arg[1] != '\0'; }
-
-int cli_parse_input_arg(const char *cmd, const char *arg, int *options_done, const char **in,
-                        void (*help)(FILE *))
-{
-    if (*options_done || !cli_is_option(arg)) {
-        if (*in) return BAD("unexpected argument '%s'", arg);
-        *in = arg;
-    } else if (!strcmp(arg, "--")) {
-        *options_done = 1;
-    } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-        help(stdout);
-        return CLI_ARG_HELP;
-    } else {
-        return CLI_ARG_NOT_MINE;
-    }
-    return CLI_ARG_USED;
-}
-
-int cli_match_value(const char *cmd, int argc, char **argv, int *i, const char *name,
-                    const char **value)
-{
-    const char *arg = argv[*i];
-    size_t n = strlen(name);
-    if (strncmp(arg, name, n) != 0) return CLI_ARG_NOT_MINE;
-    if (arg[n] == '=') {
-        *value = arg + n + 1;
-        return CLI_ARG_USED;
-    }
-    if (arg[n] != '\0') return CLI_ARG_NOT_MINE;
-    if (*i + 1 >= argc) {
-        cli_usage_error(cmd, "option %s needs a value", name);
-        return CLI_ARG_BAD;
-    }
-    *value = argv[++*i];
-    return CLI_ARG_USED;
-}
 
 /* ------------------------------------------------------------ read options */
 
@@ -310,6 +272,17 @@ const cli_group cli_read_groups[3] = {
 const char *const cli_conn_choices[] = {"6", "18", "26", NULL};
 const char *const cli_mesh_formats[] = {"stl", "ply", "obj", "off", NULL};
 
+const char *const cli_filter_choices[] = {"highpass", "smooth", "laplace", "sobel", NULL};
+
+/* The filter names of the CLI: the library's, and "laplace". */
+int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    int f = !strcmp(v, "laplace") ? BVOX_FILTER_LAPLACIAN : bvox_filter_parse(v);
+    if (f < 0) return CLI_OPT_BAD;
+    *(int *)target = f;
+    return CLI_OPT_OK;
+}
+
 /* ------------------------------------------------------------ process options */
 
 static int take_max_memory(const char *cmd, const cli_opt *o, const char *v, void *t)
@@ -360,21 +333,6 @@ bvox_status cli_read_volume(const char *path, const cli_read_args *a, bvox_volum
 const char *cli_input_format(const char *path, const cli_read_args *a)
 {
     return a->opts.format ? a->opts.format : bvox_format_for_path(path);
-}
-
-int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, const char **out,
-                            bvox_write_opts *wo)
-{
-    const char *v = NULL;
-    int r;
-    if ((r = cli_match_value(cmd, argc, argv, i, "-o", &v)) ||
-        (r = cli_match_value(cmd, argc, argv, i, "--output", &v))) {
-        if (r == CLI_ARG_USED) *out = v;
-        return r;
-    }
-    if ((r = cli_match_value(cmd, argc, argv, i, "--output-format", &v)) == CLI_ARG_USED)
-        wo->format = v;
-    return r;
 }
 
 /* mkdir -p: create dir and its missing parents. 0 on success, else errno. */

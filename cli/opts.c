@@ -209,10 +209,12 @@ int cli_parse(const cli_spec *s, int argc, char **argv, void *vargs)
     const char *cmd = s->name;
     int use = 0, index = 0, npos = 0, done = 0, r;
     const cli_opt *o;
+    /* Defaults through the options' own takers, so that the table's word is
+     * the one that counts. */
     while ((o = cli_next_option(s, &use, &index, NULL)))
-        if (o->def && !o->fn && o->kind != CLI_FLAG &&
-            store(o, o->def, args + s->uses[use].base + o->offset) != CLI_OPT_OK)
-            return cli_usage_error(cmd, "%s: bad default '%s' in the table", o->name, o->def);
+        if (o->def && o->kind != CLI_FLAG &&
+            take(cmd, o, o->def, args, s->uses[use].base) != CLI_PARSED)
+            return CLI_PARSE_ERROR;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i], *v = NULL;
         size_t base = 0;

@@ -63,8 +63,8 @@ typedef struct cli_opt {
     const char *help;    /* one line, wrapped by the generators; "{formats}" is
                             replaced by the list of file formats */
     size_t offset, size; /* the field in the args struct (CLI_AT) */
-    const char *def;     /* default: shown, and parsed into the field before
-                            the command line when there is no callback */
+    const char *def;     /* default: shown, and taken (parsed or given to fn)
+                            before the command line */
     int flags;
     int64_t lo, hi;      /* CLI_INT bounds */
     double min, max;     /* CLI_DOUBLE / CLI_TRIPLE bounds (see flags) */
@@ -160,7 +160,7 @@ void cli_opt_help_text(const cli_opt *o, char *buf, size_t size);
 
 /* Generators (opts_help.c, gen_man.c, gen_completion.c). */
 void cli_print_help(FILE *f, const cli_spec *spec);
-void cli_print_man(FILE *f, const cli_spec *spec, const char *date);
+void cli_print_man(FILE *f, const cli_spec *spec);
 
 /* The whole program, for `bvox help --man` and completion: the commands in
  * the order of `bvox --help`, and the global options. */
@@ -170,7 +170,7 @@ typedef struct cli_program {
     const cli_group *global;
 } cli_program;
 void cli_print_program_help(FILE *f, const cli_program *p);
-void cli_print_program_man(FILE *f, const cli_program *p, const char *date);
+void cli_print_program_man(FILE *f, const cli_program *p);
 void cli_print_completion(FILE *f, const cli_program *p);
 
 #endif
