@@ -28,6 +28,15 @@ static void roff_text(FILE *f, const char *s, size_t n, int line_start)
 
 static void roff_str(FILE *f, const char *s) { roff_text(f, s, strlen(s), 0); }
 
+/* An option's name: every '-' a minus sign, so that it can be typed as read. */
+static void roff_option(FILE *f, const char *name)
+{
+    for (; *name; name++) {
+        if (*name == '-') fputs("\\-", f);
+        else fputc(*name, f);
+    }
+}
+
 /* Text made of lines ending in '\n', paragraphs parted by empty lines. */
 static void roff_prose(FILE *f, const char *text)
 {
@@ -75,7 +84,7 @@ static void print_option(FILE *f, const cli_opt *o)
     fputs(".TP\n", f);
     if (o->alias) fprintf(f, "\\fB\\-%c\\fR, ", o->alias);
     fputs("\\fB", f);
-    roff_text(f, o->name, strlen(o->name), 0);
+    roff_option(f, o->name);
     fputs("\\fR", f);
     if (m) {
         fputs(" \\fI", f);
