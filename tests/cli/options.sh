@@ -88,6 +88,21 @@ for c in $cmds; do
     done
 done
 
+# The parser's forms: --name=VALUE and -o=VALUE, a missing value, "--"
+# ending the options, a flag that is given a value.
+run info a.nii --threshold=abc
+[ "$rc" -eq 2 ] && grep -q "^bvox: info: --threshold: 'abc' is not a finite number" "$tmp/err" ||
+    fail "--threshold=abc: $(cat "$tmp/err")"
+run info a.nii --threshold
+[ "$rc" -eq 2 ] && grep -q "^bvox: info: option --threshold needs a value" "$tmp/err" ||
+    fail "--threshold without a value: $(cat "$tmp/err")"
+run mesh a.nii -o=b.xyz
+[ "$rc" -eq 2 ] && grep -q "b.xyz: the extension must be" "$tmp/err" || fail "-o=b.xyz: $(cat "$tmp/err")"
+run info -- --json
+[ "$rc" -eq 1 ] && grep -q -- "--json" "$tmp/err" || fail "info -- --json: $(cat "$tmp/err")"
+run info a.nii --json=1
+[ "$rc" -eq 2 ] && grep -q "unknown option '--json=1'" "$tmp/err" || fail "--json=1: $(cat "$tmp/err")"
+
 # Manual pages: bvox(1) names every command; bvox-CMD(1) every option of
 # CMD's --help (long names; -h and the aliases are in the same lines).
 "$BVOX" help --man >"$tmp/bvox.1" || fail "help --man exited $?"
