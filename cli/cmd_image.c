@@ -32,7 +32,8 @@ static const cli_opt image_opts[] = {
      .hi = 8, .choices = factors, .bad = "--factor: '%s' is not 1, 2, 4 or 8"},
     {"--filter", 0, CLI_CHOICE, "F", "filter: a named 3x3 filter", A(filter),
      .choices = cli_filter_choices, .fn = cli_take_filter, .bad = CLI_BAD_FILTER},
-    {"--kernel", 0, CLI_STR, "K1,...,K9", "filter: a 3x3 kernel, row by row", A(kernel),
+    {"--kernel", 0, CLI_STR, "K1,...,K9", "filter: a 3x3 kernel, row by row",
+     .offset = 0, .size = sizeof(image_args),
      .fn = take_kernel, .bad = "--kernel: '%s' is not 9 integers K1,...,K9"},
     {"--divisor", 0, CLI_INT, "D", "filter: the kernel's sum is divided by D", A(divisor),
      .def = "1", .fn = take_divisor, .bad = "--divisor: '%s' is not a non-zero integer"},
@@ -95,7 +96,7 @@ static const char *const ops[] = {"zoom", "average", "filter", "pan", "colormap"
 
 static int take_kernel(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
-    image_args *a = (image_args *)((char *)target - offsetof(image_args, kernel));
+    image_args *a = target; /* the whole args: kernel and kernel_given */
     if (parse_ints(v, 9, -65536, 65536, a->kernel)) return CLI_OPT_BAD;
     a->kernel_given = 1;
     return CLI_OPT_OK;
