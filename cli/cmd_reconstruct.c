@@ -111,6 +111,13 @@ static int take_unit(const char *cmd, const cli_opt *o, const char *v, void *tar
     return CLI_OPT_OK;
 }
 
+static int take_quiet(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    *(int *)target = 1;
+    bvox_set_warning_handler(NULL, NULL);
+    return CLI_OPT_OK;
+}
+
 static const cli_opt recon_opts[] = {
     {"--output", 'o', CLI_PATH, "MODEL",
      "the model (format by extension: .nii, .nii.gz, .tif, ...)", A(out)},
@@ -163,6 +170,13 @@ static const cli_opt recon_opts[] = {
     {"--smooth-contours", 0, CLI_INT, "N", "moving average over 2N+1 contour points (area kept)",
      A(o.contour_smooth), .lo = 0, .hi = 1000,
      .bad = "--smooth-contours: '%s' is not a radius 0..1000"},
+    {"--svg-select", 0, CLI_STR, "SEL",
+     "SVG sections: read only elements named by SEL, a list of id:NAME, class:NAME, "
+     "layer:NAME or NAME (default: every visible outline; a full-canvas background is "
+     "skipped)",
+     A(o.svg_select)},
+    {"--strict", 0, CLI_FLAG, NULL,
+     "refuse a contour that crosses itself (default: fill it even-odd and warn)", A(o.strict)},
     {"--save-contours", 0, CLI_PATH, "OUT",
      "the aligned contours: OUT.json, or a folder of SVG files", A(save)},
     {"--report", 0, CLI_PATH, "REPORT.json",
@@ -172,7 +186,10 @@ static const cli_opt recon_opts[] = {
      "each section's steps as PNG files in the folder DIR (created): NAME.1_flat.png "
      "(background corrected), NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png",
      A(o.save_steps), .flags = CLI_DIR},
-    {"--quiet", 'q', CLI_FLAG, NULL, "no progress on stderr", A(quiet)},
+    /* --quiet itself is the global one (main.c takes it out of the line); -q
+     * is this command's, kept from before --quiet was global */
+    {"--quiet", 'q', CLI_FLAG, NULL, "no progress and no warnings on stderr", A(quiet),
+     .fn = take_quiet},
     {"--output-format", 0, CLI_STR, "NAME", "force the model's format ({formats})", A(wo.format)},
     {NULL},
 };
@@ -380,7 +397,7 @@ int cmd_reconstruct(int argc, char **argv)
     if (a.thr_given && a.otsu_given) USAGE("--threshold and --otsu exclude each other");
     if (a.markers_given > 1) USAGE("--markers and --markers-file exclude each other");
     if (a.bg_given > 1) USAGE("--background and --no-background exclude each other");
-    int quiet = a.quiet;
+    int quiet = a.quiet || cli_quiet;
     progress_state ps = {isatty(2), -1, 0};
     if (!quiet) {
         o.progress = on_progress;
@@ -402,7 +419,7 @@ int cmd_reconstruct(int argc, char **argv)
     free(inputs);
     if (st) return cli_fail();
     int rc = CLI_OK;
-    for (int32_t i = 0; i < rep->nsections; i++)
+    for (int32_t i = 0; i < rep->nsections && !quiet; i++)
         if (rep->sections[i].message[0])
             fprintf(stderr, "bvox: warning: %s\n", rep->sections[i].message);
     if (out && bvox_write(out, vol, &a.wo)) rc = cli_fail();

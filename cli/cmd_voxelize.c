@@ -7,13 +7,16 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "manip.h"
 #include "opts.h"
 
 #include <string.h>
 
 typedef struct voxelize_args {
-    const char *in, *out, *fmt;
+    const char *in, *out, *fmt, *like;
     bvox_voxelize_opts vo;
+    bvox_dims grid_dims; /* --dims (nx 0: not given) */
+    cli_grid origin;     /* --origin */
     bvox_write_opts wo;
 } voxelize_args;
 
@@ -30,6 +33,28 @@ static int take_unit(const char *cmd, const cli_opt *o, const char *v, void *tar
     return CLI_OPT_OK;
 }
 
+/* S (cubic voxels) or SX,SY,SZ (anisotropic voxels). */
+static int take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    bvox_voxelize_opts *vo = target;
+    if (strchr(v, ',')) {
+        if (cli_parse_triple(v, vo->spacing) || !(vo->spacing[0] > 0) || !(vo->spacing[1] > 0) ||
+            !(vo->spacing[2] > 0)) {
+            cli_usage_error(cmd, "--voxel-size needs S or SX,SY,SZ > 0, not '%s'", v);
+            return CLI_OPT_FAILED;
+        }
+    } else if (cli_parse_double(v, &vo->voxel_size) || !(vo->voxel_size > 0)) {
+        cli_usage_error(cmd, "--voxel-size needs a positive number, not '%s'", v);
+        return CLI_OPT_FAILED;
+    }
+    return CLI_OPT_OK;
+}
+
+static int take_dims(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    return cli_parse_dims(v, target) ? CLI_OPT_BAD : CLI_OPT_OK;
+}
+
 #define STR_(x) #x
 #define STR(x) STR_(x)
 
@@ -37,9 +62,18 @@ static const cli_opt voxelize_opts[] = {
     {"--output", 'o', CLI_PATH, "OUT", "the volume file (format by extension)", A(out)},
     {"--res", 0, CLI_INT, "N", "N voxels along the longest side of the bounding box", A(vo.res),
      .lo = 1, .hi = BVOX_MAX_DIM, .bad = "--res needs an integer 1.." STR(BVOX_MAX_DIM) ", not '%s'"},
-    {"--voxel-size", 0, CLI_DOUBLE, "S", "or the voxel size in mesh units (cubic voxels)",
-     A(vo.voxel_size), .flags = CLI_MIN_OPEN, .min = 0,
-     .bad = "--voxel-size needs a positive number, not '%s'"},
+    {"--voxel-size", 0, CLI_STR, "S",
+     "or the voxel size in mesh units (cubic voxels), or SX,SY,SZ for anisotropic voxels",
+     A(vo), .fn = take_voxel_size},
+    {"--like", 0, CLI_PATH, "IMAGE",
+     "or the grid of an existing image (its dimensions, voxel size, origin, axes and unit), to "
+     "overlay the two",
+     A(like)},
+    {"--dims", 0, CLI_STR, "NX,NY,NZ",
+     "with --origin and --voxel-size: a grid given in full (mesh parts outside are cut)",
+     A(grid_dims), .fn = take_dims, .bad = "--dims needs NX,NY,NZ, not '%s'"},
+    {"--origin", 0, CLI_TRIPLE, "X,Y,Z", "with --dims: the centre of voxel (0,0,0)", A(origin),
+     .fn = cli_take_origin, .bad = "--origin needs X,Y,Z, not '%s'"},
     {"--shell", 0, CLI_FLAG, NULL, "only the voxels the surface passes through", A(vo.shell)},
     {"--unit", 0, CLI_STR, "NAME", "unit of the mesh coordinates, stored in OUT (e.g. mm)",
      A(vo), .fn = take_unit},
@@ -57,7 +91,7 @@ static const cli_pos voxelize_pos[] = {
 const cli_spec cli_spec_voxelize = {
     .name = "voxelize",
     .summary = "triangle mesh (STL, OBJ, PLY, OFF) -> volume, solid or shell",
-    .usage = "MESH -o OUT (--res N | --voxel-size S) [--shell] [options]",
+    .usage = "MESH -o OUT (--res N | --voxel-size S | --like IMAGE) [--shell] [options]",
     .about = "Turn a triangle mesh (STL, OBJ, PLY, OFF) into a binary volume: a voxel is set\n"
              "when its centre is inside the mesh (exact, robust to vertices and edges on\n"
              "the sampling lines), or with --shell when the surface passes through it. The\n"
@@ -77,12 +111,40 @@ int cmd_voxelize(int argc, char **argv)
     const char *cmd = "voxelize";
     voxelize_args a = {.wo = BVOX_WRITE_OPTS_INIT};
     CLI_PARSE_OR_RETURN(&cli_spec_voxelize, argc, argv, &a);
-    const char *in = a.in, *out = a.out, *fmt = a.fmt;
+    const char *in = a.in, *out = a.out, *fmt = a.fmt, *like = a.like;
     bvox_voxelize_opts vo = a.vo;
+    int have_dims = a.grid_dims.nx > 0, have_origin = a.origin.origin_given;
+    bvox_dims grid_dims = a.grid_dims;
+    const double *origin = a.origin.origin;
+    bvox_geometry grid = bvox_geometry_default();
     if (!in) return cli_usage_error(cmd, "needs MESH");
     if (!out) return cli_usage_error(cmd, "needs -o OUT");
-    if ((vo.res > 0) == (vo.voxel_size > 0))
-        return cli_usage_error(cmd, "give one of --res N or --voxel-size S");
+    if (like && (vo.res > 0 || vo.voxel_size > 0 || vo.spacing[0] > 0 || have_dims || have_origin))
+        return cli_usage_error(cmd, "--like takes the whole grid from IMAGE: no --res, "
+                                    "--voxel-size, --dims or --origin with it");
+    if ((have_dims || have_origin) && !(have_dims && have_origin && (vo.voxel_size > 0 ||
+                                                                   vo.spacing[0] > 0)))
+        return cli_usage_error(cmd, "a grid needs all of --dims, --origin and --voxel-size");
+    if (!like && (vo.res > 0) + (vo.voxel_size > 0) + (vo.spacing[0] > 0) != 1)
+        return cli_usage_error(cmd, "give one of --res N, --voxel-size S or --like IMAGE");
+    if (like) {
+        bvox_volume *ref = NULL;
+        if (bvox_read(like, NULL, &ref)) return cli_fail();
+        grid = *bvox_volume_geometry(ref);
+        grid_dims = bvox_volume_dims(ref);
+        bvox_volume_destroy(ref);
+        vo.grid = &grid;
+        vo.grid_dims = grid_dims;
+    } else if (have_dims) { /* the grid given in full: voxel (0,0,0)'s centre at --origin */
+        for (int k = 0; k < 3; k++) {
+            grid.spacing[k] = vo.voxel_size > 0 ? vo.voxel_size : vo.spacing[k];
+            grid.origin[k] = origin[k];
+        }
+        vo.voxel_size = 0;
+        memset(vo.spacing, 0, sizeof vo.spacing);
+        vo.grid = &grid;
+        vo.grid_dims = grid_dims;
+    }
     if (!a.wo.format && !bvox_format_for_path(out))
         return cli_usage_error(cmd,
                                "%s: cannot tell the output format from the name; use "

@@ -59,6 +59,9 @@ static const cli_opt global_opts[] = {
     {"--help", 'h', CLI_FLAG, NULL, "show this help ('bvox COMMAND --help' for a command)",
      .offset = 0},
     {"--version", 'V', CLI_FLAG, NULL, "show the version and the SIMD level in use", .offset = 0},
+    /* taken out of the line by take_quiet before any command parses it */
+    {"--quiet", 0, CLI_FLAG, NULL, "no warnings on stderr (errors are still printed)",
+     .offset = 0},
     {NULL},
 };
 static const cli_group global_group = {"Global options", global_opts, NULL};
@@ -109,6 +112,35 @@ static int help_command(int argc, char **argv)
     return c->run(2, sub);
 }
 
+/* Library warnings: one line each on stderr, "bvox: warning: ...". */
+static void print_warning(const char *message, void *user)
+{
+    (void)user;
+    fprintf(stderr, "bvox: warning: %s\n", message);
+}
+
+/* --quiet is global: accepted anywhere on the line, removed before the
+ * command sees its arguments. Returns the new argc. */
+static int take_quiet(int argc, char **argv, int *quiet)
+{
+    int n = 0;
+    for (int i = 0; i < argc; i++) {
+        if (i > 0 && !strcmp(argv[i], "--")) { /* operands from here on */
+            while (i < argc) argv[n++] = argv[i++];
+            break;
+        }
+        if (i > 0 && !strcmp(argv[i], "--quiet")) {
+            *quiet = 1;
+            continue;
+        }
+        argv[n++] = argv[i];
+    }
+    argv[n] = NULL;
+    return n;
+}
+
+int cli_quiet;
+
 static void version(void)
 {
     bvox_simd level = bvox_simd_active();
@@ -118,6 +150,8 @@ static void version(void)
 
 int main(int argc, char **argv)
 {
+    argc = take_quiet(argc, argv, &cli_quiet);
+    if (!cli_quiet) bvox_set_warning_handler(print_warning, NULL);
     if (argc < 2) {
         help(stderr);
         return CLI_USAGE;

@@ -48,6 +48,20 @@ const char *bvox_status_name(bvox_status status);
  * valid until the next bvox call in this thread. */
 const char *bvox_errmsg(void);
 
+/* Warnings: the library never prints. Where it makes an assumption the user
+ * should know about (a missing voxel size taken as 1, an SVG element skipped,
+ * a self-crossing contour repaired), it formats one line without a trailing
+ * newline ("section 3: contour 2 crosses itself at (10.5, 4); filled by ...")
+ * and passes it to the handler set here; with no handler the warning is
+ * dropped. The handler belongs to the calling thread (a thread-local setting:
+ * set it in each thread that wants warnings); warnings are raised only in the
+ * thread that called the library function. fn NULL removes the handler. */
+typedef void (*bvox_warning_fn)(const char *message, void *user);
+void bvox_set_warning_handler(bvox_warning_fn fn, void *user);
+/* Number of warnings raised in this thread since it started (handler or not):
+ * lets a caller tell whether a call warned. */
+uint64_t bvox_warning_count(void);
+
 /* The library version, e.g. "0.1.0". */
 const char *bvox_version(void);
 
@@ -112,6 +126,11 @@ typedef struct bvox_geometry {
     double origin[3];
     double direction[9];
     char unit[16];
+    /* The space the origin and direction are in, as NIfTI's xform codes: 0
+     * unknown (bvox writes scanner), 1 scanner, 2 aligned, 3 Talairach, 4
+     * MNI-152. Read from NIfTI's sform (else qform) code and written back, so
+     * an MNI atlas stays MNI through convert; other formats keep 0. */
+    int32_t space;
 } bvox_geometry;
 
 /* spacing 1, origin 0, identity direction, empty unit. */
@@ -457,7 +476,12 @@ typedef struct bvox_measures {
     double principal_moments[3];
     double principal_inertia[3];
     double equivalent_diameter; /* of the sphere of the same volume: (6V/pi)^(1/3) */
-    double sphericity;      /* pi^(1/3) (6V)^(2/3) / area: 1 for a ball, less otherwise */
+    /* pi^(1/3) (6V)^(2/3) / area: 1 for a ball, less otherwise. Never above 1:
+     * the smooth area estimate is within about 0.5 % on round objects, so a
+     * ball may come out a little above 1 and is reported as 1. NaN (JSON
+     * null) below BVOX_SPHERICITY_MIN_VOXELS voxels, where the estimate errs
+     * by 2-17 % (a 2x2x2 cube would read 1.17); 0 for an empty volume. */
+    double sphericity;
     /* Topology with 26-connectivity for the object and 6-connectivity for the
      * background (scikit-image's euler_number(connectivity=3), the Euler
      * characteristic of the union of the closed voxel cubes):
@@ -468,7 +492,13 @@ typedef struct bvox_measures {
                                the border of the volume */
     int64_t tunnels;        /* components + cavities - euler (the genus for
                                one component without cavities) */
+    int64_t cavities_26;    /* the same cavities counted with 26-connectivity for the
+                               background (the pairing of a 6-connected object): at
+                               most cavities, since diagonal steps join more */
 } bvox_measures;
+
+/* Fewer voxels than this: sphericity is NaN (not estimated). */
+#define BVOX_SPHERICITY_MIN_VOXELS 1000
 
 /* All the measures of vol. Runs on whole words (split over the worker
  * threads) plus two labellings (the object, the complement) for the
@@ -553,7 +583,9 @@ int bvox_view_parse(const char *name);
 
 /* A pre-image: per pixel the depth of the first 1-voxel and its code. Made
  * and released by the library (bvox_preimage_destroy); depth and code may be
- * edited in place, the other fields must not be changed. */
+ * edited in place, the other fields must not be changed. A caller may also
+ * fill one over its own arrays (a crop of a library-made pre-image, as the
+ * viewer's pane) to pass to the shading calls; it then frees them itself. */
 typedef struct bvox_preimage {
     int32_t width, height;
     int32_t *depth;       /* width*height, row-major; -1 for background */
@@ -762,6 +794,72 @@ const char *bvox_shade_mode_name(bvox_shade_mode mode); /* "depth", "binary", "g
                                                            "binary+depth" */
 int bvox_shade_mode_parse(const char *name);            /* -1 if unknown */
 
+/* Shading codes and colour tables: the paper's split kept for interactive
+ * display. A pre-image is turned once into a 16-bit shading code per pixel
+ * (bvox_shade_codes, for one mode); a colour table of BVOX_SCODES entries
+ * (bvox_shade_table_build) maps codes to RGB (bvox_shade_table_apply). A new
+ * light, depth curve, tint or colour rebuilds only the table (8193 entries),
+ * never the codes; a new view or mode remakes the codes. The codes by mode:
+ *   depth:        d * 255 / (depth_range - 1), 0..255 (256 depth levels)
+ *   binary:       the pre-image's code (normal index | 3-bit cue << 5)
+ *   gradient:     the Sobel normal of the depth map (physical units, as
+ *                 bvox_shade_gradient), its right and up components (-1..1)
+ *                 in 64 bins each: bx + 64 by, 0..4095
+ *   binary+depth: normal index | min(15, d * 16 / depth_range) << 5, 0..511;
+ *                 the table darkens level t by 1 - k (t + 0.5) / 16, k =
+ *                 light.depth_cue or 0.5 when that is 0
+ *   cut face:     BVOX_SCODE_CUT | d * 255 / (depth_range - 1): pixels whose
+ *                 entry point lies within half a voxel's extent plus half a
+ *                 depth step of the plane, counted into the kept side (as
+ *                 bvox_render's projections: every face the cut exposed,
+ *                 and a thin rim of the old surface beside it); lit flat by the plane's normal (depth mode:
+ *                 its depth shade, binary+depth: times its depth factor) and
+ *                 tinted with cut_color
+ *   background:   BVOX_SCODE_BACKGROUND
+ * Later modes and per-object colours plug in here: a mode adds its code
+ * layout below BVOX_SCODE_CUT and its table entries; an object's colour is
+ * `color` (one table per colour; white keeps the gray shades exactly). */
+#define BVOX_SCODE_CUT 4096
+#define BVOX_SCODE_BACKGROUND 8192
+#define BVOX_SCODES 8193
+typedef struct bvox_shade_opts {
+    bvox_shade_mode mode;
+    bvox_light light;           /* binary, gradient, binary+depth, cut face */
+    bvox_depth_shading depth;   /* depth mode (its background is not used) */
+    int cut;                    /* 1: mark and light the cut face */
+    /* The cut plane m . p + e = 0, p in the pre-image's frame (voxel (i, j, k)
+     * at (i sx, j sy, k sz)), m = plane[0..2] (not zero), e = plane[3]; the
+     * kept side is m . p + e >= 0. */
+    double plane[4];
+    uint8_t cut_color[3];       /* tint of the cut face */
+    uint8_t color[3];           /* the object's colour: shade * color / 255 */
+    uint8_t background[3];
+} bvox_shade_opts;
+#define BVOX_SHADE_OPTS_INIT                                                           \
+    { BVOX_SHADE_BINARY_DEPTH, BVOX_LIGHT_INIT, BVOX_DEPTH_SHADING_INIT, 0,            \
+      { 0, 0, 1, 0 }, { 255, 176, 96 }, { 255, 255, 255 }, { 0, 0, 0 } }
+/* RGB per shading code. */
+typedef struct bvox_shade_table {
+    uint8_t rgb[BVOX_SCODES][3];
+} bvox_shade_table;
+/* The shading codes of pre for opts->mode (and the cut face when opts->cut):
+ * codes has width * height entries, row-major. BVOX_EINVAL for a missing
+ * input, an unknown mode or a bad light or plane. Thread-safe. */
+bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *opts,
+                             uint16_t *codes);
+/* The colour table of opts for codes made from a pre-image with pre's eye
+ * frame and spacing (only those fields of pre are read). Cheap (8193
+ * entries, the 27 normals and 4096 gradient bins lit once): rebuild it when
+ * the light moves. BVOX_EINVAL for a missing input or bad options. */
+bvox_status bvox_shade_table_build(const bvox_preimage *pre, const bvox_shade_opts *opts,
+                                   bvox_shade_table *table);
+/* rgb (3 bytes a pixel, rows rgb_stride bytes apart) = table[codes] for a
+ * width x height block of codes (rows code_stride entries apart); a code
+ * beyond BVOX_SCODE_BACKGROUND shows as the background. Allocates nothing. */
+void bvox_shade_table_apply(const bvox_shade_table *table, const uint16_t *codes,
+                            int32_t width, int32_t height, size_t code_stride, uint8_t *rgb,
+                            size_t rgb_stride);
+
 typedef enum bvox_stereo {
     BVOX_STEREO_NONE = 0,
     BVOX_STEREO_SBS = 1,     /* left eye's image on the left (parallel viewing) */
@@ -782,8 +880,9 @@ typedef enum bvox_stereo {
  * The cut face: for an axis view, the pixels whose hit voxel is seen through
  * a face the cut exposed (the voxel in front of it was in the object); for a
  * projection, whose pre-image keeps depth only to a pixel unit, those whose
- * hit point lies on the kept side within about one voxel (along the plane's
- * normal) plus a depth step of the plane. They are lit flat with the plane's
+ * hit point lies within half a voxel's extent plus half a depth step (along
+ * the plane's normal) of the plane, counted into the kept side: every face
+ * the cut exposed, and a thin rim of the old surface. They are lit flat with the plane's
  * own normal (depth shading: their depth shade) and tinted
  * with cut_color, and the image is RGB; without a cut it is gray (anaglyphs
  * are RGB). */

@@ -38,7 +38,14 @@ for c in $cmds; do
     [ -z "$dup" ] || fail "$c --help lists $dup twice"
     cut -d' ' -f1 "$tmp/opts.$c" >>"$tmp/all"
 done
-sort -u "$tmp/all" -o "$tmp/all"
+# The global options (main.c takes --quiet out of any command line) are
+# every command's: not among those a command must refuse.
+"$BVOX" --help >"$tmp/help.bvox"
+sed -n '/^Global options:/,/^$/p' "$tmp/help.bvox" >"$tmp/global.txt"
+options_of "$tmp/global.txt" | cut -d' ' -f1 | sort -u >"$tmp/global"
+grep -qx -- --quiet "$tmp/global" || fail "bvox --help does not list the global --quiet"
+sort -u "$tmp/all" | comm -23 - "$tmp/global" >"$tmp/all.cmd"
+mv "$tmp/all.cmd" "$tmp/all"
 
 # run CMD ARGS...: exit status in $rc, stderr in $tmp/err, stdout in $tmp/out
 run() {
