@@ -78,7 +78,7 @@ for c in $cmds; do
     done <"$tmp/opts.$c"
 done
 # Everything else is refused: nonsense by every command, and each option of
-# one command by the commands that do not list it (a third of those pairs,
+# one command by the commands that do not list it (a fifth of those pairs,
 # rotating, so that every option and every command takes part).
 ci=0
 for c in $cmds; do
@@ -87,7 +87,7 @@ for c in $cmds; do
     k=0
     for name in $(comm -23 "$tmp/all" "$tmp/mine") --zz-not-an-option; do
         k=$((k + 1))
-        [ "$name" = --zz-not-an-option ] || [ $(((k + ci) % 3)) -eq 0 ] || continue
+        [ "$name" = --zz-not-an-option ] || [ $(((k + ci) % 5)) -eq 0 ] || continue
         run "$c" "$name"
         [ "$rc" -eq 2 ] || fail "$c accepts $name, which its --help does not list (exit $rc)"
         grep -q "^bvox: $c: unknown option '$name'" "$tmp/err" ||
