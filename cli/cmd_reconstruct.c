@@ -69,7 +69,8 @@ static int take_markers(const char *cmd, const cli_opt *o, const char *v, void *
     if (!strcmp(o->name, "--markers-file")) {
         a->o.markers_file = v;
     } else {
-        if (cli_parse_int64(v, 2, 16, &k)) return CLI_OPT_BAD;
+        if (!strcmp(v, "auto")) k = BVOX_MARKERS_AUTO;
+        else if (cli_parse_int64(v, 2, 16, &k)) return CLI_OPT_BAD;
         a->o.markers.count = (int32_t)k;
     }
     a->markers_given++;
@@ -138,8 +139,13 @@ static const cli_opt recon_opts[] = {
     {"--min-area", 0, CLI_INT, "A", "remove specks and fill holes below A pixels (default 16)",
      A(o.min_area), .lo = 0, .hi = INT64_MAX / 2, .bad = "--min-area: '%s' is not a pixel count"},
     {"--markers", 0, CLI_INT, "N",
-     "find N reference markers (small dark round blobs) per section and align by them", WHOLE,
-     .fn = take_markers, .bad = "--markers: '%s' is not a count 2..16"},
+     "find N reference markers (small dark round blobs) per section and align by them; N = "
+     "auto: count them",
+     WHOLE, .fn = take_markers, .bad = "--markers: '%s' is not a count 2..16 or auto"},
+    {"--marker-coords", 0, CLI_PATH, "F",
+     "put the model in a known frame: F (contour JSON) gives in its first section where the "
+     "reference section's markers belong (pixels)",
+     A(o.marker_coords)},
     {"--markers-file", 0, CLI_PATH, "F",
      "take the markers from a contour stack file (JSON): its section i holds the markers of "
      "section i",
