@@ -15,7 +15,9 @@
  * The series' "alignment" names the transform applied: [a, b, c, d, e, f]
  * maps (x, y) to (a x + b y + c, d x + e y + f), as PyReconstruct's
  * Transform (QTransform(a, d, b, e, c, f)) does; "no-alignment", or a section
- * without that alignment, leaves the points as they are (the latter warned).
+ * without that alignment, leaves the points as they are (the latter warned);
+ * an object with its own alignment in the series' "obj_attrs" that the
+ * section has uses that one (as PyReconstruct's series data does).
  * Closed traces become contours; open traces are lines, not outlines: skipped
  * with one warning counting them. Negative traces lie inside the positive
  * ones they cut out (holes, by containment: even-odd fill). Units are
@@ -363,6 +365,7 @@ typedef struct reader {
     jdoc d;
     const char *object;
     char alignment[128];
+    int32_t obj_attrs; /* the series' "obj_attrs" object, or -1 */
     bvox_point2 *pts;
     size_t npts, cap;
     double *vals;
@@ -509,13 +512,14 @@ static bvox_status add_trace(reader *r, bvox_section *sec, int32_t t, const doub
     return BVOX_OK;
 }
 
-/* The section's transform for the series' alignment (identity if none). */
-static bvox_status section_tform(reader *r, int32_t s, const char *label, double tf[6])
+/* The section's transform for alignment al (identity if none: counted). */
+static bvox_status section_tform(reader *r, int32_t s, const char *label, const char *al,
+                                 double tf[6])
 {
     static const double id[6] = {1, 0, 0, 0, 1, 0};
     memcpy(tf, id, sizeof id);
-    if (!strcmp(r->alignment, "no-alignment")) return BVOX_OK;
-    int32_t t = jget(&r->d, jget(&r->d, s, "tforms"), r->alignment);
+    if (!strcmp(al, "no-alignment")) return BVOX_OK;
+    int32_t t = jget(&r->d, jget(&r->d, s, "tforms"), al);
     if (t < 0) {
         r->missing_tform++;
         return BVOX_OK;
@@ -524,17 +528,33 @@ static bvox_status section_tform(reader *r, int32_t s, const char *label, double
     if (st) return st;
     if (r->nvals != 6)
         return bvox__fail(BVOX_EFORMAT, "%s: section %s: transform '%s' has %zu numbers, not 6",
-                          r->d.name, label, r->alignment, r->nvals);
+                          r->d.name, label, al, r->nvals);
     for (int i = 0; i < 6; i++) {
         if (fabs(r->vals[i]) > MAX_UM)
             return bvox__fail(BVOX_EFORMAT, "%s: section %s: transform '%s' has %g", r->d.name,
-                              label, r->alignment, r->vals[i]);
+                              label, al, r->vals[i]);
         tf[i] = r->vals[i];
     }
     if (tf[0] * tf[4] - tf[1] * tf[3] == 0)
         return bvox__fail(BVOX_EFORMAT, "%s: section %s: transform '%s' is singular", r->d.name,
-                          label, r->alignment);
+                          label, al);
     return BVOX_OK;
+}
+
+/* An object with its own alignment (series "obj_attrs": {NAME: {"alignment":
+ * A}}) that the section has: that transform, as PyReconstruct does; else
+ * the series' one (series_tf). */
+static bvox_status object_tform(reader *r, int32_t s, const char *name, const char *label,
+                                const double series_tf[6], double tf[6])
+{
+    const jdoc *d = &r->d;
+    int32_t a = jget(d, jget(d, r->obj_attrs, name), "alignment");
+    memcpy(tf, series_tf, 6 * sizeof *tf);
+    if (a < 0 || N(d, a)->type != J_STR) return BVOX_OK;
+    char al[128];
+    jtext(d, a, al, sizeof al);
+    if (strcmp(al, "no-alignment") && jget(d, jget(d, s, "tforms"), al) < 0) return BVOX_OK;
+    return section_tform(r, s, label, al, tf);
 }
 
 static bvox_status read_section(reader *r, bvox_contour_stack *s, const secref *ref, double z)
@@ -542,8 +562,8 @@ static bvox_status read_section(reader *r, bvox_contour_stack *s, const secref *
     const jdoc *d = &r->d;
     char label[32];
     snprintf(label, sizeof label, "%lld", (long long)ref->num);
-    double tf[6];
-    bvox_status st = section_tform(r, ref->node, label, tf);
+    double series_tf[6], tf[6];
+    bvox_status st = section_tform(r, ref->node, label, r->alignment, series_tf);
     if (st) return st;
     bvox_section *sec;
     if ((st = bvox_stack_add_section(s, z, label, &sec))) return st;
@@ -560,6 +580,7 @@ static bvox_status read_section(reader *r, bvox_contour_stack *s, const secref *
         if (N(d, traces)->type != J_ARR)
             return bvox__fail(BVOX_EFORMAT, "%s: section %s: object '%s' is not a list of traces",
                               d->name, label, name);
+        if ((st = object_tform(r, ref->node, name, label, series_tf, tf))) return st;
         for (int32_t t = N(d, traces)->first; t >= 0; t = N(d, t)->next)
             if ((st = add_trace(r, sec, t, tf, label))) return st;
     }
@@ -594,8 +615,9 @@ static bvox_status gather(reader *r, secref **out, int32_t *nout, int32_t *serie
             for (size_t i = 0; i < len && digits; i++) digits = ext[i] >= '0' && ext[i] <= '9';
             if (digits && N(d, N(d, k)->next)->type == J_OBJ)
                 v[n++] = (secref){strtoll(ext, NULL, 10), N(d, k)->next};
-            else if (!digits)
-                *series = N(d, k)->next;
+            else if (!digits && N(d, N(d, k)->next)->type == J_OBJ &&
+                     (*series < 0 || !strcmp(ext, "ser")))
+                *series = N(d, k)->next; /* NAME.ser (not "log" or the like) */
         }
     }
     if (n > BVOX__MAX_SECTIONS) {
@@ -621,6 +643,7 @@ static bvox_status build(reader *r, bvox_contour_stack *s)
     snprintf(r->alignment, sizeof r->alignment, "default");
     int32_t al = jget(d, series, "alignment");
     if (al >= 0 && N(d, al)->type == J_STR) jtext(d, al, r->alignment, sizeof r->alignment);
+    r->obj_attrs = jget(d, series, "obj_attrs");
     /* thickness of every section, and which to keep */
     double *thick = bvox__mem_alloc((size_t)(n > 0 ? n : 1) * sizeof *thick);
     if (!thick) {

@@ -221,3 +221,32 @@ TEST(jser_bad_input_refused)
     CHECK(!refused(deep, "nesting deeper"));
     return 0;
 }
+
+/* An object's own alignment (obj_attrs), where the section has it, wins over
+ * the series' one; in the older layout a "log" string beside "s.ser" is not
+ * taken for the series. 2 sections x unit square x 0.05: 0.1 um^3, x2 under
+ * "alt" on the first section only. */
+TEST(jser_object_alignment)
+{
+    static const char text[] =
+        "{\"s.ser\": {\"alignment\": \"main\", \"obj_attrs\": {\"d\": {\"alignment\": \"alt\"}}},"
+        " \"s.0\": {\"thickness\": 0.05, \"tforms\": {\"main\": [1,0,0,0,1,0], \"alt\": [2,0,0,0,1,0]},"
+        "  \"contours\": {\"d\": [" RECT(0, 0, 2.56, 5.12, "false") "],"
+        "                 \"e\": [" RECT(0, 0, 1, 1, "false") "]}},"
+        " \"s.1\": {\"thickness\": 0.05, \"tforms\": {\"main\": [1,0,0,0,1,0]},"
+        "  \"contours\": {\"d\": [" RECT(0, 0, 2.56, 5.12, "false") "]}},"
+        " \"log\": {\"alignment\": \"no-alignment\"}}";
+    bvox_contour_stack *s = NULL;
+    CHECK_OK(bvox_stack_read_jser_memory(text, strlen(text), "o.jser", NULL, &s));
+    CHECK_EQ(s->nsections, 2);
+    /* areas in um^2 (pixel^2 x pixel size^2) */
+    double px2 = s->pixel * s->pixel;
+    CHECK_NEAR(fabs(bvox_polygon_signed_area(s->sections[0].contours[0].points,
+                                 s->sections[0].contours[0].npoints)) * px2, 2 * 2.56 * 5.12, 1e-9);
+    CHECK_NEAR(fabs(bvox_polygon_signed_area(s->sections[0].contours[1].points,
+                                 s->sections[0].contours[1].npoints)) * px2, 1.0, 1e-9);
+    CHECK_NEAR(fabs(bvox_polygon_signed_area(s->sections[1].contours[0].points,
+                                 s->sections[1].contours[0].npoints)) * px2, 2.56 * 5.12, 1e-9);
+    bvox_stack_destroy(s);
+    return 0;
+}
