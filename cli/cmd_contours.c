@@ -6,10 +6,10 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "common/names.h"
 
 #include <stdio.h>
 #include <string.h>
-#include <strings.h>
 
 static void help(FILE *f)
 {
@@ -33,12 +33,6 @@ static void help(FILE *f)
           "  bvox contours model.nii.gz -o model-contours.json\n"
           "  bvox contours model.nii.gz --axis x -o sagittal/\n",
           f);
-}
-
-static int ends_with_json(const char *s)
-{
-    size_t n = strlen(s);
-    return n >= 5 && strcasecmp(s + n - 5, ".json") == 0;
 }
 
 int cmd_contours(int argc, char **argv)
@@ -75,7 +69,7 @@ int cmd_contours(int argc, char **argv)
     if (bvox_volume_to_contours(vol, axis, &stack)) {
         rc = cli_fail();
     } else {
-        bvox_status st = ends_with_json(out) ? bvox_stack_write_json(out, stack)
+        bvox_status st = bvox__ends_with_ci(out, ".json") ? bvox_stack_write_json(out, stack)
                                              : bvox_stack_write_svg_dir(out, stack);
         if (st) {
             rc = cli_fail();

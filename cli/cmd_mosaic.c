@@ -4,9 +4,9 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "common/names.h"
 
 #include <string.h>
-#include <strings.h>
 
 static void help(FILE *f)
 {
@@ -91,8 +91,7 @@ int cmd_mosaic(int argc, char **argv)
     }
     if (!in) return cli_usage_error(cmd, "needs IN");
     if (!out || !*out) return cli_usage_error(cmd, "needs -o OUT.png");
-    size_t n = strlen(out);
-    if (n < 4 || strcasecmp(out + n - 4, ".png"))
+    if (!bvox__ends_with_ci(out, ".png"))
         return cli_usage_error(cmd, "%s: the output must end in .png", out);
 
     bvox_volume *vol = NULL;

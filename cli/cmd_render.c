@@ -7,10 +7,10 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "common/names.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 static void help(FILE *f)
 {
@@ -88,12 +88,6 @@ static int parse_list(const char *s, int n, double *out)
         p = comma ? comma + 1 : p;
     }
     return 0;
-}
-
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && !strcasecmp(s + n - k, suffix);
 }
 
 /* The filter names of the CLI: the library's, and "laplace". */
@@ -200,9 +194,9 @@ int cmd_render(int argc, char **argv)
     if (depth && (turntable || sheet || o.stereo))
         return cli_usage_error(cmd, "--depth needs a single view (no --turntable, --sheet, "
                                     "--stereo)");
-    if (depth && !ends_with(depth, ".png"))
+    if (depth && !bvox__ends_with_ci(depth, ".png"))
         return cli_usage_error(cmd, "--depth: '%s' must end in .png", depth);
-    if (!ends_with(out, ".png") && !(turntable && ends_with(out, ".gif")))
+    if (!bvox__ends_with_ci(out, ".png") && !(turntable && bvox__ends_with_ci(out, ".gif")))
         return cli_usage_error(cmd, "%s: the output must end in .png%s", out,
                                turntable ? " or .gif" : "");
 

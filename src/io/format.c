@@ -4,6 +4,7 @@
  * forced format name, else by extension, else (reading) by content.
  */
 #include "io.h"
+#include "common/names.h"
 
 #include <string.h>
 #include <strings.h>
@@ -27,12 +28,6 @@ static const bvox__format *by_name(const char *name)
     return NULL;
 }
 
-static bool ends_with_ci(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && !strcasecmp(s + n - m, suffix);
-}
-
 static const bvox__format *by_extension(const char *path)
 {
     size_t len = strlen(path);
@@ -43,7 +38,7 @@ static const bvox__format *by_extension(const char *path)
     trimmed[len] = '\0';
     for (size_t i = 0; i < NFORMATS; i++)
         for (const char *const *e = formats[i]->extensions; e && *e; e++)
-            if (ends_with_ci(trimmed, *e)) return formats[i];
+            if (bvox__ends_with_ci(trimmed, *e)) return formats[i];
     return NULL;
 }
 

@@ -147,9 +147,6 @@ void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double
 /* 1 if path ends in ".gz" (any case): the writer compresses. */
 bool bvox__path_has_gz(const char *path);
 
-/* Natural ("human") order of file names: "s2.png" < "s10.png". */
-int bvox__natural_compare(const char *a, const char *b);
-
 /* For writers (unpack.c): slices z0 .. z0+n-1 (z0 a multiple of 64, 1 <= n
  * <= 64, z0 + n <= nz) as bytes, x fastest, then y, then z:
  * dst[((z - z0) * ny + y) * nx + x] = voxel ? one : 0. Word-wise, through

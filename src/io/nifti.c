@@ -17,6 +17,7 @@
  * the sform when sform_code > 0, else the qform, else pixdim only.
  */
 #include "io.h"
+#include "common/names.h"
 
 #include <math.h>
 #include <string.h>
@@ -503,8 +504,7 @@ void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double
 
 bool bvox__path_has_gz(const char *path)
 {
-    size_t n = strlen(path);
-    return n >= 3 && (path[n - 3] == '.') && (path[n - 2] | 32) == 'g' && (path[n - 1] | 32) == 'z';
+    return bvox__ends_with_ci(path, ".gz");
 }
 
 static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,

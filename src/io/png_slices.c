@@ -21,15 +21,14 @@
  * temporary folder renamed over the target on success (bvox__dir_sink_*).
  */
 #include "io.h"
+#include "common/names.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <png.h>
 #include <zlib.h>
 #include <setjmp.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 
 typedef struct png_ctx {
@@ -188,113 +187,46 @@ static bvox_status png_read_memory(const uint8_t *data, size_t size, const char 
 
 /* ------------------------------------------------------------------ folders */
 
-static int cmp_names(const void *a, const void *b)
+/* The regular *.png files of the folder (not sub-folders named x.png). */
+static bool keep_png(const char *dir, const char *name, void *ctx)
 {
-    return bvox__natural_compare(*(char *const *)a, *(char *const *)b);
-}
-
-static void free_names(char **names, size_t n)
-{
-    for (size_t i = 0; i < n; i++) free(names[i]);
-    free(names);
-}
-
-static char *join(const char *dir, const char *file)
-{
-    size_t ld = strlen(dir), lf = strlen(file);
-    char *p = malloc(ld + lf + 2);
-    if (!p) return NULL;
-    memcpy(p, dir, ld);
-    p[ld] = '/';
-    memcpy(p + ld + 1, file, lf + 1);
-    return p;
-}
-
-/* The *.png regular files of dir, in natural order. */
-static bvox_status list_pngs(const char *dir, char ***out, size_t *count)
-{
-    DIR *d = opendir(dir);
-    if (!d) return bvox__fail(BVOX_EIO, "%s: cannot open the folder: %s", dir, strerror(errno));
-    char **names = NULL;
-    size_t n = 0, cap = 0;
-    bvox_status st = BVOX_OK;
-    struct dirent *e;
-    while (!st && (e = readdir(d)) != NULL) {
-        size_t len = strlen(e->d_name);
-        if (e->d_name[0] == '.' || len < 5 || strcasecmp(e->d_name + len - 4, ".png") != 0)
-            continue;
-        char *full = join(dir, e->d_name);
-        struct stat sb;
-        bool regular = full && stat(full, &sb) == 0 && S_ISREG(sb.st_mode);
-        free(full);
-        if (!full) st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
-        if (st || !regular) continue;
-        if (n == BVOX_MAX_DIM) {
-            st = bvox__fail(BVOX_ETOOBIG, "%s: more than %d PNG slices", dir, BVOX_MAX_DIM);
-            break;
-        }
-        if (n == cap) {
-            cap = cap ? cap * 2 : 64;
-            char **grown = realloc(names, cap * sizeof *names);
-            if (!grown) {
-                st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
-                break;
-            }
-            names = grown;
-        }
-        if (!(names[n] = strdup(e->d_name)))
-            st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
-        else
-            n++;
-    }
-    closedir(d);
-    if (!st && n == 0) st = bvox__fail(BVOX_EFORMAT, "%s: the folder holds no .png files", dir);
-    if (st) {
-        free_names(names, n);
-        return st;
-    }
-    qsort(names, n, sizeof *names, cmp_names);
-    *out = names;
-    *count = n;
-    return BVOX_OK;
+    (void)ctx;
+    if (strlen(name) < 5 || !bvox__ends_with_ci(name, ".png")) return false;
+    char full[4096];
+    struct stat sb;
+    int len = snprintf(full, sizeof full, "%s/%s", dir, name);
+    return len > 0 && (size_t)len < sizeof full && stat(full, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
 static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox_volume **out)
 {
-    char **names = NULL;
+    char **paths = NULL;
     size_t n = 0;
-    bvox_status st = list_pngs(dir, &names, &n);
+    bvox_status st = bvox__list_dir(dir, keep_png, NULL, BVOX_MAX_DIM, "PNG slices", &paths, &n);
+    if (!st && n == 0) st = bvox__fail(BVOX_EFORMAT, "%s: the folder holds no .png files", dir);
     if (st) return st;
     bvox__gray g;
     bvox__gray_init(&g);
     slice_info first;
-    char *first_path = join(dir, names[0]);
+    const char *first_path = paths[0];
     size_t slice_bytes = 0;
-    if (!first_path) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     for (size_t i = 0; i < n && !st; i++) {
-        char *path = i ? join(dir, names[i]) : first_path;
-        if (!path) {
-            st = bvox__fail(BVOX_ENOMEM, "out of memory");
-            break;
-        }
         bvox__bytes b;
-        st = bvox__read_file(path, &b);
+        st = bvox__read_file(paths[i], &b);
         if (!st) {
             slice_info info;
             if (i == 0) {
-                st = decode_png(b.data, b.size, path, &first, NULL, NULL, NULL);
+                st = decode_png(b.data, b.size, paths[i], &first, NULL, NULL, NULL);
                 if (!st) st = gray_alloc(&g, &first, (int32_t)n, dir);
                 slice_bytes = (size_t)first.w * first.h * (size_t)first.bytes;
             }
             if (!st)
-                st = decode_png(b.data, b.size, path, &info, &first, first_path,
+                st = decode_png(b.data, b.size, paths[i], &info, &first, first_path,
                                 (uint8_t *)g.owned + i * slice_bytes);
             bvox__bytes_release(&b);
         }
-        if (i) free(path);
     }
-    free(first_path);
-    free_names(names, n);
+    bvox__free_paths(paths, n);
     if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, dir, out);
     bvox__gray_release(&g);
     return st;

@@ -5,6 +5,7 @@
  * thresholding with the object's polarity into a bitmap.
  */
 #include "section_internal.h"
+#include "common/names.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -39,22 +40,10 @@ bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out)
     return BVOX_OK;
 }
 
-static int has_suffix(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    if (n < m) return 0;
-    for (size_t i = 0; i < m; i++) {
-        char c = s[n - m + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != suffix[i]) return 0;
-    }
-    return 1;
-}
-
 bvox_status bvox_section_read(const char *path, bvox_image **out)
 {
     *out = NULL;
-    if (has_suffix(path, ".tif") || has_suffix(path, ".tiff"))
+    if (bvox__ends_with_ci(path, ".tif") || bvox__ends_with_ci(path, ".tiff"))
         return bvox__section_tiff_read(path, out);
     bvox_image *img = NULL;
     bvox_status st = bvox_image_read_png(path, &img);
