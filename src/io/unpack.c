@@ -8,7 +8,8 @@
  * times `one`: no carries since each byte is 0 or 1). Rows of y are
  * independent, so they are split over the worker threads.
  */
-#include "binarize_kernels.h"
+#include "io.h"
+#include "common/bits.h"
 
 #include <assert.h>
 #include <string.h>
