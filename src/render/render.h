@@ -11,6 +11,7 @@
 #define BVOX_RENDER_H
 
 #include "internal.h"
+#include "common/image.h"
 
 enum { NB_XM = 1, NB_XP = 2, NB_YM = 4, NB_YP = 8, NB_ZM = 16, NB_ZP = 32 };
 
@@ -54,19 +55,6 @@ void bvox__light_dir(const bvox_light *light, double l[3]);
 double bvox__phong(const bvox_light *light, const double l[3], const double n[3], unsigned cue);
 /* Checks the numbers of a light (finite, non-negative, depth_cue 0..1). */
 bvox_status bvox__light_check(const bvox_light *light);
-
-/* Image sample access for ops that handle both depths. */
-static inline uint32_t bvox__img_get(const bvox_image *im, size_t i)
-{
-    return im->bits == 8 ? im->pixels[i] : im->pixels16[i];
-}
-static inline void bvox__img_put(bvox_image *im, size_t i, uint32_t v)
-{
-    if (im->bits == 8) im->pixels[i] = (uint8_t)v;
-    else im->pixels16[i] = (uint16_t)v;
-}
-/* BVOX_EINVAL unless img is a valid image (non-NULL, sane fields). */
-bvox_status bvox__image_check(const bvox_image *img, const char *what);
 
 /* For the tests: number of casts (axis and projection) made in this process. */
 long bvox__render_cast_count(void);

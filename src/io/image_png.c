@@ -5,8 +5,8 @@
  * both paths, and our own buffers are allocated outside the setjmp region
  * (or released on the error path from a variable that survives the jump).
  */
-#include "render.h"
-#include "io/io.h"
+#include "io.h"
+#include "common/image.h"
 
 #include <png.h>
 #include <setjmp.h>
