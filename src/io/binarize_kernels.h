@@ -49,10 +49,6 @@ void bvox__bin_blocks_generic(const void *src, size_t nblocks, const bvox__binpr
 extern const bvox__bin_blocks_fn bvox__bin_blocks_avx2;
 extern const bvox__bin_blocks_fn bvox__bin_blocks_avx512;
 
-/* Bytes per sample of a dtype (0 if invalid); kept here rather than calling
- * bvox_dtype_size so that the binarizer has no link dependency on format.c. */
-size_t bvox__sample_size(bvox_dtype dtype);
-
 /* The real value of a raw sample, exactly as documented in io.h (slope is
  * already "0 means 1"-resolved). Written once so that every caller rounds the
  * same way: the predicates are derived from this very function. */

@@ -1,6 +1,6 @@
 /*
- * section_image.c — the gray steps of a section: reading (PNG), gray
- * conversion, background estimate (a quadratic surface fitted robustly to
+ * section_image.c — the gray steps of a section: reading (PNG or TIFF, then
+ * gray: section_gray.c), background estimate (a quadratic surface fitted robustly to
  * the background's samples), background subtraction, Otsu's threshold and
  * thresholding with the object's polarity into a bitmap.
  */
@@ -15,28 +15,6 @@ static bvox_status check_gray(const bvox_image *img, const char *what)
 {
     if (!img || img->channels != 1 || (img->bits != 8 && img->bits != 16))
         return bvox__fail(BVOX_EINVAL, "%s must be an 8- or 16-bit gray image", what);
-    return BVOX_OK;
-}
-
-bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out)
-{
-    *out = NULL;
-    if (!img || (img->channels != 1 && img->channels != 3))
-        return bvox__fail(BVOX_EINVAL, "a section image must be gray or RGB");
-    if (img->channels == 1) return bvox_image_copy(img, out);
-    bvox_status st = bvox_image_create(img->width, img->height, 1, img->bits, out);
-    if (st) return st;
-    size_t n = (size_t)img->width * (size_t)img->height;
-    for (size_t i = 0; i < n; i++) {
-        double r, g, b;
-        if (img->bits == 8) {
-            r = img->pixels[3 * i], g = img->pixels[3 * i + 1], b = img->pixels[3 * i + 2];
-            (*out)->pixels[i] = (uint8_t)(0.299 * r + 0.587 * g + 0.114 * b + 0.5);
-        } else {
-            r = img->pixels16[3 * i], g = img->pixels16[3 * i + 1], b = img->pixels16[3 * i + 2];
-            (*out)->pixels16[i] = (uint16_t)(0.299 * r + 0.587 * g + 0.114 * b + 0.5);
-        }
-    }
     return BVOX_OK;
 }
 
