@@ -88,6 +88,10 @@ static inline uint64_t bvox__extract_bits(const uint64_t *col, size_t nwords, in
 /* Set (value) or clear bits z0..z1-1 of one column. */
 void bvox__column_fill(uint64_t *col, int32_t z0, int32_t z1, int value);
 
+/* ---- volume_box.c ---- */
+/* b clipped to the volume (each bound into 0..n; it may come out empty). */
+bvox_box bvox__box_clip(const bvox_volume *v, bvox_box b);
+
 /* ---- components.c: the count alone (no statistics, no copy of the words) ----
  * The number of conn-components of vol's 1-voxels; with merge_border, those
  * touching the volume's border are not counted (for the background of a

@@ -153,5 +153,10 @@ bool bvox__path_has_gz(const char *path);
  * 64x64 bit transposes; dst holds n * nx * ny bytes. */
 void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t one,
                          uint8_t *dst);
+/* Write header (header_size bytes; none when 0), then every slice as bytes
+ * 0/1 in that order, to path through a sink (gz: gzip-compressed): the whole
+ * file or, on failure, nothing. */
+bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
+                                    const void *header, size_t header_size);
 
 #endif

@@ -59,6 +59,11 @@ void bvox__sb_xml_text(bvox__strbuf *b, const char *s);
 /* Write the buffer to path atomically (bvox__sink). */
 bvox_status bvox__sb_write_file(const bvox__strbuf *b, const char *path);
 
+/* The checks every *_memory reader makes of its text: data NULL with a size
+ * (EINVAL "FN: no data"), over BVOX__MAX_TEXT_BYTES (ETOOBIG); *name NULL
+ * becomes "<memory>". */
+bvox_status bvox__text_input_check(const char *fn, const char *data, size_t size,
+                                   const char **name);
 /* 1-based line and column of byte pos of text. */
 void bvox__line_col(const char *text, size_t pos, int64_t *line, int64_t *col);
 /* Append code point c (at most 0x10FFFF) as UTF-8, 1 to 4 bytes, at

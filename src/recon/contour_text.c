@@ -102,3 +102,14 @@ bvox_status bvox__read_text(const char *path, char **data, size_t *size)
     bvox__bytes_release(&bytes);
     return BVOX_OK;
 }
+
+bvox_status bvox__text_input_check(const char *fn, const char *data, size_t size,
+                                   const char **name)
+{
+    if (!data && size) return bvox__fail(BVOX_EINVAL, "%s: no data", fn);
+    if (!*name) *name = "<memory>";
+    if (size > BVOX__MAX_TEXT_BYTES)
+        return bvox__fail(BVOX_ETOOBIG, "%s: %zu bytes, over the limit of a contour file", *name,
+                          size);
+    return BVOX_OK;
+}

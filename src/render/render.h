@@ -94,4 +94,11 @@ static inline void bvox__surface_neighbours(const bvox_volume *v, int32_t x, int
     nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
 }
 
+/* The NB_* bits of the voxel at bit k of the neighbour words nb. */
+static inline uint64_t bvox__surface_nb_bits(const uint64_t nb[6], unsigned k)
+{
+    return (nb[0] >> k & 1) * NB_XM | (nb[1] >> k & 1) * NB_XP | (nb[2] >> k & 1) * NB_YM |
+           (nb[3] >> k & 1) * NB_YP | (nb[4] >> k & 1) * NB_ZM | (nb[5] >> k & 1) * NB_ZP;
+}
+
 #endif
