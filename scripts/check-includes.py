@@ -45,7 +45,8 @@ def header_edges(src):
     """Header -> the library headers it includes."""
     edges = {}
     for h in sources(src, '.h'):
-        text = COMMENT.sub(' ', open(os.path.join(src, h), encoding='utf-8', errors='replace').read())
+        with open(os.path.join(src, h), encoding='utf-8', errors='replace') as f:
+            text = COMMENT.sub(' ', f.read())
         for inc in INCLUDE.findall(text):
             for cand in (os.path.join(os.path.dirname(h), inc), inc):
                 cand = os.path.normpath(cand)

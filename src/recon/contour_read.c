@@ -43,7 +43,8 @@ static bvox_status read_folder(const char *path, bvox_contour_stack **out)
     char **names = NULL;
     size_t n = 0;
     folder_scan f = {NULL, 0, false};
-    bvox_status st = bvox__list_dir(path, keep_svg, &f, BVOX__MAX_SECTIONS, ".svg files", &names, &n);
+    bvox_status st =
+        bvox__list_dir(path, keep_svg, &f, BVOX__MAX_SECTIONS, ".svg files", &names, &n);
     if (st == BVOX_EIO) st = bvox__fail(BVOX_EIO, "%s: cannot list the folder", path);
     if (!st && f.failed) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     if (!st && n == 0 && f.nser == 1) {

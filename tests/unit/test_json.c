@@ -95,7 +95,8 @@ TEST(shortest_round_trip_doubles)
     const double v[] = {0.1, 1.0 / 3, 2.0 / 3, 1e-310, 123456789.125, -2.5e-7, 0.3};
     /* the first of 15, 16, 17 digits that reads back: a subnormal keeps 15
      * digits although "1e-310" would do */
-    const char *want[] = {"0.1", "0.3333333333333333", "0.6666666666666666", "9.99999999999997e-311",
+    const char *want[] = {"0.1", "0.3333333333333333", "0.6666666666666666",
+                          "9.99999999999997e-311",
                           "123456789.125", "-2.5e-07", "0.3"};
     for (int i = 0; i < 7; i++) {
         char buf[40];
