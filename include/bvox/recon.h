@@ -136,8 +136,11 @@ bvox_sim2 bvox_sim2_inverse(const bvox_sim2 *t);
 bvox_status bvox_sim2_fit(const bvox_point2 *src, const bvox_point2 *dst, int32_t n,
                           int allow_scale, bvox_sim2 *t, double *rms);
 
+#define BVOX_MARKERS_AUTO (-1) /* bvox_recon_opts.markers.count: find the count */
 typedef struct bvox_marker_opts {
-    int32_t count;      /* expected markers per section (N >= 1) */
+    int32_t count;      /* expected markers per section (N >= 1); in bvox_recon_opts also
+                           BVOX_MARKERS_AUTO: the median count found in up to 9 sections
+                           spread over the stack (a warning says it) */
     double min_radius;  /* pixels; 0: 1.5 */
     double max_radius;  /* pixels; 0: min(width, height) / 16 */
     double threshold;   /* gray level at or below which a pixel is marker-dark;
@@ -191,6 +194,9 @@ typedef struct bvox_align_result {
     int32_t matched;     /* markers matched with the neighbour */
     double residual;     /* RMS distance (pixels) of the matched markers after the step */
     int fallback;        /* 1: no usable match: step = identity (the neighbour's transform) */
+    int by_contours;     /* 1: the markers were unusable and bvox_reconstruct aligned the
+                            section by its traced contours onto its neighbour's instead
+                            (step and residual are that registration's; fallback stays 1) */
 } bvox_align_result;
 
 /* Align n sections by their markers, chained to the reference section
@@ -247,6 +253,12 @@ typedef struct bvox_recon_opts {
     bvox_marker_opts markers;     /* markers.count 0: no detection (default) */
     const char *markers_file;     /* a contour stack file (bvox_stack_read) whose section i
                                      holds the markers of section i; NULL */
+    const char *marker_coords;    /* a contour stack file whose first section's markers are
+                                     where the reference section's markers belong (pixels of
+                                     the section images, in a frame of the user's: an atlas,
+                                     a block face): the aligned stack is moved into that
+                                     frame (markers matched as between sections, any turn);
+                                     NULL: the reference section's own frame */
     int align;                    /* 1 (default): align by markers when there are any */
     int32_t reference;            /* reference section; -1 (default): the middle one */
     /* geometry */
@@ -255,6 +267,12 @@ typedef struct bvox_recon_opts {
     char unit[16];                /* "" (default): none, or the file's */
     double z_spacing;             /* output slice spacing; 0 (default): pixel (isotropic) */
     int interpolate;              /* 1 (default): shape-based interpolation */
+    /* contour inputs */
+    const char *svg_select;       /* SVG sections: which elements are outlines
+                                     (bvox_stack_read_opts.svg_select); NULL: all visible */
+    int strict;                   /* 1: refuse a contour crossing itself; 0 (default): fill it
+                                     even-odd and warn (contours crossing each other are
+                                     always refused) */
     /* looking at the steps */
     const char *save_steps;       /* an existing folder, or NULL (default): each image
                                      section's steps as PNG files NAME.1_flat.png (after the

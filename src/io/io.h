@@ -147,6 +147,14 @@ void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double
 /* 1 if path ends in ".gz" (any case): the writer compresses. */
 bool bvox__path_has_gz(const char *path);
 
+/* OME-XML (ome_xml.c). Parse: 1 if desc is OME-XML; then the axes that give
+ * a physical size in a known unit get spacing[a] (all in one unit, the
+ * first axis's; have[a] true) and unit is set. Describe: a minimal OME
+ * document for vol (uint8 planes, XYZCT, one IFD per plane from IFD 0, the
+ * voxel size when the unit is a length); returns snprintf's count. */
+int bvox__ome_parse(const char *desc, double spacing[3], char unit[16], bool have[3]);
+int bvox__ome_describe(const bvox_volume *vol, char *buf, size_t cap);
+
 /* For writers (unpack.c): slices z0 .. z0+n-1 (z0 a multiple of 64, 1 <= n
  * <= 64, z0 + n <= nz) as bytes, x fastest, then y, then z:
  * dst[((z - z0) * ny + y) * nx + x] = voxel ? one : 0. Word-wise, through

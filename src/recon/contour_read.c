@@ -38,7 +38,7 @@ static bool keep_svg(const char *dir, const char *name, void *ctx)
     return bvox__ends_with_ci(name, ".svg");
 }
 
-static bvox_status read_folder(const char *path, bvox_contour_stack **out)
+static bvox_status read_folder(const char *path, const char *select, bvox_contour_stack **out)
 {
     char **names = NULL;
     size_t n = 0;
@@ -62,7 +62,7 @@ static bvox_status read_folder(const char *path, bvox_contour_stack **out)
                         "%s: the folder has no .svg files (nor a single Reconstruct .ser file)",
                         path);
     } else if (!st) {
-        st = bvox_stack_read_svg_files((const char *const *)names, (int32_t)n, out);
+        st = bvox__svg_read_files((const char *const *)names, (int32_t)n, select, out);
     }
     bvox__free_paths(names, n);
     free(f.ser);
@@ -71,13 +71,35 @@ static bvox_status read_folder(const char *path, bvox_contour_stack **out)
 
 bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out)
 {
+    return bvox_stack_read_with(path, NULL, out);
+}
+
+/* A selection that names nothing would give an empty model: refused. */
+static bvox_status check_selection(const char *path, const char *select, bvox_contour_stack **out)
+{
+    if (!select || !*select || !*out) return BVOX_OK;
+    for (int32_t i = 0; i < (*out)->nsections; i++)
+        if ((*out)->sections[i].ncontours) return BVOX_OK;
+    bvox_stack_destroy(*out);
+    *out = NULL;
+    return bvox__fail(BVOX_EINVAL, "%s: --svg-select '%s' names no outline in any section", path,
+                      select);
+}
+
+bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *opts,
+                                 bvox_contour_stack **out)
+{
     bvox__clear_error();
+    const char *select = opts ? opts->svg_select : NULL;
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_read: out is NULL");
     *out = NULL;
     if (!path) return bvox__fail(BVOX_EINVAL, "bvox_stack_read: path is NULL");
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file or folder", path);
-    if (S_ISDIR(sb.st_mode)) return read_folder(path, out);
+    if (S_ISDIR(sb.st_mode)) {
+        bvox_status st = read_folder(path, select, out);
+        return st ? st : check_selection(path, select, out);
+    }
     if (bvox__ends_with_ci(path, ".ser")) return bvox__stack_read_reconstruct_series(path, out);
     char *text;
     size_t size;
@@ -88,7 +110,8 @@ bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out)
     if (bvox__ends_with_ci(path, ".json") || *p == '{') {
         st = bvox_stack_read_json_memory(text, size, path, out);
     } else if (bvox__ends_with_ci(path, ".svg") || strstr(text, "<svg") || strstr(text, ":svg")) {
-        st = bvox_stack_read_svg_memory(text, size, path, 0, out);
+        st = bvox__svg_read(text, size, path, 0, select, out);
+        if (!st) st = check_selection(path, select, out);
     } else if (strstr(text, "<Series")) {
         free(text);
         return bvox__stack_read_reconstruct_series(path, out);

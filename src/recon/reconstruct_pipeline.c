@@ -10,8 +10,10 @@
  */
 #include "section_internal.h"
 #include "common/names.h"
+#include "contour_internal.h"
 #include "io/io.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -261,6 +263,76 @@ done:
     return st;
 }
 
+/* Sections whose markers failed: registered by their contours onto the
+ * adjacent section towards the reference, going outwards so that the
+ * neighbour is final first (align_contours.c). A section too small to
+ * register keeps the old fallback (its neighbour's transform). */
+static bvox_status align_by_contours(bvox_recon_report *rep, const sec_work *w)
+{
+    int32_t n = rep->nsections, ref = rep->reference;
+    for (int dir = -1; dir <= 1; dir += 2)
+        for (int32_t k = ref + dir; k >= 0 && k < n; k += dir) {
+            bvox_recon_section_report *s = &rep->sections[k];
+            const bvox_recon_section_report *nb = &rep->sections[k - dir];
+            if (!s->align.fallback) continue;
+            s->align.neighbour = k - dir;
+            s->align.transform = nb->align.transform;
+            bvox_sim2 step;
+            double rms;
+            bvox_status st = bvox__contours_register(w[k].contours, w[k].ncontours,
+                                                     w[k - dir].contours, w[k - dir].ncontours,
+                                                     &step, &rms);
+            if (st == BVOX_ENOMEM) return st;
+            if (st) continue;
+            s->align.step = step;
+            s->align.residual = rms;
+            s->align.by_contours = 1;
+            s->align.transform = bvox_sim2_compose(&nb->align.transform, &step);
+            size_t len = strlen(s->message);
+            if (len + 80 < sizeof s->message && len > 0) {
+                char *cut = strstr(s->message, ": no alignment");
+                if (cut) len = (size_t)(cut - s->message);
+                snprintf(s->message + len, sizeof s->message - len,
+                         ": aligned by its contours to '%s' instead (residual %.2f px)", nb->name,
+                         rms);
+            }
+        }
+    bvox__clear_error();
+    return BVOX_OK;
+}
+
+/* --marker-coords: the reference section's markers matched with the given
+ * positions (any turn; the shift, turn and scale limits of the options
+ * otherwise), and every section's transform carried into that frame. */
+static bvox_status align_to_frame(bvox_recon_report *rep, const bvox_recon_opts *o)
+{
+    bvox_contour_stack *f = NULL;
+    bvox_status st = bvox_stack_read(o->marker_coords, &f);
+    if (st) return st;
+    const bvox_recon_section_report *ref = &rep->sections[rep->reference];
+    if (f->nsections < 1 || f->sections[0].nmarkers < 2) {
+        bvox_stack_destroy(f);
+        return bvox__fail(BVOX_EINVAL, "%s: needs at least 2 marker positions in its first section",
+                          o->marker_coords);
+    }
+    bvox_marker_opts mo = o->markers;
+    mo.max_angle = M_PI;
+    bvox_sim2 g;
+    int32_t matched = 0;
+    double rms = 0;
+    st = bvox_markers_match(ref->markers, ref->nmarkers > MAX_MARKERS ? MAX_MARKERS : ref->nmarkers,
+                            f->sections[0].markers, f->sections[0].nmarkers, &mo, &g, NULL,
+                            &matched, &rms);
+    bvox_stack_destroy(f);
+    if (st)
+        return bvox__fail(st, "%s: the reference section '%s' has no 2 markers that match the "
+                              "given positions",
+                          o->marker_coords, ref->name);
+    for (int32_t i = 0; i < rep->nsections; i++)
+        rep->sections[i].align.transform = bvox_sim2_compose(&g, &rep->sections[i].align.transform);
+    return BVOX_OK;
+}
+
 static bvox_xform2 to_xform(const bvox_sim2 *t)
 {
     return bvox_xform2_similarity(t->angle, t->scale, t->tx, t->ty);
@@ -342,11 +414,60 @@ static bvox_status finish(const bvox_recon_opts *o, bvox_status st, double t_sta
     return BVOX_OK;
 }
 
-static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
+/* --markers auto (markers.count BVOX_MARKERS_AUTO): up to 9 sections spread
+ * over the stack go through the same steps with every marker candidate
+ * kept; the count is the median of what they found (one section that lost a
+ * marker or has a spurious blob does not move it). Under 2: no markers, and
+ * a warning (the sections are not aligned). */
+static bvox_status auto_marker_count(const sec_work *w, int32_t n, bvox_recon_opts *o,
+                                     const bvox_image *background)
+{
+    int32_t found[9], samples = n < 9 ? n : 9;
+    bvox_recon_opts probe = *o;
+    probe.markers.count = MAX_MARKERS;
+    probe.save_steps = NULL;
+    for (int32_t s = 0; s < samples; s++) {
+        int32_t i = samples == 1 ? 0 : (int32_t)((int64_t)s * (n - 1) / (samples - 1));
+        sec_work tmp;
+        memset(&tmp, 0, sizeof tmp);
+        tmp.path = w[i].path;
+        tmp.image = w[i].image;
+        tmp.name = w[i].name;
+        bvox_status st = process(&tmp, &probe, background, 1);
+        bvox_contours_free(tmp.contours, tmp.ncontours);
+        if (st) return st;
+        found[s] = tmp.nmarkers > MAX_MARKERS ? MAX_MARKERS : tmp.nmarkers;
+    }
+    for (int32_t a = 1; a < samples; a++) /* insertion sort: at most 9 */
+        for (int32_t b = a; b > 0 && found[b - 1] > found[b]; b--) {
+            int32_t t = found[b];
+            found[b] = found[b - 1];
+            found[b - 1] = t;
+        }
+    int32_t count = found[samples / 2];
+    if (count < 2) {
+        bvox__warn("--markers auto: fewer than 2 markers in the sampled sections: not aligned");
+        o->markers.count = 0;
+    } else {
+        bvox__warn("--markers auto: %d markers per section (the median of %d sections)",
+                   (int)count, (int)samples);
+        o->markers.count = count;
+    }
+    return BVOX_OK;
+}
+
+static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opts,
                               const bvox_image *background, bvox_volume **volume,
                               bvox_contour_stack **stack_out, bvox_recon_report **report_out)
 {
     double t_start = now_ms();
+    bvox_recon_opts auto_opts = *opts;
+    const bvox_recon_opts *o = opts;
+    if (opts->markers.count == BVOX_MARKERS_AUTO && !opts->markers_file) {
+        bvox_status st = auto_marker_count(w, n, &auto_opts, background);
+        if (st) return st;
+        o = &auto_opts;
+    }
     bvox_status st = BVOX_OK;
     bvox_recon_report *rep = NULL;
     bvox_contour_stack *stack = NULL;
@@ -409,6 +530,8 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
     /* alignment */
     double t0 = now_ms();
     if (o->align && (find_markers || mfile) && (st = align_report(rep, o))) goto done;
+    if (rep->aligned && rep->fallbacks && (st = align_by_contours(rep, w))) goto done;
+    if (rep->aligned && o->marker_coords && (st = align_to_frame(rep, o))) goto done;
     rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
     progress(o, BVOX_RECON_ALIGN, n, n);
     /* the stack */
@@ -544,6 +667,35 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
     return st;
 }
 
+/* The options' pixel, spacing and unit override the file's. Sections whose
+ * file gave no z sit at index x spacing, so a spacing given now re-places
+ * them (three SVGs with --spacing 5 are 5 apart, not 1). What neither the file
+ * nor the options said is a default the user must hear about: one warning. */
+static void apply_scale(const char *path, const bvox_recon_opts *o, bvox_contour_stack *stack)
+{
+    if (o->pixel > 0) stack->pixel = o->pixel;
+    if (o->spacing > 0) {
+        stack->spacing = o->spacing;
+        for (int32_t i = 0; i < stack->nsections; i++)
+            if (stack->sections[i].z_from_index) stack->sections[i].z = i * o->spacing;
+    }
+    if (o->unit[0]) {
+        memcpy(stack->unit, o->unit, sizeof stack->unit);
+        stack->unit[sizeof stack->unit - 1] = '\0';
+    }
+    int implicit_z = 0;
+    for (int32_t i = 0; i < stack->nsections; i++) implicit_z |= stack->sections[i].z_from_index;
+    char missing[96] = "";
+    if (!(o->pixel > 0) && !(stack->given & BVOX_STACK_GIVEN_PIXEL))
+        strcat(missing, ", pixel size 1 (--pixel)");
+    if (stack->nsections > 1 && implicit_z && !(o->spacing > 0) &&
+        !(stack->given & BVOX_STACK_GIVEN_SPACING))
+        strcat(missing, ", section spacing 1 (--spacing)");
+    if (!o->unit[0] && !stack->unit[0]) strcat(missing, ", no unit (--unit)");
+    if (missing[0])
+        bvox__warn("%s: not stated in the file or the options, assumed:%s", path, missing + 1);
+}
+
 static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_volume **volume,
                              bvox_contour_stack **stack_out, bvox_recon_report **report_out)
 {
@@ -553,25 +705,15 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     if (o->markers_file)
         return bvox__fail(BVOX_EINVAL, "%s: a markers file goes with section images; a contour "
                                        "file carries its own markers", path);
-    bvox_status st = bvox_stack_read(path, &stack);
+    bvox_stack_read_opts ro = {o->svg_select};
+    bvox_status st = bvox_stack_read_with(path, &ro, &stack);
     if (st) return st;
-    /* traced contours that cross each other or themselves are a tracing
-     * mistake: refused, naming the section (the even-odd fill would make a
-     * silent mess of them) */
-    for (int32_t i = 0; i < stack->nsections; i++)
-        if ((st = bvox_section_check_simple(&stack->sections[i], i))) {
-            char msg[512];
-            snprintf(msg, sizeof msg, "%s", bvox_errmsg());
-            st = bvox__fail(st, "%s: %s", path, msg);
-            goto done;
-        }
+    /* contours crossing each other are a tracing mistake: refused, naming the
+     * section; one crossing itself (jitter) is kept and warned about unless
+     * strict (contour_repair.c) */
+    if ((st = bvox__stack_check_crossings(path, stack, o->strict))) goto done;
     double t_read = now_ms() - t0;
-    if (o->pixel > 0) stack->pixel = o->pixel;
-    if (o->spacing > 0) stack->spacing = o->spacing;
-    if (o->unit[0]) {
-        memcpy(stack->unit, o->unit, sizeof stack->unit);
-        stack->unit[sizeof stack->unit - 1] = '\0';
-    }
+    apply_scale(path, o, stack);
     int any_markers = 0;
     for (int32_t i = 0; i < stack->nsections; i++) any_markers |= stack->sections[i].nmarkers > 0;
     if (o->align && any_markers) {
@@ -601,6 +743,37 @@ static const char *base_name(const char *path)
 {
     const char *s = strrchr(path, '/');
     return s ? s + 1 : path;
+}
+
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+/* blank.png, flatfield.tif, background_01.png, Flat-Field.TIF, empty.png */
+static int looks_blank(const char *name)
+{
+    static const char *const words[] = {"blank", "flat", "background", "empty", "dark"};
+    char low[64];
+    size_t n = strlen(name);
+    if (n >= sizeof low) return 0;
+    for (size_t i = 0; i <= n; i++) low[i] = (char)tolower((unsigned char)name[i]);
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
+        if (!strncmp(low, words[i], strlen(words[i]))) return 1;
+    return 0;
+}
+
+/* Section images carry no spacing between them, and bvox does not read a
+ * pixel size from them: what the options do not give is assumed and said. */
+static void warn_image_scale(const bvox_recon_opts *o)
+{
+    char missing[96] = "";
+    if (!(o->pixel > 0)) strcat(missing, ", pixel size 1 (--pixel)");
+    if (!(o->spacing > 0)) strcat(missing, ", section spacing 1 (--spacing)");
+    if (!o->unit[0]) strcat(missing, ", no unit (--unit)");
+    if (missing[0]) bvox__warn("section images: not given, assumed:%s", missing + 1);
 }
 
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
@@ -641,10 +814,24 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;
     }
+    int32_t nsec = 0;
     for (int32_t i = 0; i < n; i++) {
-        w[i].path = paths[i];
-        w[i].name = base_name(paths[i]);
+        /* the blank given as --background is not also a section */
+        if (o.background && same_file(paths[i], o.background)) continue;
+        if (!o.background && !o.background_image && looks_blank(base_name(paths[i])))
+            bvox__warn("%s: named like a blank (flat-field) image, but used as a section; give "
+                       "it as --background to correct the light with it",
+                       paths[i]);
+        w[nsec].path = paths[i];
+        w[nsec].name = base_name(paths[i]);
+        nsec++;
     }
+    n = nsec;
+    if (n < 1) {
+        st = bvox__fail(BVOX_EINVAL, "reconstruct: no sections besides the background image");
+        goto done;
+    }
+    warn_image_scale(&o);
     if (!o.background_image && o.background) {
         if ((st = bvox_section_read(o.background, &background))) goto done;
         o.background_image = background;
