@@ -11,6 +11,7 @@
 #define _XOPEN_SOURCE 700
 #include "bvox.h"
 #include "bench_util.h"
+#include "common/json.h"
 
 #include <dirent.h>
 #include <ftw.h>
@@ -32,17 +33,13 @@ static const format_case cases[] = {
     {"png", "specimen_slices", "png"},     {"raw", "specimen.raw", "raw"},
 };
 
-/* A message as a JSON string body (quotes, backslashes, control characters). */
+/* A message as a JSON string (the library's one escaping, common/json.h). */
 static void print_json_string(const char *s)
 {
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') printf("\\%c", c);
-        else if (c < 0x20) printf("\\u%04x", c);
-        else putchar(c);
-    }
-    putchar('"');
+    bvox__strbuf b = {0};
+    bvox__sb_json_string(&b, s);
+    fputs(b.data ? b.data : "\"\"", stdout);
+    bvox__sb_free(&b);
 }
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)

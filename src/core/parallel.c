@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#define MAX_THREADS 64
+#define MAX_THREADS BVOX__MAX_THREADS
 
 static atomic_int configured_threads; /* 0 = not yet decided */
 

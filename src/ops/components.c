@@ -337,8 +337,8 @@ static bvox_status sum_statistics(bvox_components *c, const uint32_t *labels)
 {
     int64_t nchunks = bvox_threads();
     if ((int64_t)c->ncol < nchunks * 1024) nchunks = 1;
-    bvox_component *partial[64] = {c->items};
-    if (nchunks > 64) nchunks = 64;
+    bvox_component *partial[BVOX__MAX_THREADS] = {c->items};
+    if (nchunks > BVOX__MAX_THREADS) nchunks = BVOX__MAX_THREADS;
     bvox_status st = BVOX_OK;
     for (int64_t s = 1; s < nchunks && !st; s++) {
         partial[s] = bvox__mem_zalloc((size_t)c->count ? (size_t)c->count : 1, sizeof **partial);

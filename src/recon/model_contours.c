@@ -27,7 +27,7 @@
  * (height = ceil(h sv/su)); only square pixels round-trip voxel for voxel.
  */
 #include "contour_internal.h"
-#include "io/binarize_kernels.h" /* bvox__transpose64 */
+#include "common/bits.h"
 
 #include <math.h>
 #include <stdlib.h>

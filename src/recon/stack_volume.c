@@ -21,7 +21,7 @@
  *     columns' z words, rows split over the threads.
  */
 #include "contour_internal.h"
-#include "io/binarize_kernels.h" /* bvox__transpose64 */
+#include "common/bits.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -292,7 +292,7 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
     int shares = bvox_threads();
     if (c.total < 65536) shares = 1;
     while (shares > 1 && zbytes * (size_t)shares > ((size_t)256 << 20)) shares--;
-    uint64_t *zb[64];
+    uint64_t *zb[BVOX__MAX_THREADS];
     c.zbuf = zb;
     c.shares = 0;
     for (int k = 0; k < shares; k++) {
