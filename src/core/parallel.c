@@ -1,9 +1,27 @@
 /*
  * parallel.c — split a range of independent work over the worker threads.
  * The kernel is a pure function of its chunk (libvips' generate idea), so a
- * thread count change never touches the kernels. Threads are created per call:
- * the calls that use this move tens of megabytes, so the ~50 us of thread
- * start-up is noise, and no pool means no hidden global state.
+ * thread count change never touches the kernels.
+ *
+ * The workers are a pool that lives for the process: created on the first
+ * call that needs them, grown when bvox_set_threads asks for more, never
+ * joined. Starting threads per call cost ~50 us per thread, which made small
+ * operations slower with more threads; a pooled call costs one wake-up.
+ *
+ * A call splits [0, n) into `tasks` chunks, chunk t = [n t / tasks,
+ * n (t + 1) / tasks) exactly as before, and publishes them; the caller and
+ * the woken workers claim chunks one at a time from one atomic counter until
+ * none is left. So a worker that wakes late (more threads than cores) finds
+ * nothing to do instead of holding up the call, and the chunk boundaries never
+ * depend on who ran them.
+ *
+ * The counter holds the call's generation in its high 32 bits and the next
+ * chunk in its low 32: a worker still holding an old generation can never
+ * claim a chunk of a newer call. One call uses the pool at a time; a second
+ * caller (another application thread, or a kernel calling back in from a
+ * worker) is not made to wait: a nested call runs inline, a concurrent one
+ * starts its own threads as this file did before the pool. After fork() the
+ * child forgets the parent's workers (they do not exist there).
  */
 #include "internal.h"
 
@@ -43,6 +61,109 @@ int bvox_threads(void)
     return n;
 }
 
+/* ---- the pool ---- */
+
+typedef struct pool {
+    pthread_mutex_t lock;    /* guards everything below but `next` */
+    pthread_cond_t wake;     /* a new call was published (or workers grow) */
+    pthread_cond_t finished; /* the last chunk of the call completed */
+    pthread_mutex_t submit;  /* held by the one call using the pool */
+    int workers;             /* threads started so far */
+    uint32_t generation;     /* of the call published last */
+    bvox__range_fn fn;       /* the published call */
+    void *ctx;
+    int64_t n;
+    uint32_t tasks, done;
+    _Atomic uint64_t next;   /* generation << 32 | next chunk to claim */
+} pool;
+
+static pool the_pool = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER,
+                        PTHREAD_COND_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, 0, 0, NULL,
+                        NULL, 0, 0, 0, 0};
+static pthread_once_t atfork_once = PTHREAD_ONCE_INIT;
+static _Thread_local int in_worker; /* set in pool threads: nested calls run inline */
+
+/* Claims and runs chunks of generation gen until none is left; returns how
+ * many it ran. */
+static uint32_t run_chunks(pool *p, uint32_t gen, bvox__range_fn fn, void *ctx, int64_t n,
+                           uint32_t tasks)
+{
+    uint32_t ran = 0;
+    uint64_t v = atomic_load(&p->next);
+    for (;;) {
+        if ((uint32_t)(v >> 32) != gen || (uint32_t)v >= tasks) return ran;
+        if (!atomic_compare_exchange_weak(&p->next, &v, v + 1)) continue;
+        int64_t t = (int64_t)(uint32_t)v;
+        fn(ctx, n * t / tasks, n * (t + 1) / tasks);
+        ran++;
+        v = atomic_load(&p->next);
+    }
+}
+
+static void finish_chunks(pool *p, uint32_t ran)
+{
+    if (!ran) return;
+    pthread_mutex_lock(&p->lock);
+    p->done += ran;
+    if (p->done == p->tasks) pthread_cond_signal(&p->finished);
+    pthread_mutex_unlock(&p->lock);
+}
+
+/* arg: the generation published before this worker was started (the call
+ * that starts it publishes the next one, which the worker must not miss). */
+static void *worker_main(void *arg)
+{
+    pool *p = &the_pool;
+    in_worker = 1;
+    uint32_t seen = (uint32_t)(uintptr_t)arg;
+    pthread_mutex_lock(&p->lock);
+    for (;;) {
+        while (p->generation == seen) pthread_cond_wait(&p->wake, &p->lock);
+        seen = p->generation;
+        bvox__range_fn fn = p->fn;
+        void *ctx = p->ctx;
+        int64_t n = p->n;
+        uint32_t tasks = p->tasks;
+        pthread_mutex_unlock(&p->lock);
+        finish_chunks(p, run_chunks(p, seen, fn, ctx, n, tasks));
+        pthread_mutex_lock(&p->lock);
+    }
+    return NULL;
+}
+
+/* In the child of a fork only the forking thread exists: start afresh. */
+static void atfork_child(void)
+{
+    pool fresh = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER,
+                  PTHREAD_COND_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, 0, 0, NULL,
+                  NULL, 0, 0, 0, 0};
+    the_pool = fresh;
+}
+
+static void register_atfork(void)
+{
+    pthread_atfork(NULL, NULL, atfork_child);
+}
+
+/* Starts workers until there are `want` (with p->lock held); returns how
+ * many there are (fewer if the system refuses threads). */
+static int grow(pool *p, int want)
+{
+    while (p->workers < want) {
+        pthread_t tid;
+        pthread_attr_t attr;
+        pthread_attr_init(&attr);
+        pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+        int err = pthread_create(&tid, &attr, worker_main, (void *)(uintptr_t)p->generation);
+        pthread_attr_destroy(&attr);
+        if (err) break;
+        p->workers++;
+    }
+    return p->workers;
+}
+
+/* ---- the old way, for a call made while the pool is busy ---- */
+
 typedef struct job {
     bvox__range_fn fn;
     void *ctx;
@@ -56,6 +177,24 @@ static void *run_job(void *arg)
     return NULL;
 }
 
+static void spawn_for(int64_t n, int threads, bvox__range_fn fn, void *ctx)
+{
+    job jobs[MAX_THREADS];
+    pthread_t tid[MAX_THREADS];
+    bool started[MAX_THREADS] = {false};
+    for (int t = 0; t < threads; t++) {
+        jobs[t] = (job){fn, ctx, n * t / threads, n * (t + 1) / threads};
+        /* a failed thread start runs its chunk here: the result never
+         * depends on whether threads could be created */
+        if (t > 0) started[t] = pthread_create(&tid[t], NULL, run_job, &jobs[t]) == 0;
+    }
+    run_job(&jobs[0]);
+    for (int t = 1; t < threads; t++) {
+        if (started[t]) pthread_join(tid[t], NULL);
+        else run_job(&jobs[t]);
+    }
+}
+
 void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, void *ctx)
 {
     if (n <= 0) return;
@@ -66,19 +205,30 @@ void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, vo
         fn(ctx, 0, n);
         return;
     }
-    job jobs[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    bool started[MAX_THREADS] = {false};
-    for (int t = 0; t < threads; t++) {
-        jobs[t] = (job){fn, ctx, n * t / threads, n * (t + 1) / threads};
-        /* Thread 0's chunk runs on the calling thread; a failed thread start
-         * also falls back to running its chunk here, so the result never
-         * depends on whether threads could be created. */
-        if (t > 0) started[t] = pthread_create(&tid[t], NULL, run_job, &jobs[t]) == 0;
+    if (in_worker) { /* called from inside a chunk: the other workers are busy */
+        for (int t = 0; t < threads; t++) fn(ctx, n * t / threads, n * (t + 1) / threads);
+        return;
     }
-    run_job(&jobs[0]);
-    for (int t = 1; t < threads; t++) {
-        if (started[t]) pthread_join(tid[t], NULL);
-        else run_job(&jobs[t]);
+    pool *p = &the_pool;
+    pthread_once(&atfork_once, register_atfork);
+    if (pthread_mutex_trylock(&p->submit) != 0) {
+        spawn_for(n, threads, fn, ctx);
+        return;
     }
+    pthread_mutex_lock(&p->lock);
+    grow(p, threads - 1);
+    uint32_t gen = ++p->generation;
+    p->fn = fn, p->ctx = ctx, p->n = n;
+    p->tasks = (uint32_t)threads, p->done = 0;
+    atomic_store(&p->next, (uint64_t)gen << 32);
+    /* wake only as many workers as there are chunks besides the caller's */
+    for (int t = 1; t < threads; t++) pthread_cond_signal(&p->wake);
+    pthread_mutex_unlock(&p->lock);
+
+    /* the caller works too; with no workers at all it runs every chunk */
+    finish_chunks(p, run_chunks(p, gen, fn, ctx, n, (uint32_t)threads));
+    pthread_mutex_lock(&p->lock);
+    while (p->done < p->tasks) pthread_cond_wait(&p->finished, &p->lock);
+    pthread_mutex_unlock(&p->lock);
+    pthread_mutex_unlock(&p->submit);
 }
