@@ -11,17 +11,17 @@
  * (no holes when zoomed in, no fat silhouettes), and thick sections project
  * thick because the boxes have the real voxel size.
  *
- * The pre-image itself is the z-buffer: a pixel's key is (float depth bits,
- * neighbour bits), kept in depth[] and code[] while splatting (depth -1 is
- * above every key), so the minimum is the nearest voxel with ties broken by
- * the neighbour bits and the result does not depend on the splat order.
- * Threads own disjoint bands of rows, never a whole z-buffer each (that cost
- * one buffer per thread to allocate, clear and merge every frame and made
- * views slower with more threads): the front-facing entries are first
- * bucketed by the bands their projection touches (a counting sort over
- * fixed chunks of entries, so the buckets do not depend on the thread
- * count), then each band is splatted alone, clipped to its rows, while its
- * rows are in cache, and finally turned into depths and codes.
+ * The z-buffer holds 64-bit keys (float depth bits << 32 | neighbour bits),
+ * so the minimum is the nearest voxel with ties broken by the neighbour bits:
+ * the result does not depend on the order of the splats. Threads own
+ * disjoint bands of rows, never a whole z-buffer each (that cost one
+ * image-sized buffer per thread to allocate, clear and merge every frame and
+ * made views slower with more threads): the front-facing entries are first
+ * bucketed by the bands their projection touches (a counting sort over fixed
+ * chunks of entries, so the buckets do not depend on the thread count), then
+ * each band is splatted alone, clipped to its rows, into a band-sized
+ * z-buffer that stays in cache, and turned into depths and codes. One thread
+ * has nothing to share: one band, the whole image, no bucketing.
  */
 #include "render.h"
 
