@@ -73,6 +73,34 @@ static inline int parse_size_list(char *s, int *sizes, int max, int *n)
     return 1;
 }
 
+/* "--threads-list 1,2,4,8,16": the thread counts a benchmark runs at, in
+ * order (each at most 64, at most 16 of them). Every benchmark takes it and
+ * prints its lines once per count, with that count as "threads", so one run
+ * shows the scaling. Without it: the library's count (BVOX_THREADS or every
+ * online CPU), or "--threads T" where a benchmark has that. */
+typedef struct thread_list {
+    int n, t[16];
+} thread_list;
+
+static inline thread_list thread_list_default(void)
+{
+    return (thread_list){1, {bvox_threads()}};
+}
+
+/* 0 if s is not a list of counts in 1..64. */
+static inline int thread_list_parse(const char *s, thread_list *l)
+{
+    char buf[256];
+    int n = 0;
+    if (strlen(s) >= sizeof buf) return 0;
+    strcpy(buf, s);
+    if (!parse_size_list(buf, l->t, 16, &n) || n < 1) return 0;
+    for (int i = 0; i < n; i++)
+        if (l->t[i] < 1 || l->t[i] > 64) return 0;
+    l->n = n;
+    return 1;
+}
+
 /* ---- memcpy baseline ---- */
 
 typedef struct copy_part {

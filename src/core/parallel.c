@@ -23,11 +23,14 @@
  * starts its own threads as this file did before the pool. After fork() the
  * child forgets the parent's workers (they do not exist there).
  */
+#define _GNU_SOURCE /* sched_getaffinity, CPU_COUNT */
 #include "internal.h"
 
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
 
 #define MAX_THREADS 64
@@ -69,19 +72,44 @@ typedef struct pool {
     pthread_cond_t finished; /* the last chunk of the call completed */
     pthread_mutex_t submit;  /* held by the one call using the pool */
     int workers;             /* threads started so far */
-    uint32_t generation;     /* of the call published last */
+    _Atomic uint32_t generation; /* of the call published last (written under lock) */
+    int sleeping;            /* workers blocked on `wake` */
     bvox__range_fn fn;       /* the published call */
     void *ctx;
     int64_t n;
-    uint32_t tasks, done;
+    uint32_t tasks;
+    _Atomic uint32_t done;   /* chunks of the call completed */
     _Atomic uint64_t next;   /* generation << 32 | next chunk to claim */
 } pool;
 
 static pool the_pool = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER,
-                        PTHREAD_COND_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, 0, 0, NULL,
+                        PTHREAD_COND_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, NULL,
                         NULL, 0, 0, 0, 0};
 static pthread_once_t atfork_once = PTHREAD_ONCE_INIT;
+static atomic_int cpus; /* CPUs this process may run on; 0 = not yet known */
 static _Thread_local int in_worker; /* set in pool threads: nested calls run inline */
+
+static inline void cpu_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+/* More threads than CPUs never run at once: a call splits into `threads`
+ * chunks as asked, but no more than this many threads take them, so that
+ * BVOX_THREADS=16 on 2 cores costs what 2 threads cost. */
+static int cpu_count(void)
+{
+    int n = atomic_load(&cpus);
+    if (n) return n;
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0) n = CPU_COUNT(&set);
+    if (n < 1) n = (int)sysconf(_SC_NPROCESSORS_ONLN);
+    if (n < 1) n = 1;
+    atomic_store(&cpus, n);
+    return n;
+}
 
 /* Claims and runs chunks of generation gen until none is left; returns how
  * many it ran. */
@@ -103,30 +131,55 @@ static uint32_t run_chunks(pool *p, uint32_t gen, bvox__range_fn fn, void *ctx, 
 static void finish_chunks(pool *p, uint32_t ran)
 {
     if (!ran) return;
-    pthread_mutex_lock(&p->lock);
-    p->done += ran;
-    if (p->done == p->tasks) pthread_cond_signal(&p->finished);
+    /* tasks is stable here: the call cannot end before these chunks count */
+    if (atomic_fetch_add(&p->done, ran) + ran != p->tasks) return;
+    pthread_mutex_lock(&p->lock); /* the caller may be about to sleep */
+    pthread_cond_signal(&p->finished);
     pthread_mutex_unlock(&p->lock);
 }
 
 /* arg: the generation published before this worker was started (the call
  * that starts it publishes the next one, which the worker must not miss). */
+static int64_t now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (int64_t)t.tv_sec * 1000000000 + t.tv_nsec;
+}
+
+/* Returns when a call after `seen` is published or ~50 us have passed. */
+static void watch_for_call(pool *p, uint32_t seen)
+{
+    int64_t until = now_ns() + 50000;
+    for (int i = 1; atomic_load(&p->generation) == seen; i++) {
+        cpu_relax();
+        if (i % 64 == 0 && now_ns() > until) return;
+    }
+}
+
 static void *worker_main(void *arg)
 {
     pool *p = &the_pool;
     in_worker = 1;
     uint32_t seen = (uint32_t)(uintptr_t)arg;
-    pthread_mutex_lock(&p->lock);
     for (;;) {
-        while (p->generation == seen) pthread_cond_wait(&p->wake, &p->lock);
-        seen = p->generation;
+        /* Calls often come back to back: watch for the next one a little
+         * (~50 us) before sleeping, so that it needs no wake-up (a futex
+         * wake costs about as much as a small call's whole work). */
+        watch_for_call(p, seen);
+        pthread_mutex_lock(&p->lock);
+        while (atomic_load(&p->generation) == seen) {
+            p->sleeping++;
+            pthread_cond_wait(&p->wake, &p->lock);
+            p->sleeping--;
+        }
+        seen = atomic_load(&p->generation);
         bvox__range_fn fn = p->fn;
         void *ctx = p->ctx;
         int64_t n = p->n;
         uint32_t tasks = p->tasks;
         pthread_mutex_unlock(&p->lock);
         finish_chunks(p, run_chunks(p, seen, fn, ctx, n, tasks));
-        pthread_mutex_lock(&p->lock);
     }
     return NULL;
 }
@@ -135,7 +188,7 @@ static void *worker_main(void *arg)
 static void atfork_child(void)
 {
     pool fresh = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER,
-                  PTHREAD_COND_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, 0, 0, NULL,
+                  PTHREAD_COND_INITIALIZER, PTHREAD_MUTEX_INITIALIZER, 0, 0, 0, NULL,
                   NULL, 0, 0, 0, 0};
     the_pool = fresh;
 }
@@ -215,20 +268,30 @@ void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, vo
         spawn_for(n, threads, fn, ctx);
         return;
     }
+    int runners = threads < cpu_count() ? threads : cpu_count(); /* caller included */
     pthread_mutex_lock(&p->lock);
-    grow(p, threads - 1);
-    uint32_t gen = ++p->generation;
+    grow(p, runners - 1);
     p->fn = fn, p->ctx = ctx, p->n = n;
-    p->tasks = (uint32_t)threads, p->done = 0;
+    p->tasks = (uint32_t)threads;
+    atomic_store(&p->done, 0);
+    uint32_t gen = atomic_load(&p->generation) + 1;
     atomic_store(&p->next, (uint64_t)gen << 32);
-    /* wake only as many workers as there are chunks besides the caller's */
-    for (int t = 1; t < threads; t++) pthread_cond_signal(&p->wake);
+    atomic_store(&p->generation, gen); /* watching workers start here */
+    /* wake sleeping workers, no more than the runners besides the caller */
+    for (int t = 1; t < runners && t <= p->sleeping; t++) pthread_cond_signal(&p->wake);
     pthread_mutex_unlock(&p->lock);
 
     /* the caller works too; with no workers at all it runs every chunk */
     finish_chunks(p, run_chunks(p, gen, fn, ctx, n, (uint32_t)threads));
-    pthread_mutex_lock(&p->lock);
-    while (p->done < p->tasks) pthread_cond_wait(&p->finished, &p->lock);
-    pthread_mutex_unlock(&p->lock);
+    /* A worker is finishing its last chunk: wait for it by yielding a little
+     * (a sleep and wake-up costs more than a small call's whole work; the
+     * yield lets the worker run where threads outnumber cores), then sleep. */
+    for (int i = 0; i < 200 && atomic_load(&p->done) < (uint32_t)threads; i++) sched_yield();
+    if (atomic_load(&p->done) < (uint32_t)threads) {
+        pthread_mutex_lock(&p->lock);
+        while (atomic_load(&p->done) < (uint32_t)threads)
+            pthread_cond_wait(&p->finished, &p->lock);
+        pthread_mutex_unlock(&p->lock);
+    }
     pthread_mutex_unlock(&p->submit);
 }
