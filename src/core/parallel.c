@@ -283,10 +283,15 @@ void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, vo
 
     /* the caller works too; with no workers at all it runs every chunk */
     finish_chunks(p, run_chunks(p, gen, fn, ctx, n, (uint32_t)threads));
-    /* A worker is finishing its last chunk: wait for it by yielding a little
-     * (a sleep and wake-up costs more than a small call's whole work; the
-     * yield lets the worker run where threads outnumber cores), then sleep. */
-    for (int i = 0; i < 200 && atomic_load(&p->done) < (uint32_t)threads; i++) sched_yield();
+    /* A worker is finishing its last chunk: watch for it a little (~20 us;
+     * a sleep and wake-up costs more than a small call's whole work), then
+     * sleep. Not sched_yield: on a loaded machine that gives the CPU away
+     * for a whole time slice. */
+    int64_t until = now_ns() + 20000;
+    for (int i = 1; atomic_load(&p->done) < (uint32_t)threads; i++) {
+        cpu_relax();
+        if (i % 64 == 0 && now_ns() > until) break;
+    }
     if (atomic_load(&p->done) < (uint32_t)threads) {
         pthread_mutex_lock(&p->lock);
         while (atomic_load(&p->done) < (uint32_t)threads)
