@@ -12,6 +12,7 @@
 #include "internal.h"
 
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -99,6 +100,42 @@ static inline int thread_list_parse(const char *s, thread_list *l)
         if (l->t[i] < 1 || l->t[i] > 64) return 0;
     l->n = n;
     return 1;
+}
+
+/* For a benchmark whose cases are all in one main: takes "--threads-list L"
+ * out of argv and runs main_fn once per count, after bvox_set_threads(count)
+ * (main_fn's "threads" keys read bvox_threads()); without it, main_fn once.
+ * 2 (usage) for a bad list. */
+static inline int run_threads_list(int argc, char **argv, int (*main_fn)(int, char **),
+                                   const char *name)
+{
+    thread_list tl = {0, {0}};
+    char **args = malloc(((size_t)argc + 1) * sizeof *args);
+    int n = 0;
+    if (!args) return 1;
+    for (int i = 0; i < argc; i++) {
+        if (i > 0 && !strcmp(argv[i], "--threads-list")) {
+            if (i + 1 >= argc || !thread_list_parse(argv[i + 1], &tl)) {
+                fprintf(stderr, "%s: --threads-list takes counts in 1..64, e.g. 1,2,4,8,16\n",
+                        name);
+                free(args);
+                return 2;
+            }
+            i++;
+            continue;
+        }
+        args[n++] = argv[i];
+    }
+    args[n] = NULL;
+    int rc = 0;
+    if (!tl.n) rc = main_fn(n, args);
+    for (int k = 0; k < tl.n && !rc; k++) {
+        bvox_set_threads(tl.t[k]);
+        rc = main_fn(n, args);
+        fflush(stdout);
+    }
+    free(args);
+    return rc;
 }
 
 /* ---- memcpy baseline ---- */
