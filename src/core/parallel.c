@@ -96,19 +96,30 @@ static inline void cpu_relax(void)
 #endif
 }
 
-/* More threads than CPUs never run at once: a call splits into `threads`
- * chunks as asked, but no more than this many threads take them, so that
- * BVOX_THREADS=16 on 2 cores costs what 2 threads cost. */
+/* The CPUs this process may run on (or BVOX_CPUS, which tests set high so
+ * that every thread count still splits the work as asked). */
 static int cpu_count(void)
 {
     int n = atomic_load(&cpus);
     if (n) return n;
+    const char *env = getenv("BVOX_CPUS");
+    if (env && *env) n = atoi(env);
     cpu_set_t set;
-    if (sched_getaffinity(0, sizeof set, &set) == 0) n = CPU_COUNT(&set);
+    if (n < 1 && sched_getaffinity(0, sizeof set, &set) == 0) n = CPU_COUNT(&set);
     if (n < 1) n = (int)sysconf(_SC_NPROCESSORS_ONLN);
     if (n < 1) n = 1;
+    if (n > MAX_THREADS) n = MAX_THREADS;
     atomic_store(&cpus, n);
     return n;
+}
+
+/* More threads than CPUs never run at once, so work is never split into
+ * more pieces than that: BVOX_THREADS=16 on 2 cores costs what 2 threads
+ * cost (a split into 16 would only add seams and per-piece scratch). */
+int bvox__parallelism(void)
+{
+    int t = bvox_threads(), c = cpu_count();
+    return t < c ? t : c;
 }
 
 /* Claims and runs chunks of generation gen until none is left; returns how
@@ -251,7 +262,7 @@ static void spawn_for(int64_t n, int threads, bvox__range_fn fn, void *ctx)
 void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, void *ctx)
 {
     if (n <= 0) return;
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     if (min_per_thread < 1) min_per_thread = 1;
     if (threads > n / min_per_thread) threads = (int)(n / min_per_thread);
     if (threads <= 1) {
@@ -268,17 +279,16 @@ void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, vo
         spawn_for(n, threads, fn, ctx);
         return;
     }
-    int runners = threads < cpu_count() ? threads : cpu_count(); /* caller included */
     pthread_mutex_lock(&p->lock);
-    grow(p, runners - 1);
+    grow(p, threads - 1);
     p->fn = fn, p->ctx = ctx, p->n = n;
     p->tasks = (uint32_t)threads;
     atomic_store(&p->done, 0);
     uint32_t gen = atomic_load(&p->generation) + 1;
     atomic_store(&p->next, (uint64_t)gen << 32);
     atomic_store(&p->generation, gen); /* watching workers start here */
-    /* wake sleeping workers, no more than the runners besides the caller */
-    for (int t = 1; t < runners && t <= p->sleeping; t++) pthread_cond_signal(&p->wake);
+    /* wake sleeping workers, no more than the chunks besides the caller's */
+    for (int t = 1; t < threads && t <= p->sleeping; t++) pthread_cond_signal(&p->wake);
     pthread_mutex_unlock(&p->lock);
 
     /* the caller works too; with no workers at all it runs every chunk */

@@ -422,7 +422,7 @@ static void dyn_worker(void *ctx, int64_t begin, int64_t end)
 
 static void dyn_for(int64_t n, int64_t grain, bvox__range_fn fn, void *ctx)
 {
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     if (threads < 2 || n <= grain) {
         fn(ctx, 0, n);
         return;
@@ -525,7 +525,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         return bvox__fail(BVOX_ETOOBIG, "the mesh would have %lld vertices (at most %d)",
                           (long long)total, INT32_MAX);
     }
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     int nch = threads * 16; /* blocks for dyn_for: small enough to balance */
     if (nch > g->ny + 1) nch = g->ny + 1;
     c.nchunks = nch;

@@ -386,7 +386,7 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
      * the whole image, and no bucketing. */
     c.pre = pre;
     bvox__cue_init(&c.cue, pre->depth_range);
-    const int threads = bvox_threads();
+    const int threads = bvox__parallelism();
     const int bucketed = threads > 1 && c.total >= 16384;
     while (bucketed && c.band_shift < 14 && (c.w << (c.band_shift + 1)) <= 16384) c.band_shift++;
     c.band_rows = bucketed ? 1 << c.band_shift : c.hgt;

@@ -1,6 +1,7 @@
 /* test_parallel.c — the worker pool of parallel.c: every index of [0, n) is
  * visited exactly once, in the chunks the documented split gives
- * ([n t / T, n (t + 1) / T)), for many thread counts (more than cores too)
+ * ([n t / T, n (t + 1) / T), T = bvox__parallelism()), for many thread
+ * counts (more than cores too)
  * and sizes, over thousands of back-to-back calls (a late worker must never
  * claim a chunk of a newer call); the pool keeps working after the thread
  * count changes, when called from several application threads at once, from
@@ -42,7 +43,7 @@ static int one_call(int64_t n, int64_t min_per)
 {
     visit v = {n, calloc((size_t)n, sizeof(_Atomic int)), 0, 0, 0};
     if (!v.seen) return 1;
-    int t = bvox_threads();
+    int t = bvox__parallelism();
     if (t > n / min_per) t = (int)(n / min_per);
     v.threads = t < 1 ? 1 : t;
     bvox__parallel_for(n, min_per, mark, &v);
@@ -50,6 +51,24 @@ static int one_call(int64_t n, int64_t min_per)
     for (int64_t i = 0; i < n; i++) bad |= atomic_load(&v.seen[i]) != 1;
     free(v.seen);
     return bad;
+}
+
+/* Work is split into at most as many pieces as CPUs: bvox_threads() capped
+ * at the CPU count, which the tests' BVOX_CPUS=64 raises so that every
+ * thread count up to 64 splits as asked. */
+TEST(parallelism_is_threads_capped_by_cpus)
+{
+    const char *env = getenv("BVOX_CPUS");
+    cpu_set_t set;
+    int cpus = env && atoi(env) > 0 ? atoi(env)
+               : sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 1;
+    for (int t = 1; t <= 64; t++) {
+        bvox_set_threads(t);
+        CHECK_EQ(bvox_threads(), t);
+        CHECK_EQ(bvox__parallelism(), t < cpus ? t : cpus);
+    }
+    bvox_set_threads(0);
+    return 0;
 }
 
 TEST(every_index_once_in_documented_chunks)
@@ -145,22 +164,21 @@ typedef struct who {
 static void record_thread(void *arg, int64_t b, int64_t e)
 {
     who *w = arg;
-    (void)e;
+    (void)b, (void)e;
     usleep(20000);
-    w->tid[b] = pthread_self();
-    atomic_fetch_add(&w->n, 1);
+    w->tid[atomic_fetch_add(&w->n, 1)] = pthread_self();
 }
 
 /* Chunks of a 4-thread call ran on more than one thread (where the process
- * may use more than one CPU: the pool never runs more threads than that). */
+ * may use more than one CPU: work is never split wider than that). */
 static int spread_over_threads(void)
 {
-    cpu_set_t set;
-    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) < 2) return 1;
+    if (bvox__parallelism() < 2) return 1; /* one CPU: nothing to spread over */
     who w = {{0}, 0};
     bvox__parallel_for(4, 1, record_thread, &w);
-    if (atomic_load(&w.n) != 4) return 0;
-    for (int k = 1; k < 4; k++)
+    int n = atomic_load(&w.n);
+    if (n != (bvox__parallelism() < 4 ? bvox__parallelism() : 4)) return 0;
+    for (int k = 1; k < n; k++)
         if (!pthread_equal(w.tid[k], w.tid[0])) return 1;
     return 0;
 }
