@@ -21,7 +21,6 @@
 #include "manip_ref.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,9 +43,6 @@ typedef struct options {
         stmt;                                                                          \
         now_ms() - s_;                                                                 \
     })
-
-/* ---- memcpy baseline, split over threads like the library splits work ---- */
-
 
 /* ---- specimens ---- */
 

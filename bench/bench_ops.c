@@ -12,7 +12,6 @@
 #include "bench_util.h"
 #include "ref/voxref.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,9 +40,6 @@ static uint64_t rnd(void)
     x ^= x << 17;
     return rng_state = x;
 }
-
-/* ---- memcpy baseline, split over threads like the library splits ops ---- */
-
 
 /* ---- specimens ---- */
 

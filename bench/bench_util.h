@@ -11,7 +11,6 @@
 
 #include "internal.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -140,31 +139,28 @@ static inline int run_threads_list(int argc, char **argv, int (*main_fn)(int, ch
 
 /* ---- memcpy baseline ---- */
 
-typedef struct copy_part {
+typedef struct copy_job {
     uint8_t *dst;
     const uint8_t *src;
     size_t n;
-} copy_part;
+} copy_job;
 
-static inline void *copy_run(void *p)
+static inline void copy_range(void *p, int64_t b, int64_t e)
 {
-    copy_part *c = p;
-    memcpy(c->dst, c->src, c->n);
-    return NULL;
+    const copy_job *c = p;
+    memcpy(c->dst + b, c->src + b, (size_t)(e - b));
 }
 
+/* memcpy of n bytes split over `threads` threads exactly as the library
+ * splits its work (bvox__parallel_for: its pool, never wider than the CPUs),
+ * so the baseline and the operations pay the same threading costs. */
 static inline void parallel_memcpy(void *dst, const void *src, size_t n, int threads)
 {
-    copy_part parts[64];
-    pthread_t tid[64];
-    if (threads > 64) threads = 64;
-    for (int t = 0; t < threads; t++) {
-        size_t a = n * (size_t)t / (size_t)threads, b = n * (size_t)(t + 1) / (size_t)threads;
-        parts[t] = (copy_part){(uint8_t *)dst + a, (const uint8_t *)src + a, b - a};
-    }
-    for (int t = 1; t < threads; t++) pthread_create(&tid[t], NULL, copy_run, &parts[t]);
-    copy_run(&parts[0]);
-    for (int t = 1; t < threads; t++) pthread_join(tid[t], NULL);
+    int saved = bvox_threads();
+    copy_job c = {dst, src, n};
+    bvox_set_threads(threads);
+    bvox__parallel_for((int64_t)n, 4096, copy_range, &c);
+    bvox_set_threads(saved);
 }
 
 /* ---- specimens ---- */
