@@ -158,13 +158,15 @@ static int64_t now_ns(void)
     return (int64_t)t.tv_sec * 1000000000 + t.tv_nsec;
 }
 
-/* Returns when a call after `seen` is published or ~50 us have passed. */
+/* Returns when a call after `seen` is published or ~50 us have passed. The
+ * worker yields while it watches: where it shares a CPU with the caller (a
+ * loaded machine), spinning would hold the caller off for the whole watch. */
 static void watch_for_call(pool *p, uint32_t seen)
 {
     int64_t until = now_ns() + 50000;
-    for (int i = 1; atomic_load(&p->generation) == seen; i++) {
-        cpu_relax();
-        if (i % 64 == 0 && now_ns() > until) return;
+    while (atomic_load(&p->generation) == seen && now_ns() < until) {
+        for (int i = 0; i < 16; i++) cpu_relax();
+        sched_yield();
     }
 }
 
