@@ -139,11 +139,12 @@ static uint32_t run_chunks(pool *p, uint32_t gen, bvox__range_fn fn, void *ctx, 
     }
 }
 
-static void finish_chunks(pool *p, uint32_t ran)
+static void finish_chunks(pool *p, uint32_t ran, uint32_t tasks)
 {
     if (!ran) return;
-    /* tasks is stable here: the call cannot end before these chunks count */
-    if (atomic_fetch_add(&p->done, ran) + ran != p->tasks) return;
+    /* tasks: the caller's own count, never p->tasks (a caller that sees the
+     * last chunk done may already be publishing its next call) */
+    if (atomic_fetch_add(&p->done, ran) + ran != tasks) return;
     pthread_mutex_lock(&p->lock); /* the caller may be about to sleep */
     pthread_cond_signal(&p->finished);
     pthread_mutex_unlock(&p->lock);
@@ -192,7 +193,7 @@ static void *worker_main(void *arg)
         int64_t n = p->n;
         uint32_t tasks = p->tasks;
         pthread_mutex_unlock(&p->lock);
-        finish_chunks(p, run_chunks(p, seen, fn, ctx, n, tasks));
+        finish_chunks(p, run_chunks(p, seen, fn, ctx, n, tasks), tasks);
     }
     return NULL;
 }
@@ -294,7 +295,7 @@ void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, vo
     pthread_mutex_unlock(&p->lock);
 
     /* the caller works too; with no workers at all it runs every chunk */
-    finish_chunks(p, run_chunks(p, gen, fn, ctx, n, (uint32_t)threads));
+    finish_chunks(p, run_chunks(p, gen, fn, ctx, n, (uint32_t)threads), (uint32_t)threads);
     /* A worker is finishing its last chunk: watch for it a little (~20 us;
      * a sleep and wake-up costs more than a small call's whole work), then
      * sleep. Not sched_yield: on a loaded machine that gives the CPU away
