@@ -121,6 +121,15 @@ bvox_status bvox_mesh_add_vertex(bvox_mesh *m, double x, double y, double z)
     if (!m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_add_vertex: mesh is NULL");
     if (!isfinite(x) || !isfinite(y) || !isfinite(z))
         return bvox__fail(BVOX_EINVAL, "vertex coordinates must be finite");
+    /* Measures multiply up to four coordinate differences (areas square a
+     * cross product): beyond this they would overflow to inf or NaN. */
+    double far = fmax(fabs(x), fmax(fabs(y), fabs(z)));
+    if (far > BVOX_MESH_COORD_MAX)
+        return bvox__fail(BVOX_EINVAL,
+                          "vertex %lld has a coordinate of %g, beyond the supported range "
+                          "(-%g..%g)",
+                          (long long)m->nvertices + 1, far == fabs(x) ? x : far == fabs(y) ? y : z,
+                          BVOX_MESH_COORD_MAX, BVOX_MESH_COORD_MAX);
     if (m->nvertices == m->vcap) {
         bvox_status st = bvox__mesh_grow(m, m->nvertices + 1, m->ntriangles);
         if (st) return st;
@@ -362,6 +371,9 @@ bvox_status bvox_mesh_measure(const bvox_mesh *m, bvox_mesh_info *info)
         double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
         area += 0.5 * sqrt(nx * nx + ny * ny + nz * nz);
     }
+    if (!isfinite(vol) || !isfinite(area))
+        return bvox__fail(BVOX_EINVAL, "the mesh is too large to measure (its volume or area "
+                                       "overflows)");
     info->volume = vol / 6.0;
     info->area = area;
     info->degenerate_triangles = degenerate;

@@ -384,6 +384,11 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
             mx[k] = fmax(mx[k], m->vertices[3 * i + k]);
         }
     double ext[3] = {mx[0] - mn[0], mx[1] - mn[1], mx[2] - mn[2]};
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(ext[k])) /* e.g. vertices at -1e308 and 1e308 */
+            return bvox__fail(BVOX_EINVAL,
+                              "the mesh's bounding box (%g to %g along %c) is too large",
+                              mn[k], mx[k], "xyz"[k]);
     double longest = fmax(ext[0], fmax(ext[1], ext[2]));
     vox v;
     memset(&v, 0, sizeof v);
@@ -401,9 +406,9 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
     for (int k = 0; k < 3; k++) {
         double nk = ceil(ext[k] / v.s - 1e-9);
         if (nk < 1) nk = 1;
-        if (nk > BVOX_MAX_DIM)
+        if (!(nk <= BVOX_MAX_DIM)) /* also NaN: never converted to int */
             return bvox__fail(BVOX_ETOOBIG,
-                              "the mesh spans %.0f voxels along %c (at most %d); use a larger "
+                              "the mesh spans %.6g voxels along %c (at most %d); use a larger "
                               "voxel size",
                               nk, "xyz"[k], BVOX_MAX_DIM);
         v.n[k] = (int32_t)nk;

@@ -265,6 +265,11 @@ TEST(bad_files)
     CHECK(bad(b, sizeof b, "stl", "finite") == 0);
     CHECK(bad(b, 40, "stl", "too short") == 0);
     BAD("hello", NULL, "not a mesh");
+    /* huge coordinates: finite, but their products in the measures are not */
+    BAD("v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", "obj", "-1e+308");
+    BAD("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1e61 0\n3 0 1 2\n", "off", "vertex 3 has a coordinate");
+    /* random bytes with the .obj format: not an empty mesh */
+    BAD("\x7f\x01\x93garbage\n\xff\xfe no obj here\n", "obj", "no vertices or faces found");
     CHECK_EQ(bvox_memory_in_use(), base);
     bvox_mesh *m = NULL;
     CHECK_STATUS(bvox_mesh_read(harness_path("missing.stl"), NULL, &m), BVOX_ENOTFOUND);
