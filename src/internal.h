@@ -45,6 +45,8 @@ void bvox__free(void *ptr, size_t bytes);
 /* Test hook: make the n-th following bvox__alloc fail with BVOX_ENOMEM
  * (n = 1: the next one); 0 disables. */
 void bvox__alloc_fail_after(long n);
+/* A byte count for messages: "812 bytes", "2.4 MiB", "11.8 GiB". */
+void bvox__format_bytes(char *buf, size_t len, size_t bytes);
 /* Overflow-safe a*b; returns false on overflow. */
 static inline bool bvox__mul_size(size_t a, size_t b, size_t *out)
 {

@@ -44,7 +44,7 @@ size_t bvox_memory_in_use(void) { return atomic_load(&in_use_bytes); }
 
 void bvox__alloc_fail_after(long n) { atomic_store(&fail_countdown, n); }
 
-static void format_bytes(char *buf, size_t len, size_t bytes)
+void bvox__format_bytes(char *buf, size_t len, size_t bytes)
 {
     const char *units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
     double v = (double)bytes;
@@ -66,8 +66,8 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
     if (bytes > budget || used > budget - bytes) {
         atomic_fetch_sub(&in_use_bytes, bytes);
         char need[32], lim[32];
-        format_bytes(need, sizeof need, bytes);
-        format_bytes(lim, sizeof lim, budget);
+        bvox__format_bytes(need, sizeof need, bytes);
+        bvox__format_bytes(lim, sizeof lim, budget);
         *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
                              what, need, lim);
         return NULL;
@@ -78,7 +78,7 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
     if (!p) {
         atomic_fetch_sub(&in_use_bytes, bytes);
         char need[32];
-        format_bytes(need, sizeof need, bytes);
+        bvox__format_bytes(need, sizeof need, bytes);
         *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating %s for the %s", need, what);
         return NULL;
     }
