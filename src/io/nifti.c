@@ -582,7 +582,7 @@ static bvox_status nifti_read_path(const char *path, const bvox_read_opts *opts,
     /* Otsu (every sample before the first comparison) and anything that is
      * not a regular file go the whole-file way */
     if (bvox__bin_stream_ok(opts ? &opts->binarize : NULL)) {
-        fd = open(path, O_RDONLY | O_CLOEXEC);
+        fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO must not block here */
         if (fd >= 0 && (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode))) {
             close(fd);
             fd = -1;

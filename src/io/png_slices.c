@@ -149,8 +149,10 @@ static void set_geometry(const slice_info *info, bvox_geometry *g)
     strcpy(g->unit, "mm");
 }
 
-/* Allocate the gray volume for n slices of the first slice's size. */
-static bvox_status gray_alloc(bvox__gray *g, const slice_info *info, int32_t n, const char *name)
+/* Allocate the gray volume for n slices of the first slice's size; with a
+ * stream (bs not NULL) only one slice, and the stream is begun. */
+static bvox_status gray_alloc(bvox__gray *g, const slice_info *info, int32_t n, const char *name,
+                              const bvox_binarize *how, bvox__bin_stream **bs)
 {
     if (info->w > BVOX_MAX_DIM || info->h > BVOX_MAX_DIM || !info->w || !info->h)
         return bvox__fail(BVOX_EFORMAT, "%s: bad size %u x %u", name, info->w, info->h);
@@ -160,6 +162,11 @@ static bvox_status gray_alloc(bvox__gray *g, const slice_info *info, int32_t n, 
     size_t bits, bytes = (size_t)info->w * info->h * (size_t)info->bytes;
     bvox_status st = bvox__check_dims(g->dims, name, &bits);
     if (st) return st;
+    if (bs) {
+        st = bvox__bin_stream_begin(g, how, name, bs);
+        if (st) return st;
+        n = 1;
+    }
     if (!bvox__mul_size(bytes, (size_t)n, &bytes))
         return bvox__fail(BVOX_ETOOBIG, "%s: slices overflow the address space", name);
     g->owned = bvox__alloc(bytes, false, "PNG slices", &st);
@@ -179,7 +186,7 @@ static bvox_status png_read_memory(const uint8_t *data, size_t size, const char 
     if (st) return st;
     bvox__gray g;
     bvox__gray_init(&g);
-    st = gray_alloc(&g, &info, 1, name);
+    st = gray_alloc(&g, &info, 1, name, NULL, NULL);
     if (!st) st = decode_png(data, size, name, &info, &info, name, g.owned);
     if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
     bvox__gray_release(&g);
@@ -270,6 +277,11 @@ static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox
     slice_info first;
     char *first_path = join(dir, names[0]);
     size_t slice_bytes = 0;
+    /* slices binarised as they are decoded: the bits plus one slice (not
+     * for Otsu, which needs every slice first) */
+    const bvox_binarize *how = opts ? &opts->binarize : NULL;
+    bvox__bin_stream *bs = NULL;
+    bool stream = bvox__bin_stream_ok(how);
     if (!first_path) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     for (size_t i = 0; i < n && !st; i++) {
         char *path = i ? join(dir, names[i]) : first_path;
@@ -283,19 +295,22 @@ static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox
             slice_info info;
             if (i == 0) {
                 st = decode_png(b.data, b.size, path, &first, NULL, NULL, NULL);
-                if (!st) st = gray_alloc(&g, &first, (int32_t)n, dir);
+                if (!st) st = gray_alloc(&g, &first, (int32_t)n, dir, how, stream ? &bs : NULL);
                 slice_bytes = (size_t)first.w * first.h * (size_t)first.bytes;
             }
             if (!st)
                 st = decode_png(b.data, b.size, path, &info, &first, first_path,
-                                (uint8_t *)g.owned + i * slice_bytes);
+                                (uint8_t *)g.owned + (bs ? 0 : i * slice_bytes));
+            if (!st && bs) bvox__bin_stream_slices(bs, g.owned, 1);
             bvox__bytes_release(&b);
         }
         if (i) free(path);
     }
     free(first_path);
     free_names(names, n);
-    if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, dir, out);
+    if (bs && st) bvox__bin_stream_abort(bs);
+    else if (bs) st = bvox__bin_stream_finish(bs, out);
+    else if (!st) st = bvox__binarize(&g, how, dir, out);
     bvox__gray_release(&g);
     return st;
 }
