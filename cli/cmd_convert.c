@@ -71,6 +71,10 @@ int cmd_convert(int argc, char **argv)
                                "use --output-format (one of %s)",
                                out, bvox_format_list());
 
+    /* ... and when the header alone shows that the output cannot hold it */
+    bvox_dims dims;
+    if (bvox_read_dims(in, &ra.opts, &dims) == BVOX_OK && bvox_write_check(out, dims, &wo))
+        return cli_fail();
     bvox_volume *vol = NULL;
     if (cli_read_volume(in, &ra, &vol)) return cli_fail();
     bvox_status st = bvox_write(out, vol, &wo);

@@ -134,5 +134,10 @@ typedef struct bvox_voxelize_report {
  * y and z and each voxel gets the majority vote. report may be NULL. */
 bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
                                bvox_volume **out, bvox_voxelize_report *report);
+/* The dimensions bvox_mesh_voxelize would give, with the same checks of the
+ * mesh and options, computed from the bounding box alone (nothing is
+ * allocated): to refuse an output that cannot hold them before the work. */
+bvox_status bvox_mesh_voxelize_dims(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
+                                    bvox_dims *dims);
 
 #endif /* BVOX_MESH_H */

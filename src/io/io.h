@@ -121,6 +121,11 @@ typedef struct bvox__format {
     bvox_status (*read_path)(const char *path, const bvox_read_opts *opts, bvox_volume **out);
     bvox_status (*write_path)(const char *path, const bvox_volume *vol,
                               const bvox_write_opts *opts);
+    /* the dimensions a read would give, from the header alone (NULL: the
+     * format cannot tell cheaply) */
+    bvox_status (*probe_dims)(const char *path, const bvox_read_opts *opts, bvox_dims *dims);
+    /* the writer's own limits on dimensions (NULL: none beyond BVOX_MAX_DIM) */
+    bvox_status (*write_limits)(const char *path, bvox_dims dims);
 } bvox__format;
 
 extern const bvox__format bvox__format_nifti;

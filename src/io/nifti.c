@@ -739,15 +739,47 @@ bool bvox__path_has_gz(const char *path)
     return n >= 3 && (path[n - 3] == '.') && (path[n - 2] | 32) == 'g' && (path[n - 1] | 32) == 'z';
 }
 
+static bvox_status nifti_write_limits(const char *path, bvox_dims d)
+{
+    if (d.nx > INT16_MAX || d.ny > INT16_MAX || d.nz > INT16_MAX)
+        return bvox__fail(BVOX_EUNSUPPORTED,
+                          "%s: NIfTI-1 dimensions are at most 32767 per axis (volume is %ld x "
+                          "%ld x %ld)",
+                          path, (long)d.nx, (long)d.ny, (long)d.nz);
+    return BVOX_OK;
+}
+
+/* The header of a .nii or .nii.gz: its first 348 bytes, inflated if need be. */
+static bvox_status nifti_probe_dims(const char *path, const bvox_read_opts *opts,
+                                    bvox_dims *dims)
+{
+    (void)opts;
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO must not block here */
+    struct stat sb;
+    if (fd < 0 || fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        if (fd >= 0) close(fd);
+        return bvox__fail(BVOX_EUNSUPPORTED, "%s: not a regular file", path);
+    }
+    gzFile gz = gzdopen(fd, "rb");
+    if (!gz) {
+        close(fd);
+        return bvox__fail(BVOX_ENOMEM, "%s: out of memory opening the file", path);
+    }
+    uint8_t head[HDR_SIZE];
+    int got = gzread(gz, head, sizeof head);
+    gzclose_r(gz);
+    header hd;
+    bvox_status st = parse_header(head, got > 0 ? (size_t)got : 0, path, &hd);
+    if (!st) *dims = hd.dims;
+    return st;
+}
+
 static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
                                     const bvox_write_opts *opts)
 {
     (void)opts;
-    if (vol->nx > INT16_MAX || vol->ny > INT16_MAX || vol->nz > INT16_MAX)
-        return bvox__fail(BVOX_EUNSUPPORTED,
-                          "%s: NIfTI-1 dimensions are at most 32767 per axis (volume is %ld x "
-                          "%ld x %ld)",
-                          path, (long)vol->nx, (long)vol->ny, (long)vol->nz);
+    bvox_status lim = nifti_write_limits(path, bvox_volume_dims(vol));
+    if (lim) return lim;
     uint8_t h[MIN_VOX_OFFSET];
     bvox__nifti_header(vol, DT_UINT8, 8, 1.0, 0, "binary volume", h);
     int32_t chunk = vol->nz < 64 ? vol->nz : 64;
@@ -778,5 +810,5 @@ static const char *const nifti_extensions[] = {".nii.gz", ".nii", NULL};
 
 const bvox__format bvox__format_nifti = {
     "nifti", nifti_extensions, nifti_sniff, nifti_read_memory, nifti_read_path,
-    nifti_write_path,
+    nifti_write_path, nifti_probe_dims, nifti_write_limits,
 };

@@ -331,6 +331,53 @@ static bvox_status png_read_path(const char *path, const bvox_read_opts *opts, b
     return st;
 }
 
+/* Width and height from a PNG's IHDR (the chunk every PNG starts with). */
+static bvox_status ihdr_dims(const char *path, uint32_t *w, uint32_t *h)
+{
+    uint8_t b[24];
+    FILE *f = fopen(path, "rb");
+    size_t got = f ? fread(b, 1, sizeof b, f) : 0;
+    if (f) fclose(f);
+    if (got < sizeof b || png_sig_cmp(b, 0, 8) || memcmp(b + 12, "IHDR", 4))
+        return bvox__fail(BVOX_EFORMAT, "%s: not a PNG file", path);
+    *w = (uint32_t)b[16] << 24 | (uint32_t)b[17] << 16 | (uint32_t)b[18] << 8 | b[19];
+    *h = (uint32_t)b[20] << 24 | (uint32_t)b[21] << 16 | (uint32_t)b[22] << 8 | b[23];
+    if (!*w || !*h || *w > BVOX_MAX_DIM || *h > BVOX_MAX_DIM)
+        return bvox__fail(*w && *h ? BVOX_ETOOBIG : BVOX_EFORMAT,
+                          "%s: a slice of %u x %u pixels, outside 1..%d", path, *w, *h,
+                          BVOX_MAX_DIM);
+    return BVOX_OK;
+}
+
+/* A file: its IHDR, one slice. A folder: the first slice's IHDR and the
+ * number of slices. Nothing is decoded. */
+static bvox_status png_probe_dims(const char *path, const bvox_read_opts *opts,
+                                  bvox_dims *dims)
+{
+    (void)opts;
+    struct stat sb;
+    uint32_t w, h;
+    if (stat(path, &sb) != 0)
+        return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
+    if (!S_ISDIR(sb.st_mode)) {
+        if (!S_ISREG(sb.st_mode))
+            return bvox__fail(BVOX_EUNSUPPORTED, "%s: not a regular file", path);
+        bvox_status st = ihdr_dims(path, &w, &h);
+        if (!st) *dims = (bvox_dims){(int32_t)w, (int32_t)h, 1};
+        return st;
+    }
+    char **names = NULL;
+    size_t n = 0;
+    bvox_status st = list_pngs(path, &names, &n);
+    if (st) return st;
+    char *first = join(path, names[0]);
+    st = first ? ihdr_dims(first, &w, &h) : bvox__fail(BVOX_ENOMEM, "out of memory");
+    free(first);
+    free_names(names, n);
+    if (!st) *dims = (bvox_dims){(int32_t)w, (int32_t)h, (int32_t)n};
+    return st;
+}
+
 /* ------------------------------------------------------------------ writing */
 
 /* Metres per unit, 0 if the unit is not metric. */
@@ -431,4 +478,5 @@ static const char *const png_extensions[] = {".png", NULL};
 
 const bvox__format bvox__format_png = {
     "png", png_extensions, png_sniff, png_read_memory, png_read_path, png_write_path,
+    png_probe_dims, NULL,
 };

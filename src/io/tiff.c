@@ -447,4 +447,5 @@ static const char *const tiff_extensions[] = {".tif", ".tiff", NULL};
 
 const bvox__format bvox__format_tiff = {
     "tiff", tiff_extensions, tiff_sniff, tiff_read_memory, tiff_read_path, bvox__tiff_write,
+    NULL, NULL,
 };

@@ -357,12 +357,10 @@ static bvox_status run_axis(vox *v, int a)
     return st;
 }
 
-bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
-                               bvox_volume **out, bvox_voxelize_report *report)
+/* Check the mesh and options and lay out the grid (v->s, v->n, v->origin):
+ * cheap, before anything is allocated. */
+static bvox_status plan(const bvox_mesh *m, const bvox_voxelize_opts *opts, vox *vp)
 {
-    bvox__clear_error();
-    if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
-    *out = NULL;
     if (!m || !opts) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: NULL argument");
     if ((opts->res > 0) == (opts->voxel_size > 0))
         return bvox__fail(BVOX_EINVAL, "voxelize needs exactly one of a resolution (voxels along "
@@ -414,11 +412,51 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
         v.n[k] = (int32_t)nk;
         v.origin[k] = mn[k] + 0.5 * (ext[k] - nk * v.s) + 0.5 * v.s;
     }
+    *vp = v;
+    return BVOX_OK;
+}
+
+bvox_status bvox_mesh_voxelize_dims(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                                    bvox_dims *dims)
+{
+    bvox__clear_error();
+    if (!dims) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize_dims: dims is NULL");
+    vox v;
+    bvox_status st = plan(m, opts, &v);
+    if (!st) *dims = (bvox_dims){v.n[0], v.n[1], v.n[2]};
+    return st;
+}
+
+bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                               bvox_volume **out, bvox_voxelize_report *report)
+{
+    bvox__clear_error();
+    if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
+    *out = NULL;
+    vox v;
+    bvox_status st = plan(m, opts, &v);
+    if (st) return st;
     int64_t edges, boundary, nonman, incons;
-    bvox_status st = bvox__mesh_edge_stats(m, &edges, &boundary, &nonman, &incons);
+    st = bvox__mesh_edge_stats(m, &edges, &boundary, &nonman, &incons);
     if (st) return st;
     int closed = boundary == 0 && nonman == 0;
     bvox_dims dims = {v.n[0], v.n[1], v.n[2]};
+    /* An open mesh needs the result and one volume per axis at once: refuse
+     * now rather than after voxelizing along two axes. */
+    size_t bytes, nvol = v.shell || closed ? 1 : 4, in_use = bvox_memory_in_use();
+    size_t room = bvox_memory_budget() > in_use ? bvox_memory_budget() - in_use : 0;
+    st = bvox__check_dims(dims, NULL, &bytes);
+    if (st) return st;
+    if (bytes > room / nvol) {
+        char need[32], lim[32];
+        bvox__format_bytes(need, sizeof need, bytes * nvol);
+        bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
+        return bvox__fail(BVOX_ETOOBIG,
+                          "voxelizing at %d x %d x %d needs %s (%zu volume%s), over the memory "
+                          "budget of %s",
+                          dims.nx, dims.ny, dims.nz, need, nvol, nvol > 1 ? "s: an open mesh "
+                          "is voxelized along x, y and z" : "", lim);
+    }
     bvox_volume *vol;
     st = bvox_volume_create(dims, &vol);
     if (st) return st;

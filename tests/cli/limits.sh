@@ -26,4 +26,42 @@ for f in s.nii s.nii.gz s.tif png; do
     got=$(sed 's/.*"count": *\([0-9]*\).*/\1/' "$tmp/i.json")
     [ "$got" = "$want" ] || fail "$f: count $got, want $want"
 done
+
+# refuse EXPECTED-TEXT COMMAND...: exit 1, one "bvox: " line holding the text,
+# and no output file (the outputs here are all $tmp/x.*)
+refuse() {
+    want=$1
+    shift
+    set +e
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    rc=$?
+    set -e
+    [ $rc -eq 1 ] || fail "$*: exit $rc ($(cat "$tmp/err"))"
+    [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "$*: stderr is not one line: $(cat "$tmp/err")"
+    grep -q -- "$want" "$tmp/err" || fail "$*: expected '$want' in: $(cat "$tmp/err")"
+    ! ls "$tmp"/x.* >/dev/null 2>&1 || fail "$*: left $(ls "$tmp"/x.*)"
+}
+
+# Refused before the work. A 40000 x 2000 PNG (78 KB, 76 MiB of pixels) to
+# NIfTI: the writer's 32767 limit is known from the PNG header, so the
+# refusal is NIfTI's even under a budget that decoding would exceed.
+python3 - "$tmp/wide.png" <<'PY'
+import struct, sys, zlib
+w, h = 40000, 2000
+def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d))
+raw = zlib.compress(b''.join(b'\0' * (w + 1) for _ in range(h)), 9)
+open(sys.argv[1], 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 0, 0, 0, 0))
+                              + chunk(b'IDAT', raw) + chunk(b'IEND', b''))
+PY
+refuse "NIfTI-1 dimensions are at most 32767 per axis (volume is 40000 x 2000 x 1)" \
+    "$BVOX" convert "$tmp/wide.png" "$tmp/x.nii" --max-memory 1M
+# voxelize --res 65535 into NIfTI: refused from the bounding box alone
+printf 'v 0 0 0\nv 1 0 0\nv 0 0.001 0\nv 0 0 0.001\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n' >"$tmp/flat.obj"
+refuse "NIfTI-1 dimensions are at most 32767 per axis (volume is 65535 x 66 x 66)" \
+    "$BVOX" voxelize "$tmp/flat.obj" -o "$tmp/x.nii" --res 65535 --max-memory 16M
+# an open mesh needs four volumes (x, y, z votes and the result): 4 x 2 MiB
+# at 256^3 is over 5 MiB, said at once (not after voxelizing along x and y)
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >"$tmp/open.obj"
+refuse "needs 8.0 MiB (4 volumes" \
+    "$BVOX" voxelize "$tmp/open.obj" -o "$tmp/x.nii" --res 256 --max-memory 5M
 echo ok
