@@ -45,6 +45,12 @@ void bvox__free(void *ptr, size_t bytes);
 /* Test hook: make the n-th following bvox__alloc fail with BVOX_ENOMEM
  * (n = 1: the next one); 0 disables. */
 void bvox__alloc_fail_after(long n);
+/* Count bytes held outside bvox__alloc (growing arrays of malloc, such as
+ * contour stacks and text buffers) against the budget: false (status
+ * BVOX_ETOOBIG, message naming what) when they would exceed it. Every
+ * charge is refunded once, when the memory is freed. */
+bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status);
+void bvox__budget_refund(size_t bytes);
 /* A byte count for messages: "812 bytes", "2.4 MiB", "11.8 GiB". */
 void bvox__format_bytes(char *buf, size_t len, size_t bytes);
 /* Overflow-safe a*b; returns false on overflow. */

@@ -53,14 +53,9 @@ void bvox__format_bytes(char *buf, size_t len, size_t bytes)
     snprintf(buf, len, u ? "%.1f %s" : "%.0f %s", v, units[u]);
 }
 
-void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
+bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status)
 {
     if (!what) what = "buffer";
-    long c = atomic_load(&fail_countdown);
-    if (c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1) {
-        *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating the %s (injected)", what);
-        return NULL;
-    }
     size_t budget = bvox_memory_budget();
     size_t used = atomic_fetch_add(&in_use_bytes, bytes);
     if (bytes > budget || used > budget - bytes) {
@@ -70,8 +65,23 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
         bvox__format_bytes(lim, sizeof lim, budget);
         *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
                              what, need, lim);
+        return false;
+    }
+    *status = BVOX_OK;
+    return true;
+}
+
+void bvox__budget_refund(size_t bytes) { atomic_fetch_sub(&in_use_bytes, bytes); }
+
+void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
+{
+    if (!what) what = "buffer";
+    long c = atomic_load(&fail_countdown);
+    if (c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1) {
+        *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating the %s (injected)", what);
         return NULL;
     }
+    if (!bvox__budget_charge(bytes, what, status)) return NULL;
     size_t rounded = (bytes + 63) & ~(size_t)63;
     if (rounded == 0) rounded = 64;
     void *p = aligned_alloc(64, rounded);

@@ -53,10 +53,15 @@ void bvox__signed_edt(const uint64_t *bits, size_t wpr, int32_t nx, int32_t ny, 
 
 /* A growable text buffer (malloc). On an allocation failure `failed` is set
  * and further appends are ignored; check it once at the end. */
+/* Record bytes charged to the memory budget (bvox__budget_charge) for the
+ * stack's contents; bvox_stack_destroy refunds them (contour_stack.c). */
+void bvox__stack_charged(bvox_contour_stack *s, size_t bytes);
+
 typedef struct bvox__strbuf {
     char *data;
-    size_t len, cap;
+    size_t len, cap; /* cap is charged to the memory budget */
     bool failed;
+    bool over_budget; /* failed because the budget was reached */
 } bvox__strbuf;
 void bvox__sb_append(bvox__strbuf *b, const char *s, size_t n);
 void bvox__sb_puts(bvox__strbuf *b, const char *s);

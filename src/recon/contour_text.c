@@ -26,8 +26,14 @@ void bvox__sb_append(bvox__strbuf *b, const char *s, size_t n)
             }
             cap *= 2;
         }
+        bvox_status st;
+        if (!bvox__budget_charge(cap - b->cap, "text", &st)) {
+            b->failed = b->over_budget = true;
+            return;
+        }
         char *p = realloc(b->data, cap);
         if (!p) {
+            bvox__budget_refund(cap - b->cap);
             b->failed = true;
             return;
         }
@@ -128,11 +134,19 @@ void bvox__sb_xml_text(bvox__strbuf *b, const char *s)
 void bvox__sb_free(bvox__strbuf *b)
 {
     free(b->data);
+    bvox__budget_refund(b->cap);
     memset(b, 0, sizeof *b);
 }
 
 bvox_status bvox__sb_write_file(const bvox__strbuf *b, const char *path)
 {
+    if (b->over_budget) {
+        char have[32], lim[32];
+        bvox__format_bytes(have, sizeof have, b->cap);
+        bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
+        return bvox__fail(BVOX_ETOOBIG, "%s: the text grew past %s and reached the memory "
+                          "budget of %s", path, have, lim);
+    }
     if (b->failed) return bvox__fail(BVOX_ENOMEM, "%s: out of memory for the text", path);
     bvox__sink sink;
     bvox_status st = bvox__sink_open(path, 0, &sink);

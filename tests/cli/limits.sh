@@ -64,4 +64,12 @@ refuse "NIfTI-1 dimensions are at most 32767 per axis (volume is 65535 x 66 x 66
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >"$tmp/open.obj"
 refuse "needs 8.0 MiB (4 volumes" \
     "$BVOX" voxelize "$tmp/open.obj" -o "$tmp/x.nii" --res 256 --max-memory 5M
+# contours follows --max-memory: a 128^3 random volume has ~150000 outlines
+# per axis (~25 MiB of points, ~20 MiB of JSON); under 8 MiB it stops
+python3 -c "import os, sys; sys.stdout.buffer.write(os.urandom(128 ** 3))" >"$tmp/noise.raw"
+"$BVOX" convert "$tmp/noise.raw" "$tmp/noise.nii" --dims 128,128,128 --type u8 --threshold 128 ||
+    fail "making noise.nii"
+refuse "memory budget of 8.0 MiB" "$BVOX" contours "$tmp/noise.nii" -o "$tmp/x.json" --max-memory 8M
+refuse "memory budget of 8.0 MiB" "$BVOX" contours "$tmp/noise.nii" -o "$tmp/x.svg" --max-memory 8M
+"$BVOX" contours "$tmp/noise.nii" -o "$tmp/n.json" --max-memory 200M >/dev/null || fail "contours 200M"
 echo ok
