@@ -2,7 +2,7 @@
  * read_obj.c — Wavefront OBJ: "v x y z [w]" vertices and "f" faces whose
  * corners are "i", "i/t", "i//n" or "i/t/n" (only the position index i is
  * used; negative i counts back from the last vertex read so far). Polygons
- * become fans of triangles. vt, vn, g, o, s, usemtl, mtllib, l and comments
+ * become triangles (bvox__mesh_add_polygon). vt, vn, g, o, s, usemtl, mtllib, l and comments
  * are ignored. Faces are checked once all vertices are known (an index may
  * refer to a vertex defined later).
  */
