@@ -780,6 +780,18 @@ static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
     (void)opts;
     bvox_status lim = nifti_write_limits(path, bvox_volume_dims(vol));
     if (lim) return lim;
+    /* the header stores sizes and positions as 32-bit floats: one that does
+     * not fit would be read back as 1 (or inf), silently */
+    const bvox_geometry *g = &vol->geom;
+    for (int i = 0; i < 3; i++) {
+        float sp = (float)g->spacing[i], org = (float)g->origin[i];
+        if (!isfinite(sp) || !(sp > 0) || !isfinite(org))
+            return bvox__fail(BVOX_EUNSUPPORTED,
+                              "%s: NIfTI-1 stores voxel size and origin as 32-bit floats; "
+                              "%s %g along %c does not fit",
+                              path, !isfinite(sp) || !(sp > 0) ? "a voxel size of" : "an origin of",
+                              !isfinite(sp) || !(sp > 0) ? g->spacing[i] : g->origin[i], "xyz"[i]);
+    }
     uint8_t h[MIN_VOX_OFFSET];
     bvox__nifti_header(vol, DT_UINT8, 8, 1.0, 0, "binary volume", h);
     int32_t chunk = vol->nz < 64 ? vol->nz : 64;

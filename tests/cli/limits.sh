@@ -72,4 +72,10 @@ python3 -c "import os, sys; sys.stdout.buffer.write(os.urandom(128 ** 3))" >"$tm
 refuse "memory budget of 8.0 MiB" "$BVOX" contours "$tmp/noise.nii" -o "$tmp/x.json" --max-memory 8M
 refuse "memory budget of 8.0 MiB" "$BVOX" contours "$tmp/noise.nii" -o "$tmp/x.svg" --max-memory 8M
 "$BVOX" contours "$tmp/noise.nii" -o "$tmp/n.json" --max-memory 200M >/dev/null || fail "contours 200M"
+# a failed demo -o leaves no folder behind (it created dd/ee: both go)
+refuse "memory budget of 2.0 MiB" "$BVOX" demo -o "$tmp/dd/ee" --max-memory 2M
+[ ! -e "$tmp/dd" ] || fail "demo left $(find "$tmp/dd")"
+# a contour file's pixel size of 1e300: the limit is named, not just "> 0"
+printf '{"pixel": 1e300, "sections": []}' >"$tmp/c.json"
+refuse "pixel must be > 0 and at most 1e12 (it is 1e+300)" "$BVOX" reconstruct "$tmp/c.json" -o "$tmp/x.nii"
 echo ok

@@ -207,6 +207,16 @@ TEST(write_units_and_limits)
     CHECK_NEAR(bvox_volume_geometry(w)->spacing[2], 3.0, 1e-6);
     bvox_volume_destroy(w);
     bvox_volume_destroy(v);
+    /* sizes are 32-bit floats in the header: 1e300 would come back as 1 */
+    CHECK_OK(bvox_volume_create((bvox_dims){2, 2, 2}, &v));
+    CHECK_OK(bvox_volume_set_spacing(v, 1, 1e300, 1, "mm"));
+    CHECK_STATUS(bvox_write(harness_path("huge_voxel.nii"), v, NULL), BVOX_EUNSUPPORTED);
+    CHECK(strstr(bvox_errmsg(), "a voxel size of 1e+300 along y does not fit") != NULL);
+    struct stat sb0;
+    CHECK(stat(harness_path("huge_voxel.nii"), &sb0) != 0);
+    CHECK_OK(bvox_volume_set_spacing(v, 1, 1e-300, 1, "mm"));
+    CHECK_STATUS(bvox_write(harness_path("huge_voxel.nii"), v, NULL), BVOX_EUNSUPPORTED);
+    bvox_volume_destroy(v);
     /* NIfTI-1 dims are int16 */
     CHECK_OK(bvox_volume_create((bvox_dims){40000, 1, 1}, &v));
     CHECK_STATUS(bvox_write(harness_path("big.nii"), v, NULL), BVOX_EUNSUPPORTED);
