@@ -40,18 +40,13 @@ void bvox__warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prefix the current message with "prefix: " (adds a file name to a codec error). */
 void bvox__error_prefix(const char *prefix);
 
-/* ---- alloc.c: the one allocation seam for large buffers ---- */
-/* Budget-checked, 64-byte aligned, zero-filled if zero != 0. On failure sets
- * the message (what names the buffer) and returns NULL with *status set. */
-void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status);
-void bvox__free(void *ptr, size_t bytes);
-/* Test hook: make the n-th following bvox__alloc fail with BVOX_ENOMEM
- * (n = 1: the next one); 0 disables. */
-void bvox__alloc_fail_after(long n);
-/* Count bytes held outside bvox__alloc (growing arrays of malloc, such as
- * contour stacks and text buffers) against the budget: false (status
- * BVOX_ETOOBIG, message naming what) when they would exceed it. Every
- * charge is refunded once, when the memory is freed. */
+/* ---- alloc.c: the one allocation seam (both kinds: see core/alloc.h) ---- */
+#include "core/alloc.h"
+#include "core/check.h" /* BVOX_ASSERT, BVOX_CHECK_VOLUME...: debug-build invariants */
+/* Count bytes held outside bvox__alloc (growing arrays, such as contour
+ * stacks and text buffers) against the budget: false (status BVOX_ETOOBIG,
+ * message naming what) when they would exceed it. Every charge is refunded
+ * once, when the memory is freed. */
 bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status);
 void bvox__budget_refund(size_t bytes);
 /* A byte count for messages: "812 bytes", "2.4 MiB", "11.8 GiB". */

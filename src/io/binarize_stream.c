@@ -50,7 +50,7 @@ bvox_status bvox__bin_stream_begin(const bvox__gray *g, const bvox_binarize *how
     if (!name) name = "volume";
     if (!bvox__bin_stream_ok(how))
         return bvox__fail(BVOX_EINVAL, "%s: Otsu's threshold cannot be streamed", name);
-    bvox__bin_stream *s = calloc(1, sizeof *s);
+    bvox__bin_stream *s = bvox__mem_zalloc(1, sizeof *s);
     if (!s) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
     snprintf(s->name, sizeof s->name, "%s", name);
     bvox__gray shape = *g;

@@ -154,9 +154,9 @@ int bvox__sweep_crossing(const bvox_point2 *p, const bvox_point2 *q, size_t n,
                          int (*test)(void *ctx, size_t i, size_t j), void *ctx)
 {
     if (n < 2) return 0;
-    bvox_point2 *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
-    node *nodes = calloc(n, sizeof *nodes);
-    event *ev = malloc(2 * n * sizeof *ev);
+    bvox_point2 *a = bvox__mem_alloc(n * sizeof *a), *b = bvox__mem_alloc(n * sizeof *b);
+    node *nodes = bvox__mem_zalloc(n, sizeof *nodes);
+    event *ev = bvox__mem_alloc(2 * n * sizeof *ev);
     int found = -1;
     if (!a || !b || !nodes || !ev) goto done;
     uint32_t rng = 0x9E3779B9u;

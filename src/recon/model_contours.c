@@ -319,6 +319,7 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
 
 bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_contour_stack **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_volume_to_contours: out is NULL");
     *out = NULL;
@@ -355,8 +356,8 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
     /* a thread is worth it for about a million pixels */
     if ((int64_t)w * h * nslices < ((int64_t)1 << 20)) c.ntasks = 1;
     if (!st) {
-        c.task_status = calloc((size_t)c.ntasks, sizeof *c.task_status);
-        c.task_slice = calloc((size_t)c.ntasks, sizeof *c.task_slice);
+        c.task_status = bvox__mem_zalloc((size_t)c.ntasks, sizeof *c.task_status);
+        c.task_slice = bvox__mem_zalloc((size_t)c.ntasks, sizeof *c.task_slice);
         if (!c.task_status || !c.task_slice) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     }
     if (!st) {
@@ -390,5 +391,6 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
         return st;
     }
     *out = s;
+    BVOX_CHECK_STACK(*out);
     return BVOX_OK;
 }
