@@ -328,6 +328,18 @@ typedef struct bvox_write_opts {
 
 #define BVOX_WRITE_OPTS_INIT { NULL, 8 }
 
+/* The dimensions bvox_read(path, opts) would give, from the header alone
+ * (no voxel data is read or decoded), so that a caller can refuse an
+ * impossible job before the heavy work. BVOX_EUNSUPPORTED when the format
+ * cannot tell without reading the data (then just read it); the read's own
+ * errors otherwise. */
+bvox_status bvox_read_dims(const char *path, const bvox_read_opts *opts, bvox_dims *dims);
+/* Whether bvox_write(path, vol, opts) could write a volume of these
+ * dimensions: the format's limits (NIfTI-1: 32767 per axis) and the memory
+ * budget of its bits, checked before the volume is computed. BVOX_OK, or the
+ * status and message bvox_write would give (BVOX_EUNSUPPORTED, BVOX_EINVAL,
+ * BVOX_ETOOBIG). Writes nothing. */
+bvox_status bvox_write_check(const char *path, bvox_dims dims, const bvox_write_opts *opts);
 /* Write a volume. The output is first written under a temporary name in the
  * target folder, synced and then renamed: a failure leaves no partial file
  * and an existing file unchanged. */

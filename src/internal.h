@@ -43,6 +43,14 @@ void bvox__error_prefix(const char *prefix);
 /* ---- alloc.c: the one allocation seam (both kinds: see core/alloc.h) ---- */
 #include "core/alloc.h"
 #include "core/check.h" /* BVOX_ASSERT, BVOX_CHECK_VOLUME...: debug-build invariants */
+/* Count bytes held outside bvox__alloc (growing arrays, such as contour
+ * stacks and text buffers) against the budget: false (status BVOX_ETOOBIG,
+ * message naming what) when they would exceed it. Every charge is refunded
+ * once, when the memory is freed. */
+bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status);
+void bvox__budget_refund(size_t bytes);
+/* A byte count for messages: "812 bytes", "2.4 MiB", "11.8 GiB". */
+void bvox__format_bytes(char *buf, size_t len, size_t bytes);
 /* Overflow-safe a*b; returns false on overflow. */
 static inline bool bvox__mul_size(size_t a, size_t b, size_t *out)
 {
@@ -98,8 +106,9 @@ bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_b
                                    int64_t *count);
 
 /* ---- parallel.c: split a range over the worker threads ---- */
-/* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n). Runs inline
- * when n < min_per_thread * 2 or one thread is configured. fn must not fail. */
+/* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n): T chunks
+ * [n t / T, n (t + 1) / T), T = bvox__parallelism() capped at
+ * n / min_per_thread. Runs inline when T <= 1. fn must not fail. */
 typedef void (*bvox__range_fn)(void *ctx, int64_t begin, int64_t end);
 void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, void *ctx);
 /* The most worker threads bvox_threads() ever reports: per-thread arrays
@@ -112,6 +121,11 @@ void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, vo
  * thread is configured or n <= grain. fn must not fail; results must not
  * depend on which thread runs a block. */
 void bvox__parallel_for_dynamic(int64_t n, int64_t grain, bvox__range_fn fn, void *ctx);
+/* How many threads can run at once: bvox_threads(), at most the CPUs the
+ * process may use (BVOX_CPUS overrides those; the tests set it high).
+ * bvox__parallel_for splits into at most this many chunks; kernels that size
+ * their own split or per-thread scratch use it instead of bvox_threads(). */
+int bvox__parallelism(void);
 
 /* ---- simd/dispatch.c: word kernels chosen at run time ---- */
 typedef struct bvox__kernels {

@@ -29,7 +29,11 @@ void bvox_mesh_destroy(bvox_mesh *mesh);
 /* Make room for at least nv vertices and nt triangles (counts are limited
  * to INT32_MAX). */
 bvox_status bvox_mesh_reserve(bvox_mesh *mesh, int64_t nv, int64_t nt);
-/* Append a vertex (finite coordinates) / a triangle (indices < nvertices). */
+/* The largest coordinate magnitude a vertex may have: measures multiply up
+ * to four coordinate differences, which must stay finite. */
+#define BVOX_MESH_COORD_MAX 1e60
+/* Append a vertex (finite coordinates, |c| <= BVOX_MESH_COORD_MAX; else
+ * BVOX_EINVAL) / a triangle (indices < nvertices). */
 bvox_status bvox_mesh_add_vertex(bvox_mesh *mesh, double x, double y, double z);
 bvox_status bvox_mesh_add_triangle(bvox_mesh *mesh, int32_t a, int32_t b, int32_t c);
 
@@ -140,5 +144,10 @@ typedef struct bvox_voxelize_report {
  * y and z and each voxel gets the majority vote. report may be NULL. */
 bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
                                bvox_volume **out, bvox_voxelize_report *report);
+/* The dimensions bvox_mesh_voxelize would give, with the same checks of the
+ * mesh and options, computed from the bounding box alone (nothing is
+ * allocated): to refuse an output that cannot hold them before the work. */
+bvox_status bvox_mesh_voxelize_dims(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
+                                    bvox_dims *dims);
 
 #endif /* BVOX_MESH_H */

@@ -29,7 +29,7 @@ static void dyn_worker(void *ctx, int64_t begin, int64_t end)
 void bvox__parallel_for_dynamic(int64_t n, int64_t grain, bvox__range_fn fn, void *ctx)
 {
     if (grain < 1) grain = 1;
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     if (threads < 2 || n <= grain) {
         fn(ctx, 0, n);
         return;

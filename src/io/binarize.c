@@ -337,8 +337,9 @@ static bvox__bin_blocks_fn choose_blocks(void)
     return bvox__bin_blocks_generic;
 }
 
-bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const char *name,
-                           bvox_volume **out)
+bvox_status bvox__binarize_setup(const bvox__gray *g, const bvox_binarize *how,
+                                 const char *name, bvox__binpred *pred, bool *use_pred,
+                                 bvox__bin_blocks_fn *blocks, bvox_volume **out)
 {
     static const bvox_binarize nonzero = {BVOX_BIN_NONZERO, 0, 0, 0, 0};
     *out = NULL;
@@ -349,15 +350,15 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
     size_t bytes;
     bvox_status st = bvox__check_dims(g->dims, name, &bytes);
     if (st) return st;
-    if (!g->data) return bvox__fail(BVOX_EINVAL, "%s: no sample data", name);
+    if (!g->data && how->mode == BVOX_BIN_OTSU) /* Otsu's histogram needs every sample */
+        return bvox__fail(BVOX_EINVAL, "%s: no sample data", name);
     if (!isfinite(g->slope) || !isfinite(g->inter))
         return bvox__fail(BVOX_EFORMAT, "%s: the intensity scaling (slope %g, intercept %g) is "
                           "not finite", name, g->slope, g->inter);
     scale s = {g->dtype, g->slope == 0 ? 1.0 : g->slope, g->inter};
 
-    bvox__binpred pred;
     outcome res = ALL_ZERO;
-    st = make_predicate(g, how, &s, name, &pred, &res);
+    st = make_predicate(g, how, &s, name, pred, &res);
     if (st) return st;
 
     bvox_volume *v;
@@ -374,11 +375,28 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
         return BVOX_EFORMAT;
     }
     if (res == ALL_ONE) bvox_volume_fill(v, 1);
-    if (res == USE_PRED) {
+    *use_pred = res == USE_PRED;
+    *blocks = choose_blocks();
+    *out = v;
+    return BVOX_OK;
+}
+
+bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const char *name,
+                           bvox_volume **out)
+{
+    *out = NULL;
+    if (!name) name = "volume";
+    if (g && !g->data) return bvox__fail(BVOX_EINVAL, "%s: no sample data", name);
+    bvox__binpred pred;
+    bool use_pred = false;
+    bvox__bin_blocks_fn blocks = NULL;
+    bvox_volume *v;
+    bvox_status st = bvox__binarize_setup(g, how, name, &pred, &use_pred, &blocks, &v);
+    if (st) return st;
+    if (use_pred) {
         pack_ctx c = {.data = g->data, .size = bvox_dtype_size(g->dtype),
                       .nx = (size_t)v->nx, .ny = (size_t)v->ny, .nz = (size_t)v->nz,
-                      .wpc = v->wpc, .words = v->words, .pred = pred,
-                      .blocks = choose_blocks()};
+                      .wpc = v->wpc, .words = v->words, .pred = pred, .blocks = blocks};
         size_t nxb = (c.nx + 63) / 64, per_item = ITEM_BYTES / (64 * c.size);
         if (nxb <= per_item) {
             c.rows_per_item = per_item / nxb;

@@ -175,7 +175,7 @@ bvox_status bvox__otsu_threshold(const bvox__gray *g, double slope, double inter
     size_t size = bvox_dtype_size(g->dtype);
     c.exact = size <= 2 && g->dtype != BVOX_DT_F32 && g->dtype != BVOX_DT_F64;
     c.nbins = c.exact ? (size_t)1 << (8 * size) : 256;
-    int64_t threads = bvox_threads();
+    int64_t threads = bvox__parallelism();
     c.nchunks = (int64_t)(c.n >> 20) + 1; /* about a million samples each */
     if (c.nchunks > threads) c.nchunks = threads;
 

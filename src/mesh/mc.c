@@ -490,7 +490,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         return bvox__fail(BVOX_ETOOBIG, "the mesh would have %lld vertices (at most %d)",
                           (long long)total, INT32_MAX);
     }
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     int nch = threads * 16; /* blocks for the dynamic for: small enough to balance */
     if (nch > g->ny + 1) nch = g->ny + 1;
     c.nchunks = nch;

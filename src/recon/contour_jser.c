@@ -31,7 +31,8 @@
  * are there.
  *
  * The file is parsed into a small DOM (a node array, sizes grown with checks,
- * depth limited to BVOX__MAX_DEPTH): the series' alignment may come after
+ * depth limited to BVOX__MAX_DEPTH, charged to the memory budget while it
+ * lives): the series' alignment may come after
  * the sections. Strict JSON; NaN and Infinity (Python's json writes them) and
  * numbers beyond a double are refused, as are coordinates beyond 1e9 um.
  */
@@ -68,6 +69,7 @@ typedef struct jdoc {
     const char *text, *p, *end, *name;
     jnode *nodes;
     size_t nnodes, cap;
+    size_t charged; /* bytes of nodes charged to the memory budget */
 } jdoc;
 
 static bvox_status jfail(const jdoc *d, const char *at, const char *fmt, ...)
@@ -96,6 +98,12 @@ static bvox_status new_node(jdoc *d, int type, int32_t *idx)
     if (d->nnodes >= MAX_NODES)
         return jfail(d, d->p, "more than %zu JSON values (lists of numbers count as one)",
                      MAX_NODES);
+    if (d->nnodes == d->cap) { /* the node array is about to grow: charge what it adds */
+        size_t add = (d->cap ? d->cap : 8) * sizeof *d->nodes;
+        bvox_status st;
+        if (!bvox__budget_charge(add, "the .jser's JSON values", &st)) return st;
+        d->charged += add;
+    }
     if (!bvox__grow((void **)&d->nodes, sizeof *d->nodes, d->nnodes + 1, &d->cap, "JSON values"))
         return BVOX_ENOMEM;
     jnode *n = &d->nodes[d->nnodes];
@@ -745,6 +753,7 @@ bvox_status bvox_stack_read_jser_memory(const char *data, size_t size, const cha
     if (!st) st = bvox_stack_create(&s);
     if (!st) st = build(&r, s);
     free(r.d.nodes);
+    bvox__budget_refund(r.d.charged);
     free(r.pts);
     free(r.vals);
     if (st) {

@@ -481,7 +481,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opt
     }
     int find_markers = !mfile && o->markers.count > 0;
     /* per-section work in batches (progress between them) */
-    int32_t batch = bvox_threads() * 2;
+    int32_t batch = bvox__parallelism() * 2;
     if (batch < 1) batch = 1;
     double t_sections = now_ms();
     for (int32_t first = 0; first < n; first += batch) {
