@@ -315,6 +315,33 @@ BVOX_API bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvo
 BVOX_API bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
                              const bvox_read_opts *opts, bvox_volume **out);
 
+/* Order of the samples of a 3-D array in memory, for arrays in and out. */
+typedef enum bvox_order {
+    /* sample (x, y, z) at index (z * ny + y) * nx + x: x fastest, as NIfTI,
+     * TIFF and raw files store them (Fortran order of an [x][y][z] array) */
+    BVOX_ORDER_X_FASTEST = 0,
+    /* sample (x, y, z) at index (x * ny + y) * nz + z: z fastest (the C order
+     * of an [x][y][z] array, NumPy's default); the fastest order here, since
+     * a column's samples map straight onto its words */
+    BVOX_ORDER_Z_FASTEST = 1
+} bvox_order;
+
+/* Build a volume from nx*ny*nz samples of type dtype in the caller's memory
+ * (read in place, never copied: the new volume holds only its words, one bit
+ * per voxel), binarised as the file readers do (how: NULL means nonzero;
+ * BVOX_BIN_OTSU too). The volume has the default geometry. samples is
+ * borrowed for the call; *out is owned by the caller. BVOX_EINVAL for a bad
+ * dtype, order or mode (or a NaN bound), BVOX_ETOOBIG/BVOX_ENOMEM.
+ * Thread-safe (samples only read). */
+BVOX_API bvox_status bvox_volume_from_samples(const void *samples, bvox_dtype dtype,
+                                              bvox_dims dims, bvox_order order,
+                                              const bvox_binarize *how, bvox_volume **out);
+/* Write every voxel as one byte, 1 or 0, into dst (nx*ny*nz bytes, in the
+ * given order), word-wise. BVOX_EINVAL for a NULL dst or a bad order.
+ * Thread-safe on a const volume. */
+BVOX_API bvox_status bvox_volume_to_bytes(const bvox_volume *vol, bvox_order order,
+                                          uint8_t *dst);
+
 typedef struct bvox_write_opts {
     const char *format; /* NULL: by extension ("png" for a path ending in '/' or
                            without extension is not guessed: give it) */

@@ -7,6 +7,8 @@
  * bytes eight at a time through a 256-entry table (byte b -> eight bytes 0/1,
  * times `one`: no carries since each byte is 0 or 1). Rows of y are
  * independent, so they are split over the worker threads.
+ * bvox__unpack_columns is the z-fastest order (NumPy's): each column's words
+ * expand straight into its run of nz bytes.
  */
 #include "binarize_kernels.h"
 
@@ -75,4 +77,33 @@ void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t 
     /* a thread is worth starting for about a million voxels */
     int64_t per_row = (int64_t)vol->nx * n;
     bvox__parallel_for(vol->ny, ((int64_t)1 << 20) / per_row + 1, unpack_rows, &c);
+}
+
+typedef struct columns_ctx {
+    const bvox_volume *vol;
+    uint8_t *dst;
+} columns_ctx;
+
+/* Columns in the destination's order: c = x * ny + y. */
+static void unpack_column_range(void *ctx, int64_t begin, int64_t end)
+{
+    const columns_ctx *c = ctx;
+    const bvox_volume *v = c->vol;
+    size_t ny = (size_t)v->ny, nz = (size_t)v->nz, wpc = v->wpc;
+    for (int64_t i = begin; i < end; i++) {
+        size_t x = (size_t)i / ny, y = (size_t)i % ny;
+        const uint64_t *col = v->words + (y * (size_t)v->nx + x) * wpc;
+        uint8_t *out = c->dst + (size_t)i * nz;
+        for (size_t w = 0; w < wpc; w++) {
+            size_t len = nz - w * 64 < 64 ? nz - w * 64 : 64;
+            expand(col[w], 1, len, out + w * 64);
+        }
+    }
+}
+
+void bvox__unpack_columns(const bvox_volume *vol, uint8_t *dst)
+{
+    columns_ctx c = {vol, dst};
+    int64_t columns = (int64_t)vol->nx * vol->ny;
+    bvox__parallel_for(columns, ((int64_t)1 << 20) / vol->nz + 1, unpack_column_range, &c);
 }
