@@ -53,7 +53,7 @@ def render(vol, view="iso", *, shade="binary+depth", width=0, height=0, scale=0.
     check(lib.bvox_render(vol._p, opts, out, ffi.NULL))
     img = ffi.gc(out[0], lib.bvox_image_destroy)
     if path is not None:
-        check(lib.bvox_image_write_png(os.fsencode(path), img))
+        check(lib.bvox_image_write_png(img, os.fsencode(path)))
     arr = _image_to_numpy(img)
     ffi.release(img)
     return arr
@@ -75,6 +75,6 @@ def write_png(path, image):
     img = ffi.gc(out[0], lib.bvox_image_destroy)
     ffi.memmove(img.pixels, np.ascontiguousarray(a).tobytes(), a.size)
     try:
-        check(lib.bvox_image_write_png(os.fsencode(path), img))
+        check(lib.bvox_image_write_png(img, os.fsencode(path)))
     finally:
         ffi.release(img)
