@@ -502,6 +502,13 @@ class Volume:
         from ._mesh import mesh_from_volume
         return mesh_from_volume(self, method, smooth)
 
+    def contours(self, axis=2):
+        """The outlines of every slice across axis (0 x, 1 y, 2 z): a
+        bvox.Contours (list of sections with (n, 2) point arrays in pixels,
+        holes marked); .to_volume() rebuilds the model, .write() saves it."""
+        from ._recon import volume_contours
+        return volume_contours(self, axis)
+
     def write(self, path, format=None):
         """Write to a file (format by the extension unless given): through a
         temporary file renamed on success, never a partial file."""
