@@ -56,7 +56,7 @@ def mesh_info(vertices, faces):
     check(lib.bvox_mesh_measure(mesh, info))
     ffi.release(mesh)
     return {"vertices": info.vertices, "triangles": info.triangles, "volume": info.volume,
-            "area": info.area, "bbox_min": list(info.bbox_min), "bbox_max": list(info.bbox_max),
+            "area": info.area, "surface_area": info.area, "bbox_min": list(info.bbox_min), "bbox_max": list(info.bbox_max),
             "edges": info.edges, "boundary_edges": info.boundary_edges,
             "nonmanifold_edges": info.nonmanifold_edges,
             "inconsistent_edges": info.inconsistent_edges,
