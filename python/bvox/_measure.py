@@ -47,6 +47,24 @@ def measure_dict(vol):
     p = vol._p
     m = ffi.new("bvox_measures *")
     check(lib.bvox_measure(p, m))
+    return _as_dict(vol, m)
+
+
+def measure_components(vol, conn):
+    """One measure dict per conn-component, largest first; each measured
+    alone (bbox in the volume's indices, components 1)."""
+    arr = ffi.new("bvox_measures **")
+    n = ffi.new("int64_t *")
+    check(lib.bvox_measure_components(vol._p, conn, arr, n))
+    items = ffi.gc(arr[0], lib.bvox_free) if arr[0] != ffi.NULL else None
+    out = [_as_dict(vol, items[i]) for i in range(n[0])]
+    if items is not None:
+        ffi.release(items)
+    return out
+
+
+def _as_dict(vol, m):
+    p = vol._p
     g = lib.bvox_volume_geometry(p)
     unit = ffi.string(g.unit).decode("utf-8", "replace")
     d = lib.bvox_volume_dims(p)

@@ -489,6 +489,12 @@ class Volume:
         from ._measure import measure_dict
         return measure_dict(self)
 
+    def measure_components(self, conn=26):
+        """measure() of every conn-component alone, largest first (the order
+        of components()); bbox in this volume's voxel indices."""
+        from ._measure import measure_components
+        return measure_components(self, _conn(conn))
+
     # ------------------------------------------------------------ render, mesh
     def render(self, view="iso", **kw):
         """An (h, w, 3) uint8 image; see bvox.render for the options."""

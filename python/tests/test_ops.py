@@ -230,3 +230,18 @@ def test_render():
     assert not np.array_equal(cut[..., 0], cut[..., 2])  # the tinted cut face
     with pytest.raises(bvox.InvalidArgument):
         v.render("sideways")
+
+
+def test_measure_components_match_each_alone(rng):
+    a = random_mask(rng, (14, 12, 66), 0.2)
+    v = bvox.Volume.from_numpy(a, spacing=(1, 1, 2), unit="um")
+    labels, comps = v.components(conn=6)
+    per = v.measure_components(conn=6)
+    assert len(per) == len(comps)
+    for i in (0, 1, len(per) - 1):
+        alone = bvox.Volume.from_numpy(labels == i + 1, spacing=(1, 1, 2), unit="um").measure()
+        assert per[i]["count"] == comps[i]["voxels"] == alone["count"]
+        assert per[i]["bbox"] == comps[i]["bbox"] == alone["bbox"]
+        for k in ("volume", "surface_area", "surface_area_faces", "euler", "cavities"):
+            assert per[i][k] == pytest.approx(alone[k]), k
+    assert bvox.Volume((3, 3, 3)).measure_components() == []
