@@ -3,10 +3,10 @@
 # and OUT/bvox.bash, all printed by the command from its own command tables,
 # so the manual and the completion never drift from the parser.
 #
-# HOOK: `bvox help --man [CMD]`, `bvox help --bash-completion` and
-# `bvox help --commands` (one subcommand name per line) arrive with the
-# table-driven CLI (branch cli-tables). A command without them makes this
-# script generate nothing (install then skips the files) instead of failing.
+# HOOK: `bvox help --man [CMD]` and `bvox help --bash-completion` arrive with
+# the table-driven CLI (branch cli-tables); the subcommands are the
+# "Commands:" list of `bvox --help`. A command without them makes this script
+# generate nothing (install then skips the files) instead of failing.
 file(REMOVE_RECURSE ${OUT}/man1)
 file(REMOVE ${OUT}/bvox.bash)
 file(MAKE_DIRECTORY ${OUT})
@@ -18,18 +18,21 @@ if(NOT rc EQUAL 0)
 endif()
 file(MAKE_DIRECTORY ${OUT}/man1)
 file(WRITE ${OUT}/man1/bvox.1 "${page}")
-execute_process(COMMAND ${BVOX} help --commands RESULT_VARIABLE rc OUTPUT_VARIABLE cmds ERROR_QUIET)
-if(rc EQUAL 0)
-  string(REGEX REPLACE "\n$" "" cmds "${cmds}")
-  string(REPLACE "\n" ";" cmds "${cmds}")
-  foreach(cmd IN LISTS cmds)
-    execute_process(COMMAND ${BVOX} help --man ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE page)
-    if(NOT rc EQUAL 0)
-      message(FATAL_ERROR "bvox help --man ${cmd} failed")
-    endif()
-    file(WRITE ${OUT}/man1/bvox-${cmd}.1 "${page}")
-  endforeach()
+# the subcommands: the "Commands:" list of `bvox --help` (two spaces, a name)
+execute_process(COMMAND ${BVOX} --help RESULT_VARIABLE rc OUTPUT_VARIABLE usage)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "bvox --help failed")
 endif()
+string(REGEX MATCH "\nCommands:\n(  [^\n]*\n)+" block "${usage}")
+string(REGEX MATCHALL "\n  [a-z][a-z0-9-]*" cmds "${block}")
+foreach(cmd IN LISTS cmds)
+  string(STRIP "${cmd}" cmd)
+  execute_process(COMMAND ${BVOX} help --man ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE page)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "bvox help --man ${cmd} failed")
+  endif()
+  file(WRITE ${OUT}/man1/bvox-${cmd}.1 "${page}")
+endforeach()
 execute_process(COMMAND ${BVOX} help --bash-completion RESULT_VARIABLE rc OUTPUT_VARIABLE comp)
 if(rc EQUAL 0)
   file(WRITE ${OUT}/bvox.bash "${comp}")

@@ -47,6 +47,17 @@ if [ -e "$lib/libbvox.so.0" ]; then
     echo "install: $(wc -l <"$tmp/exported") symbols exported, all bvox_"
 fi
 "$tmp/p/bin/bvox" --version | grep -q "^bvox " || fail "installed bvox does not run"
+# manual pages and completion: generated when the command can print them
+# (`bvox help --man`, from the table-driven CLI), and then installed
+if "$tmp/p/bin/bvox" help --man >/dev/null 2>&1; then
+    for f in share/man/man1/bvox.1 share/man/man1/bvox-info.1 share/man/man1/bvox-measure.1 \
+             share/bash-completion/completions/bvox; do
+        [ -s "$tmp/p/$f" ] || fail "missing $f"
+    done
+    echo "install: $(ls "$tmp/p/share/man/man1" | wc -l) manual pages, bash completion"
+else
+    echo "install: bvox has no 'help --man' yet: no manual pages (cmake/gen_docs.cmake hook)"
+fi
 
 expect() {
     grep -qx "count 120" "$1" && grep -qx "volume 15 mm^3" "$1" &&
