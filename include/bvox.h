@@ -149,7 +149,7 @@ BVOX_API const bvox_geometry *bvox_volume_geometry(const bvox_volume *vol);
 BVOX_API bvox_status bvox_volume_set_geometry(bvox_volume *vol, const bvox_geometry *geom);
 /* Convenience: set spacing and unit only (unit may be NULL: unchanged). */
 BVOX_API bvox_status bvox_volume_set_spacing(bvox_volume *vol, double sx, double sy, double sz,
-                                    const char *unit);
+                                             const char *unit);
 
 /* Voxel access. get returns 0 outside the volume; set ignores nothing: an
  * out-of-range index is BVOX_EINVAL. value is treated as a boolean. */
@@ -167,7 +167,7 @@ BVOX_API bvox_status bvox_volume_crop(const bvox_volume *vol, bvox_box box, bvox
 /* New volume with `before` zero voxels added before and `after` after on each
  * axis (x, y, z); the origin moves so that voxels keep their world position. */
 BVOX_API bvox_status bvox_volume_pad(const bvox_volume *vol, const int32_t before[3],
-                            const int32_t after[3], bvox_volume **out);
+                                     const int32_t after[3], bvox_volume **out);
 
 /* Number of 1-voxels (a popcount over the words). */
 BVOX_API int64_t bvox_volume_count(const bvox_volume *vol);
@@ -204,7 +204,7 @@ typedef enum bvox_csg_op {
  * Voxels of dst outside src's footprint count as src = 0 (so intersection
  * clears them). The volumes may have any sizes. Works on whole words. */
 BVOX_API bvox_status bvox_csg_apply(bvox_volume *dst, bvox_csg_op op, const bvox_volume *src,
-                           const int32_t offset[3]);
+                                    const int32_t offset[3]);
 /* Complement in place; bits beyond nz stay zero. */
 BVOX_API void bvox_volume_complement(bvox_volume *vol);
 /* Number of 1-voxels in (a AND b), same dimensions required (else -1). */
@@ -313,7 +313,7 @@ BVOX_API bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvo
  * identifies it (NIfTI, gzip-NIfTI, binvox, TIFF, PNG). name is used in
  * messages only (may be NULL). For "png" the buffer is one slice. */
 BVOX_API bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
-                             const bvox_read_opts *opts, bvox_volume **out);
+                                      const bvox_read_opts *opts, bvox_volume **out);
 
 /* Order of the samples of a 3-D array in memory, for arrays in and out. */
 typedef enum bvox_order {
@@ -353,7 +353,8 @@ typedef struct bvox_write_opts {
 /* Write a volume. The output is first written under a temporary name in the
  * target folder, synced and then renamed: a failure leaves no partial file
  * and an existing file unchanged. */
-BVOX_API bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts);
+BVOX_API bvox_status bvox_write(const char *path, const bvox_volume *vol,
+                                const bvox_write_opts *opts);
 /* Write size bytes as the file path the same way (temporary file in the
  * target folder, fsync, rename): for reports and other small outputs. */
 BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size);
@@ -368,7 +369,7 @@ BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, 
  * bvox_write (temporary file, renamed on success). BVOX_EUNSUPPORTED for a
  * dimension over 32767 or another extension, BVOX_EIO, BVOX_ETOOBIG. */
 BVOX_API bvox_status bvox_write_labels_nifti(const char *path, const bvox_volume *like,
-                                    const uint32_t *labels);
+                                             const uint32_t *labels);
 
 /* The format bvox_read / bvox_write would use for a path ("nifti", "binvox",
  * "tiff", "png", "raw") or NULL if the extension is unknown. */
@@ -397,7 +398,8 @@ BVOX_API bvox_status bvox_morph_erode(const bvox_volume *in, int conn, bvox_volu
 /* With a ball (an ellipsoid in voxels when the voxels are anisotropic) of the
  * given radius in physical units; a voxel offset (i, j, k) is in the ball when
  * (i*sx)^2 + (j*sy)^2 + (k*sz)^2 <= radius^2. */
-BVOX_API bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius, bvox_volume **out);
+BVOX_API bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius,
+                                            bvox_volume **out);
 BVOX_API bvox_status bvox_morph_erode_ball(const bvox_volume *in, double radius, bvox_volume **out);
 
 /* ------------------------------------------------------ connected components */
@@ -422,19 +424,21 @@ BVOX_API int64_t bvox_components_count(const bvox_components *comps);
 BVOX_API const bvox_component *bvox_components_get(const bvox_components *comps, int64_t i);
 /* A volume (same dims and geometry as the one labelled) holding the n
  * largest components (all if n >= count). */
-BVOX_API bvox_status bvox_components_keep(const bvox_components *comps, int64_t n, bvox_volume **out);
+BVOX_API bvox_status bvox_components_keep(const bvox_components *comps, int64_t n,
+                                          bvox_volume **out);
 /* Labels as x-fastest uint32 samples (nx*ny*nz of them): 0 background,
  * i + 1 for component i. dst must hold nx*ny*nz values. */
 BVOX_API void bvox_components_labels(const bvox_components *comps, uint32_t *dst);
 /* Index (0 = largest) of the component holding voxel (x, y, z), or -1 if
  * that voxel is 0 or outside. */
-BVOX_API int64_t bvox_components_index_at(const bvox_components *comps, int32_t x, int32_t y, int32_t z);
+BVOX_API int64_t bvox_components_index_at(const bvox_components *comps, int32_t x, int32_t y,
+                                          int32_t z);
 /* A volume holding the components for which keep(component, index, ctx)
  * returns non-zero. */
 BVOX_API bvox_status bvox_components_keep_if(const bvox_components *comps,
-                                    int (*keep)(const bvox_component *c, int64_t index,
-                                                void *ctx),
-                                    void *ctx, bvox_volume **out);
+                                             int (*keep)(const bvox_component *c, int64_t index,
+                                                         void *ctx),
+                                             void *ctx, bvox_volume **out);
 
 /* -------------------------------------------------- derived morphology */
 
@@ -442,8 +446,10 @@ BVOX_API bvox_status bvox_components_keep_if(const bvox_components *comps,
  * uses a ball of that physical radius, otherwise the conn neighbourhood.
  * Closing works on a padded copy so that the volume's border does not eat
  * into the object (ITK's "safe border"); opening erodes at the border. */
-BVOX_API bvox_status bvox_morph_open(const bvox_volume *in, int conn, double radius, bvox_volume **out);
-BVOX_API bvox_status bvox_morph_close(const bvox_volume *in, int conn, double radius, bvox_volume **out);
+BVOX_API bvox_status bvox_morph_open(const bvox_volume *in, int conn, double radius,
+                                     bvox_volume **out);
+BVOX_API bvox_status bvox_morph_close(const bvox_volume *in, int conn, double radius,
+                                      bvox_volume **out);
 /* Fill cavities: 0-voxels not 6-connected to the border become 1. */
 BVOX_API bvox_status bvox_morph_fill_holes(const bvox_volume *in, bvox_volume **out);
 /* The shell of the object: its voxels within `thickness` (physical units) of
@@ -452,7 +458,7 @@ BVOX_API bvox_status bvox_morph_fill_holes(const bvox_volume *in, bvox_volume **
 BVOX_API bvox_status bvox_morph_hollow(const bvox_volume *in, double thickness, bvox_volume **out);
 /* Remove components (conn-connected) of fewer than min_voxels voxels. */
 BVOX_API bvox_status bvox_morph_remove_islands(const bvox_volume *in, int conn, int64_t min_voxels,
-                                      bvox_volume **out);
+                                               bvox_volume **out);
 
 /* ---------------------------------------------------------------- measures */
 
@@ -525,7 +531,7 @@ BVOX_API bvox_status bvox_measure(const bvox_volume *vol, bvox_measures *out);
  * *per_component (release with bvox_free) holds *n entries; NULL and 0 for an
  * empty volume. BVOX_EINVAL for another conn, BVOX_ENOMEM / BVOX_ETOOBIG. */
 BVOX_API bvox_status bvox_measure_components(const bvox_volume *vol, int conn,
-                                    bvox_measures **per_component, int64_t *n);
+                                             bvox_measures **per_component, int64_t *n);
 
 /* ------------------------------------------------------------------ render */
 
@@ -552,8 +558,9 @@ typedef struct bvox_image {
 
 /* A zero image. width, height in 1..BVOX_IMAGE_MAX_DIM, channels 1 or 3, bits
  * 8 or 16 (else BVOX_EINVAL); BVOX_ETOOBIG/BVOX_ENOMEM over the budget. */
-BVOX_API bvox_status bvox_image_create(int32_t width, int32_t height, int32_t channels, int32_t bits,
-                              bvox_image **out);
+BVOX_API bvox_status bvox_image_create(int32_t width, int32_t height, int32_t channels,
+                                       int32_t bits,
+                                       bvox_image **out);
 BVOX_API void bvox_image_destroy(bvox_image *img);
 BVOX_API bvox_status bvox_image_copy(const bvox_image *img, bvox_image **out);
 /* Write as PNG (8/16-bit gray or RGB) through a temporary file renamed on
@@ -563,7 +570,7 @@ BVOX_API bvox_status bvox_image_write_png(const bvox_image *img, const char *pat
  * 8, palette to RGB, alpha dropped). BVOX_EFORMAT for a corrupt file. */
 BVOX_API bvox_status bvox_image_read_png(const char *path, bvox_image **out);
 BVOX_API bvox_status bvox_image_read_png_memory(const void *data, size_t size, const char *name,
-                                       bvox_image **out);
+                                                bvox_image **out);
 
 /* The six axis views. Axes are the volume's index axes; +z looks along +z
  * (rays enter at z = 0). Image axes are the two other index axes in
@@ -655,15 +662,17 @@ BVOX_API bvox_status bvox_lut_depth(const bvox_depth_shading *shading, bvox_lut 
 /* Table for binary gradient shading of pre's codes: the 27 normals (scaled by
  * 1/spacing, turned into the eye frame, normalised; "no normal" faces the
  * viewer) lit by light. Cheap (256 entries): rebuild it when the light moves. */
-BVOX_API bvox_status bvox_lut_light(const bvox_preimage *pre, const bvox_light *light, bvox_lut *lut);
+BVOX_API bvox_status bvox_lut_light(const bvox_preimage *pre, const bvox_light *light,
+                                    bvox_lut *lut);
 /* image = lut[code], an 8-bit gray image of pre's size. shade_into writes an
  * existing image of that size (1 channel, 8 bits), allocating nothing. */
 BVOX_API bvox_status bvox_shade(const bvox_preimage *pre, const bvox_lut *lut, bvox_image **out);
-BVOX_API bvox_status bvox_shade_into(const bvox_preimage *pre, const bvox_lut *lut, bvox_image *img);
+BVOX_API bvox_status bvox_shade_into(const bvox_preimage *pre, const bvox_lut *lut,
+                                     bvox_image *img);
 /* Depth shading from the full depth (not the 3-bit cue): a table of
  * depth_range entries. */
 BVOX_API bvox_status bvox_shade_depth(const bvox_preimage *pre, const bvox_depth_shading *shading,
-                             bvox_image **out);
+                                      bvox_image **out);
 
 /* Gradient shading from the depth map (Gordon and Reynolds): the surface
  * normal from depth differences between neighbouring pixels, in physical
@@ -672,7 +681,7 @@ BVOX_API bvox_status bvox_shade_depth(const bvox_preimage *pre, const bvox_depth
  * replaced by the centre pixel (a one-sided difference). */
 typedef enum bvox_gradient { BVOX_GRADIENT_CENTRAL = 0, BVOX_GRADIENT_SOBEL = 1 } bvox_gradient;
 BVOX_API bvox_status bvox_shade_gradient(const bvox_preimage *pre, bvox_gradient op,
-                                const bvox_light *light, bvox_image **out);
+                                         const bvox_light *light, bvox_image **out);
 
 /* Colour maps for 8-bit gray images -> 8-bit RGB. */
 typedef enum bvox_colormap {
@@ -698,8 +707,9 @@ BVOX_API bvox_status bvox_image_pan(const bvox_image *in, int32_t dx, int32_t dy
 /* 3x3 convolution of 8-bit images (each channel), the edge pixels repeated
  * beyond the border: out = clamp(round_half_up(sum(k * p) / divisor) + bias,
  * 0, 255); kernel row-major, kernel[4] on the centre; divisor != 0. */
-BVOX_API bvox_status bvox_image_convolve(const bvox_image *in, const int32_t kernel[9], int32_t divisor,
-                                int32_t bias, bvox_image **out);
+BVOX_API bvox_status bvox_image_convolve(const bvox_image *in, const int32_t kernel[9],
+                                         int32_t divisor,
+                                         int32_t bias, bvox_image **out);
 typedef enum bvox_filter {
     BVOX_FILTER_HIGHPASS = 0,  /* -1 -1 -1 / -1 9 -1 / -1 -1 -1 (sharpen) */
     BVOX_FILTER_SMOOTH = 1,    /* 1 2 1 / 2 4 2 / 1 2 1, divisor 16 */
@@ -751,10 +761,10 @@ BVOX_API int bvox_surface_bbox(const bvox_surface *surf, bvox_box *box);
  * candidate box; equal depths go to the smaller neighbour code, so the
  * result does not depend on the thread count). Thread-safe on one surface. */
 BVOX_API bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *proj,
-                              bvox_preimage **out);
+                                       bvox_preimage **out);
 /* Convenience: build the surface, cast, destroy. */
 BVOX_API bvox_status bvox_cast_projection(const bvox_volume *vol, const bvox_projection *proj,
-                                 bvox_preimage **out);
+                                          bvox_preimage **out);
 
 /* ------------------------------------------------- render: the pictures */
 
@@ -784,10 +794,12 @@ typedef struct bvox_mosaic_opts {
  * columns)), made from whole words (8 bytes of a column's word at a time).
  * opts may be NULL (defaults). BVOX_EINVAL for a bad option or an image over
  * BVOX_IMAGE_MAX_DIM, BVOX_ETOOBIG/BVOX_ENOMEM. *out owned by the caller. */
-BVOX_API bvox_status bvox_mosaic(const bvox_volume *vol, const bvox_mosaic_opts *opts, bvox_image **out);
+BVOX_API bvox_status bvox_mosaic(const bvox_volume *vol, const bvox_mosaic_opts *opts,
+                                 bvox_image **out);
 /* The display table of a plane mask and mode (byte -> gray). */
 BVOX_API bvox_status bvox_mosaic_lut(uint8_t planes, bvox_mosaic_display display, bvox_lut *lut);
-BVOX_API const char *bvox_mosaic_display_name(bvox_mosaic_display display); /* "count", "any", "bytes" */
+BVOX_API const char *bvox_mosaic_display_name(bvox_mosaic_display display); /* "count", "any",
+                                              "bytes" */
 BVOX_API int bvox_mosaic_display_parse(const char *name);                    /* -1 if unknown */
 
 /* How bvox_render shades a pre-image. */
@@ -858,8 +870,9 @@ BVOX_API bvox_status bvox_render_parse_view(const char *text, bvox_render_opts *
 /* Render vol as opts say into *out (8-bit gray, or RGB as said above). pre,
  * if not NULL, receives the pre-image of the (left eye's) cast. Owned by the
  * caller. BVOX_EINVAL for bad options, BVOX_ETOOBIG/BVOX_ENOMEM. */
-BVOX_API bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts, bvox_image **out,
-                        bvox_preimage **pre);
+BVOX_API bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts,
+                                 bvox_image **out,
+                                 bvox_preimage **pre);
 /* The depth map for files: 16-bit, 0 for background, else depth + 1 (depth
  * in steps from the entry face along the view: voxels for an axis view,
  * pixel units from the front of the fitting sphere for a projection),
@@ -872,22 +885,23 @@ BVOX_API bvox_status bvox_preimage_depth_map(const bvox_preimage *pre, bvox_imag
  * views whose image axes make a true, unmirrored picture), bottom right iso.
  * BVOX_EINVAL with stereo. */
 BVOX_API bvox_status bvox_render_sheet(const bvox_volume *vol, const bvox_render_opts *opts,
-                              bvox_image **out);
+                                       bvox_image **out);
 
 /* Frame i of a turntable of n: opts' view (an axis view taken as its
  * projection) turned by 360 i / n degrees about the volume axis (x, y or z)
  * closest to the image's vertical, so the object spins about an upright axis.
  * Fills *frame_opts (axis_view 0, a matrix). */
 BVOX_API bvox_status bvox_turntable_view(const bvox_render_opts *opts, int i, int n,
-                                bvox_render_opts *frame_opts);
+                                         bvox_render_opts *frame_opts);
 /* Render n frames (1..3600) of a turntable and write them: an animated GIF
  * (looping, a turn in about 4 s) when path ends in ".gif", else n PNG files
  * named after path without its ".png": "spin.png" -> spin_000.png, spin_001.png
  * ... (4 digits from 1001 frames). Each file goes through a temporary file
  * renamed on success. Gray frames use a gray palette; RGB frames (a cut,
  * anaglyphs) one palette per frame (median cut). */
-BVOX_API bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_render_opts *opts, int n,
-                                  const char *path);
+BVOX_API bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_render_opts *opts,
+                                           int n,
+                                           const char *path);
 
 /* The paper's four pictures of a volume (the built-in specimen in `bvox
  * demo`), k = 1..4: 1 binary gradient and depth shaded; 2 depth shaded,
@@ -910,10 +924,11 @@ BVOX_API bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
 
 /* Set (value != 0) or clear voxel (x, y, z); BVOX_EINVAL outside the volume. */
 BVOX_API bvox_status bvox_edit_voxel(bvox_volume *vol, int32_t x, int32_t y, int32_t z, int value,
-                            bvox_box *changed);
+                                     bvox_box *changed);
 /* Set (value != 0) or clear every voxel of box (half-open, clipped to the
  * volume; a box outside it changes nothing). */
-BVOX_API bvox_status bvox_edit_fill_box(bvox_volume *vol, bvox_box box, int value, bvox_box *changed);
+BVOX_API bvox_status bvox_edit_fill_box(bvox_volume *vol, bvox_box box, int value,
+                                        bvox_box *changed);
 /* The paper's spatial selection: clear every voxel outside box (half-open,
  * clipped; a box outside the volume clears everything). */
 BVOX_API bvox_status bvox_edit_keep_box(bvox_volume *vol, bvox_box box, bvox_box *changed);
@@ -931,13 +946,13 @@ BVOX_API bvox_status bvox_edit_keep_box(bvox_volume *vol, bvox_box box, bvox_box
  * BVOX_EINVAL for non-finite coefficients, a zero normal, or coefficients so
  * large that the index-space plane overflows. */
 BVOX_API bvox_status bvox_cut_plane(bvox_volume *vol, double a, double b, double c, double d,
-                           int keep_above, bvox_box *changed);
+                                    int keep_above, bvox_box *changed);
 /* The half-space a*x + b*y + c*z + d >= 0 as a primitive, combined into vol
  * like bvox_shape_draw (UNION/REPLACE set it, DIFFERENCE clears it,
  * INTERSECTION keeps only it, XOR flips it), in the shapes' frame: (x, y, z) =
  * origin + index*spacing, direction ignored. Same errors as bvox_cut_plane. */
 BVOX_API bvox_status bvox_halfspace_draw(bvox_volume *vol, double a, double b, double c, double d,
-                                bvox_csg_op op, bvox_box *changed);
+                                         bvox_csg_op op, bvox_box *changed);
 
 /* --------------------------------------------------------- CSG expressions */
 
@@ -999,7 +1014,8 @@ BVOX_API bvox_csg_eval_opts bvox_csg_eval_opts_default(void);
  * and length are bounded (BVOX_CSG_MAX_DEPTH/LENGTH), so no input can exhaust
  * the stack. Returns BVOX_EINVAL for a bad expression or a missing grid,
  * the loader's status for a file, BVOX_ETOOBIG/BVOX_ENOMEM for memory. */
-BVOX_API bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts, bvox_volume **out);
+BVOX_API bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts,
+                                   bvox_volume **out);
 
 /* Later subsystems, one header each (they rely on the types above). */
 #include "bvox/contours.h" /* section outlines: the reconstruction data model */

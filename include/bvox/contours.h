@@ -55,11 +55,12 @@ BVOX_API void bvox_stack_destroy(bvox_contour_stack *stack);
 /* Append a section at z (name copied, may be NULL); *out (may be NULL) points
  * into the stack and stays valid until the next append. */
 BVOX_API bvox_status bvox_stack_add_section(bvox_contour_stack *stack, double z, const char *name,
-                                   bvox_section **out);
+                                            bvox_section **out);
 /* Append a copy of the n points (n >= 3, finite) as a contour of sec; parent
  * is -1 or the index of an earlier contour. */
-BVOX_API bvox_status bvox_section_add_contour(bvox_section *sec, const bvox_point2 *points, int32_t n,
-                                     int hole, int32_t parent);
+BVOX_API bvox_status bvox_section_add_contour(bvox_section *sec, const bvox_point2 *points,
+                                              int32_t n,
+                                              int hole, int32_t parent);
 BVOX_API bvox_status bvox_section_add_marker(bvox_section *sec, bvox_point2 marker);
 
 /* ------------------------------------------------ contour stack -> model */
@@ -111,8 +112,9 @@ BVOX_API bvox_stack_volume_opts bvox_stack_volume_opts_default(void);
  * Sections must have distinct z (any order: they are sorted). Errors:
  * BVOX_EINVAL (no sections, bad options, equal z, no extent), BVOX_ETOOBIG.
  * *out is owned by the caller. */
-BVOX_API bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_stack_volume_opts *opts,
-                                 bvox_volume **out);
+BVOX_API bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack,
+                                          const bvox_stack_volume_opts *opts,
+                                          bvox_volume **out);
 
 /* ---------------------------------------------------- contour geometry */
 
@@ -175,20 +177,21 @@ BVOX_API void bvox_section_transform(bvox_section *sec, const bvox_xform2 *t);
 BVOX_API bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out);
 /* A list of .svg files, one section each, in the given order. */
 BVOX_API bvox_status bvox_stack_read_svg_files(const char *const *paths, int32_t n,
-                                      bvox_contour_stack **out);
+                                               bvox_contour_stack **out);
 /* Memory entry points (name is for messages). */
 BVOX_API bvox_status bvox_stack_read_json_memory(const char *data, size_t size, const char *name,
-                                        bvox_contour_stack **out);
+                                                 bvox_contour_stack **out);
 /* One SVG document as one section at z (pixel 1, spacing 1); appended to
  * *stack when *stack is not NULL, else a new stack is made. */
-BVOX_API bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char *name, double z,
-                                       bvox_contour_stack **stack);
+BVOX_API bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char *name,
+                                                double z,
+                                                bvox_contour_stack **stack);
 /* A Reconstruct section file's text appended as a section; the first call
  * (with *stack NULL) creates the stack. thickness <= 0: take the section's
  * thickness attribute. */
 BVOX_API bvox_status bvox_stack_read_reconstruct_section_memory(const char *data, size_t size,
-                                                       const char *name,
-                                                       bvox_contour_stack **stack);
+                                                                const char *name,
+                                                                bvox_contour_stack **stack);
 /* Write atomically. JSON: {"unit", "pixel", "spacing", "width", "height",
  * "sections": [{"z", "name", "contours": [[[x, y], ...], ...], "markers"}]}.
  * SVG folder: one file per section, section_0001.svg ... (markers as
@@ -214,6 +217,7 @@ BVOX_API bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contou
  * minus half a voxel along u and v), so the stack maps back onto the same
  * world positions.
  * *out is owned by the caller. */
-BVOX_API bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_contour_stack **out);
+BVOX_API bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis,
+                                             bvox_contour_stack **out);
 
 #endif /* BVOX_CONTOURS_H */

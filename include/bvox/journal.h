@@ -40,8 +40,10 @@ BVOX_API void bvox_journal_end(bvox_journal *j);
  * undone one. *changed (may be NULL) receives the box of the words touched
  * (half-open, all zero when nothing). Returns BVOX_OK with *done = 0 when
  * there is nothing to undo or redo. */
-BVOX_API bvox_status bvox_journal_undo(bvox_journal *j, bvox_volume *vol, int *done, bvox_box *changed);
-BVOX_API bvox_status bvox_journal_redo(bvox_journal *j, bvox_volume *vol, int *done, bvox_box *changed);
+BVOX_API bvox_status bvox_journal_undo(bvox_journal *j, bvox_volume *vol, int *done,
+                                       bvox_box *changed);
+BVOX_API bvox_status bvox_journal_redo(bvox_journal *j, bvox_volume *vol, int *done,
+                                       bvox_box *changed);
 BVOX_API int bvox_journal_can_undo(const bvox_journal *j);
 BVOX_API int bvox_journal_can_redo(const bvox_journal *j);
 /* Bytes held by the patches (saved words plus bookkeeping), and the number

@@ -62,7 +62,7 @@ typedef struct bvox_mesh_opts {
 /* The surface of the 1-voxels (the volume is treated as surrounded by 0s,
  * so the mesh is always closed). opts may be NULL (marching cubes). */
 BVOX_API bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *opts,
-                                  bvox_mesh **out);
+                                           bvox_mesh **out);
 
 /* Taubin lambda/mu smoothing (a shrink step lambda > 0, an inflate step
  * mu < -lambda) over the shared-vertex adjacency, uniform weights; the
@@ -95,7 +95,7 @@ BVOX_API bvox_status bvox_mesh_measure(const bvox_mesh *mesh, bvox_mesh_info *in
  * absurd counts) is BVOX_EFORMAT with a message naming the file. */
 BVOX_API bvox_status bvox_mesh_read(const char *path, const char *format, bvox_mesh **out);
 BVOX_API bvox_status bvox_mesh_read_memory(const void *data, size_t size, const char *name,
-                                  const char *format, bvox_mesh **out);
+                                           const char *format, bvox_mesh **out);
 /* "stl", "ply", "obj", "off" for a path's extension, or NULL. */
 BVOX_API const char *bvox_mesh_format_for_path(const char *path);
 
@@ -103,7 +103,7 @@ BVOX_API const char *bvox_mesh_format_for_path(const char *path);
  * ascii: ASCII), "obj" or "off" (text); format NULL: by extension. Written
  * atomically (temporary file, renamed on success). */
 BVOX_API bvox_status bvox_mesh_write(const char *path, const bvox_mesh *mesh, const char *format,
-                            int ascii);
+                                     int ascii);
 
 /* ------------------------------------------------------- mesh -> volume */
 
@@ -129,6 +129,6 @@ typedef struct bvox_voxelize_report {
  * simplicity), parity per ray. A mesh that is not closed is voxelized along x,
  * y and z and each voxel gets the majority vote. report may be NULL. */
 BVOX_API bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
-                               bvox_volume **out, bvox_voxelize_report *report);
+                                        bvox_volume **out, bvox_voxelize_report *report);
 
 #endif /* BVOX_MESH_H */

@@ -54,7 +54,7 @@ BVOX_API bvox_status bvox_bitmap_median(const bvox_bitmap *in, int32_t radius, b
  * in the order of their first pixel (row by row); 0 background. *labels
  * (width*height, row-major) is released with bvox_free. */
 BVOX_API bvox_status bvox_bitmap_label(const bvox_bitmap *bm, int conn, int32_t **labels,
-                              int32_t *count);
+                                       int32_t *count);
 /* In place: clear the 8-connected components of fewer than min_area pixels,
  * then, if fill_holes, set the 4-connected background components of fewer
  * than min_area pixels that do not touch the edge (small holes). */
@@ -79,24 +79,25 @@ BVOX_API bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out);
  * gradients and vignetting are captured, objects of any size are not, as
  * long as the object's contrast exceeds the background's variation. *bg has
  * img's size and depth. */
-BVOX_API bvox_status bvox_section_background_estimate(const bvox_image *img, int dark, bvox_image **bg);
+BVOX_API bvox_status bvox_section_background_estimate(const bvox_image *img, int dark,
+                                                      bvox_image **bg);
 /* out = img - bg + mean(bg), clamped to the sample range: an even
  * background at the blank's mean level. bg: a blank (empty) section image
  * or an estimate; same size as img (BVOX_EINVAL naming both sizes if not). */
 BVOX_API bvox_status bvox_section_subtract_background(const bvox_image *img, const bvox_image *bg,
-                                             bvox_image **out);
+                                                      bvox_image **out);
 /* Flat-field correction for transmitted light (illumination multiplies):
  * out = img * mean(bg) / bg (bg 0 counts as 1), rounded and clamped; same
  * size rule. Absorbing markers and tissue keep their contrast across an
  * uneven field, which a subtraction would not give them. */
 BVOX_API bvox_status bvox_section_divide_background(const bvox_image *img, const bvox_image *bg,
-                                           bvox_image **out);
+                                                    bvox_image **out);
 /* Otsu's threshold of a gray image (one histogram bin per value): the
  * value t maximising the between-class variance of {v <= t} and {v > t}. */
 BVOX_API bvox_status bvox_section_otsu(const bvox_image *img, double *threshold);
 /* Object mask: dark != 0: value <= threshold; else value > threshold. */
 BVOX_API bvox_status bvox_section_threshold(const bvox_image *img, double threshold, int dark,
-                                   bvox_bitmap **out);
+                                            bvox_bitmap **out);
 
 /* Closed contours of the set pixels, traced along pixel edges (crack
  * following): vertices at pixel corners (integer coordinates), one vertex per
@@ -109,7 +110,8 @@ BVOX_API bvox_status bvox_section_threshold(const bvox_image *img, double thresh
  * a hole's parent is its object's outer contour, an island in a hole has the
  * hole as parent. *contours (malloc'd, points too) is released with
  * bvox_contours_free. */
-BVOX_API bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours, int32_t *count);
+BVOX_API bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours,
+                                       int32_t *count);
 BVOX_API void bvox_contours_free(bvox_contour *contours, int32_t count);
 
 /* ----------------------------------------------------------- markers */
@@ -134,7 +136,7 @@ BVOX_API bvox_sim2 bvox_sim2_inverse(const bvox_sim2 *t);
  * sum a . b)), with the uniform scale too when allow_scale. rms (may be
  * NULL): root mean square distance of the mapped src from dst. */
 BVOX_API bvox_status bvox_sim2_fit(const bvox_point2 *src, const bvox_point2 *dst, int32_t n,
-                          int allow_scale, bvox_sim2 *t, double *rms);
+                                   int allow_scale, bvox_sim2 *t, double *rms);
 
 typedef struct bvox_marker_opts {
     int32_t count;      /* expected markers per section (N >= 1) */
@@ -167,7 +169,8 @@ BVOX_API bvox_marker_opts bvox_marker_opts_default(void); /* count 3, the rest a
  * NULL): the pixels of the kept markers, dilated by 2, are cleared from it
  * (the object mask, when markers are as dark as the object). */
 BVOX_API bvox_status bvox_section_find_markers(const bvox_image *img, const bvox_marker_opts *opts,
-                                      bvox_point2 *markers, int32_t *found, bvox_bitmap *erase);
+                                               bvox_point2 *markers, int32_t *found,
+                                               bvox_bitmap *erase);
 
 /* Match the markers src[0..ns) of one section with dst[0..nd) of its
  * neighbour: every pair of src markers against every pair of dst markers
@@ -180,8 +183,8 @@ BVOX_API bvox_status bvox_section_find_markers(const bvox_image *img, const bvox
  * entries, may be NULL): the dst index of each src marker or -1.
  * BVOX_ENOTFOUND when fewer than 2 markers match. */
 BVOX_API bvox_status bvox_markers_match(const bvox_point2 *src, int32_t ns, const bvox_point2 *dst,
-                               int32_t nd, const bvox_marker_opts *opts, bvox_sim2 *t,
-                               int32_t *match, int32_t *nmatched, double *rms);
+                                        int32_t nd, const bvox_marker_opts *opts, bvox_sim2 *t,
+                                        int32_t *match, int32_t *nmatched, double *rms);
 
 /* One section's alignment. */
 typedef struct bvox_align_result {
@@ -202,8 +205,8 @@ typedef struct bvox_align_result {
  * neighbour's transform and is flagged (fallback); the caller reports it.
  * result holds n entries. */
 BVOX_API bvox_status bvox_markers_align(const bvox_point2 *const *markers, const int32_t *counts,
-                               int32_t n, int32_t reference, const bvox_marker_opts *opts,
-                               bvox_align_result *result);
+                                        int32_t n, int32_t reference, const bvox_marker_opts *opts,
+                                        bvox_align_result *result);
 
 /* ------------------------------------------------------- the pipeline */
 
@@ -304,22 +307,26 @@ BVOX_API void bvox_recon_report_destroy(bvox_recon_report *report);
  * z = i * spacing, width and height the images') and
  * bvox_stack_to_volume. Any of volume, stack, report may be NULL (not
  * wanted); at least one must be given. */
-BVOX_API bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char *const *names,
-                                    int32_t n, const bvox_recon_opts *opts, bvox_volume **volume,
-                                    bvox_contour_stack **stack, bvox_recon_report **report);
+BVOX_API bvox_status bvox_reconstruct_images(const bvox_image *const *images,
+                                             const char *const *names,
+                                             int32_t n, const bvox_recon_opts *opts,
+                                             bvox_volume **volume,
+                                             bvox_contour_stack **stack,
+                                             bvox_recon_report **report);
 
 /* Paths -> model. inputs: image files (PNG, TIFF), or one folder of them
  * (read in natural order: s2 before s10), or one contour stack file (JSON,
  * SVG folder, Reconstruct: bvox_stack_read; its markers align it when
  * present and opts->align). An empty folder is BVOX_ENOTFOUND. */
-BVOX_API bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
-                             bvox_volume **volume, bvox_contour_stack **stack,
-                             bvox_recon_report **report);
+BVOX_API bvox_status bvox_reconstruct(const char *const *inputs, int32_t n,
+                                      const bvox_recon_opts *opts,
+                                      bvox_volume **volume, bvox_contour_stack **stack,
+                                      bvox_recon_report **report);
 
 /* Align a contour stack in place by its sections' markers (chained to the
  * reference as bvox_markers_align), moving contours and markers; report
  * (may be NULL) receives the per-section results. */
 BVOX_API bvox_status bvox_stack_align(bvox_contour_stack *stack, const bvox_recon_opts *opts,
-                             bvox_recon_report **report);
+                                      bvox_recon_report **report);
 
 #endif /* BVOX_RECON_H */
