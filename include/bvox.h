@@ -188,6 +188,14 @@ typedef struct bvox_words_view {
     size_t word_count;
 } bvox_words_view;
 BVOX_API bvox_words_view bvox_volume_words(const bvox_volume *vol);
+/* A new volume (default geometry) holding a copy of word_count words laid out
+ * as bvox_volume_words describes them (word_count = nx * ny * ceil(nz / 64)):
+ * the inverse of that view, e.g. to rebuild a volume sent to another
+ * process. BVOX_EINVAL when word_count does not match dims or a bit beyond nz
+ * is set (naming the column), BVOX_ETOOBIG/BVOX_ENOMEM. *out owned by the
+ * caller. Thread-safe (words only read). */
+BVOX_API bvox_status bvox_volume_from_words(bvox_dims dims, const uint64_t *words,
+                                            size_t word_count, bvox_volume **out);
 
 /* ------------------------------------------------------------ set operations */
 

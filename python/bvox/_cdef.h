@@ -387,6 +387,7 @@ int bvox_volume_bbox(const bvox_volume *vol, bvox_box *box);
 int bvox_volume_equal(const bvox_volume *a, const bvox_volume *b);
 bvox_status bvox_volume_check(const bvox_volume *vol);
 bvox_words_view bvox_volume_words(const bvox_volume *vol);
+bvox_status bvox_volume_from_words(bvox_dims dims, const uint64_t *words, size_t word_count, bvox_volume **out);
 bvox_status bvox_volume_from_samples(const void *samples, bvox_dtype dtype, bvox_dims dims, bvox_order order, const bvox_binarize *how, bvox_volume **out);
 bvox_status bvox_volume_to_bytes(const bvox_volume *vol, bvox_order order, uint8_t *dst);
 bvox_status bvox_csg_apply(bvox_volume *dst, bvox_csg_op op, const bvox_volume *src, const int32_t offset[3]);

@@ -205,6 +205,33 @@ class Volume:
         arr = np.asarray(owner).transpose(1, 0, 2)
         return arr
 
+    @classmethod
+    def from_words(cls, words, nz, spacing=None, unit=None, origin=None):
+        """A volume from packed words indexed [x, y, w], as vol.words gives
+        them (bit z % 64 of words[x, y, z // 64]), for nz slices; copied once
+        into the new volume. Bits beyond nz must be zero (ValueError)."""
+        w = np.asarray(words)
+        if w.dtype != np.uint64:
+            raise TypeError("bvox: from_words needs uint64 words, not %s" % w.dtype)
+        if w.ndim != 3 or 0 in w.shape:
+            raise ValueError("bvox: from_words needs a non-empty [x, y, w] array, got shape %r"
+                             % (w.shape,))
+        native = np.ascontiguousarray(w.transpose(1, 0, 2))  # the library's [y][x][w]
+        out = ffi.new("bvox_volume **")
+        check(lib.bvox_volume_from_words((w.shape[0], w.shape[1], int(nz)),
+                                         _buffer(native, "uint64_t[]"), native.size, out))
+        vol = Volume._own(out[0])
+        if spacing is not None or unit is not None or origin is not None:
+            vol.set_geometry(spacing=spacing, unit=unit, origin=origin)
+        return vol
+
+    def __reduce__(self):
+        """Pickling (multiprocessing, Dask) as the packed words: one bit per
+        voxel, plus the geometry."""
+        g = self.geometry_dict()
+        return (_unpickle, (np.array(self.words), self.shape[2], g["spacing"], g["unit"],
+                            g["origin"], g["direction"]))
+
     # ------------------------------------------------------------- geometry
     @property
     def shape(self):
@@ -534,6 +561,12 @@ class Volume:
         xf = np.asfortranarray(labels, dtype=np.uint32)
         check(lib.bvox_write_labels_nifti(os.fsencode(path), self._p,
                                           _buffer(xf, "uint32_t[]")))
+
+
+def _unpickle(words, nz, spacing, unit, origin, direction):
+    vol = Volume.from_words(words, nz)
+    vol.set_geometry(spacing=spacing, unit=unit, origin=origin, direction=direction)
+    return vol
 
 
 class _WordsOwner:

@@ -150,3 +150,21 @@ def test_bad_options():
         bvox.set_memory_budget(budget)
     with pytest.raises(ValueError, match="conn"):
         bvox.Volume((2, 2, 2)).dilate(conn=8)
+
+
+def test_from_words_and_pickle(rng):
+    import pickle
+    a = random_mask(rng, (5, 6, 70))
+    v = bvox.Volume.from_numpy(a, spacing=(0.5, 1, 2), unit="mm", origin=(1, 2, 3))
+    w = bvox.Volume.from_words(v.words, 70)
+    assert w == v and np.array_equal(w.to_numpy(), a)
+    p = pickle.loads(pickle.dumps(v))
+    assert p == v and p.spacing == v.spacing and p.unit == "mm" and p.origin == v.origin
+    bad = np.array(v.words)
+    bad[1, 2, 1] |= np.uint64(1 << 20)  # z = 84 > nz
+    with pytest.raises(bvox.InvalidArgument, match="beyond"):
+        bvox.Volume.from_words(bad, 70)
+    with pytest.raises(bvox.InvalidArgument, match="words"):
+        bvox.Volume.from_words(v.words, 200)
+    with pytest.raises(TypeError):
+        bvox.Volume.from_words(v.words.astype(np.int64), 70)

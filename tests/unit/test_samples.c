@@ -198,3 +198,31 @@ TEST(every_simd_path)
     free(buf);
     return 0;
 }
+
+/* bvox_volume_from_words inverts bvox_volume_words; wrong counts and bits
+ * beyond nz are refused. */
+TEST(from_words)
+{
+    bvox_dims d = {3, 4, 70};
+    bvox_volume *v = NULL, *back = NULL;
+    CHECK_OK(bvox_volume_create(d, &v));
+    for (int i = 0; i < 40; i++)
+        CHECK_OK(bvox_volume_set(v, (int)(harness_rand() % 3), (int)(harness_rand() % 4),
+                                 (int)(harness_rand() % 70), 1));
+    bvox_words_view w = bvox_volume_words(v);
+    CHECK_OK(bvox_volume_from_words(d, w.words, w.word_count, &back));
+    CHECK(bvox_volume_equal(v, back));
+    CHECK_OK(bvox_volume_check(back));
+    bvox_volume_destroy(back);
+    back = (bvox_volume *)&d;
+    CHECK_STATUS(bvox_volume_from_words(d, w.words, w.word_count - 1, &back), BVOX_EINVAL);
+    CHECK(back == NULL);
+    uint64_t *copy = malloc(w.word_count * sizeof *copy);
+    memcpy(copy, w.words, w.word_count * sizeof *copy);
+    copy[(1 * 3 + 2) * w.words_per_column + 1] |= 1ull << 6; /* z = 70: beyond nz */
+    CHECK_STATUS(bvox_volume_from_words(d, copy, w.word_count, &back), BVOX_EINVAL);
+    CHECK(strstr(bvox_errmsg(), "column (2, 1)") != NULL);
+    free(copy);
+    bvox_volume_destroy(v);
+    return 0;
+}
