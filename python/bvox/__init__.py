@@ -49,7 +49,8 @@ def read(path, *, format=None, threshold=None, range=None, label=None, nonzero=N
     """Read a volume file (NIfTI, TIFF, binvox, PNG slices folder, raw) with
     the command's read options: threshold, range=(lo, hi), label, nonzero,
     otsu; format forces a reader. Raw files need dims=(nx, ny, nz) and dtype
-    ("u8", "i16", "f32", ...), with offset, big_endian, spacing and unit."""
+    (bvox's names "u8", "i16", "f32", ... or a NumPy dtype such as np.int16),
+    with offset (bytes of header), big_endian, spacing and unit."""
     opts = ffi.new("bvox_read_opts *")
     keep = []
     if format:
@@ -59,12 +60,7 @@ def read(path, *, format=None, threshold=None, range=None, label=None, nonzero=N
     if dims is not None:
         opts.raw_dims = tuple(int(d) for d in dims)
     if dtype is not None:
-        from ._volume import _DTYPES
-        import numpy as np
-        try:
-            opts.raw_dtype = _DTYPES[np.dtype(dtype)]
-        except TypeError:
-            raise TypeError("bvox: unknown dtype %r" % (dtype,)) from None
+        opts.raw_dtype = _raw_dtype(dtype)
     opts.raw_big_endian = 1 if big_endian else 0
     opts.raw_offset = int(offset)
     if spacing is not None:
@@ -75,6 +71,24 @@ def read(path, *, format=None, threshold=None, range=None, label=None, nonzero=N
     out = ffi.new("bvox_volume **")
     check(lib.bvox_read(os.fsencode(path), opts, out))
     return Volume._own(out[0])
+
+
+def _raw_dtype(dtype):
+    """bvox's names first ("u8" is uint8 here, as in `bvox convert --type`),
+    then anything NumPy takes for a dtype."""
+    from ._volume import _DTYPES
+    import numpy as np
+    if isinstance(dtype, str):
+        k = lib.bvox_dtype_parse(dtype.encode())
+        if k >= 0:
+            return k
+    try:
+        dt = np.dtype(dtype)
+    except TypeError:
+        raise TypeError("bvox: unknown dtype %r" % (dtype,)) from None
+    if dt.newbyteorder("=") not in _DTYPES or dt == np.bool_:
+        raise TypeError("bvox: raw files hold integers or float32/float64, not %s" % dt)
+    return _DTYPES[dt.newbyteorder("=")]
 
 
 def demo():

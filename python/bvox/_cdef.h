@@ -395,6 +395,7 @@ void bvox_volume_complement(bvox_volume *vol);
 bvox_status bvox_shape_draw(bvox_volume *vol, const bvox_shape *shape, bvox_csg_op op);
 double bvox_shape_volume(const bvox_shape *shape);
 int bvox_shape_kind_parse(const char *name);
+int bvox_dtype_parse(const char *name);
 bvox_status bvox_info_compute(const bvox_volume *vol, bvox_info *info);
 bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume **out);
 bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts);

@@ -90,3 +90,22 @@ def test_file_errors(tmp_path):
         bvox.Volume((2, 2, 2)).write(tmp_path / "no_dir" / "x.nii")
     assert e.value.status_name in ("BVOX_EIO", "BVOX_ENOTFOUND")
     assert not (tmp_path / "no_dir").exists()
+
+
+def test_raw_with_numpy(rng, tmp_path):
+    data = rng.integers(0, 300, size=(6, 5, 67)).astype(np.int16)
+    # raw files are x fastest: Fortran order of the [x, y, z] array
+    (tmp_path / "v.raw").write_bytes(b"HDR!" + data.tobytes(order="F"))
+    for dtype in ("i16", np.int16, "int16"):
+        v = bvox.read(tmp_path / "v.raw", dims=data.shape, dtype=dtype, offset=4,
+                      threshold=150, spacing=(1, 2, 3), unit="um")
+        assert np.array_equal(v.to_numpy(), data >= 150), dtype
+        assert v.spacing == (1.0, 2.0, 3.0) and v.unit == "um"
+    u8 = rng.integers(0, 2, size=(3, 4, 5)).astype(np.uint8)
+    (tmp_path / "b.raw").write_bytes(u8.tobytes(order="F"))
+    assert np.array_equal(bvox.read(tmp_path / "b.raw", dims=u8.shape, dtype="u8").to_numpy(),
+                          u8 != 0)  # bvox's "u8" is uint8 (NumPy's would be uint64)
+    with pytest.raises(TypeError):
+        bvox.read(tmp_path / "b.raw", dims=u8.shape, dtype="complex64")
+    with pytest.raises(bvox.Error):
+        bvox.read(tmp_path / "b.raw", dims=(9, 9, 9), dtype="u8")  # file too short
