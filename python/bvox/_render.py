@@ -31,10 +31,9 @@ def render(vol, view="iso", *, shade="binary+depth", width=0, height=0, scale=0.
     if s < 0:
         raise ValueError("bvox: unknown shading %r" % shade)
     opts.shade = s
-    if width or height:
-        if opts.axis_view:  # an axis view with a size becomes its projection
-            pass
-        opts.proj.width, opts.proj.height = int(width), int(height)
+    # an axis view given a size becomes the projection with the same image
+    # axes (bvox_render_opts)
+    opts.proj.width, opts.proj.height = int(width), int(height)
     opts.proj.scale = float(scale)
     opts.zoom = int(zoom)
     opts.average = 1 if average else 0
