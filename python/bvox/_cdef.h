@@ -26,6 +26,7 @@ typedef struct bvox_geometry {
     double origin[3];
     double direction[9];
     char unit[16];
+    int32_t space;
 } bvox_geometry;
 typedef struct bvox_words_view {
     const uint64_t *words;
@@ -126,6 +127,7 @@ typedef struct bvox_measures {
     int64_t components;
     int64_t cavities;
     int64_t tunnels;
+    int64_t cavities_26;
 } bvox_measures;
 typedef struct bvox_image {
     int32_t width, height;
@@ -229,6 +231,9 @@ typedef struct bvox_voxelize_opts {
     double voxel_size;
     int shell;
     char unit[16];
+    double spacing[3];
+    const bvox_geometry *grid;
+    bvox_dims grid_dims;
 } bvox_voxelize_opts;
 typedef struct bvox_voxelize_report {
     int closed;
@@ -263,6 +268,7 @@ typedef struct bvox_section {
     int32_t ncontours;
     bvox_point2 *markers;
     int32_t nmarkers;
+    int32_t z_from_index;
 } bvox_section;
 typedef struct bvox_contour_stack {
     char unit[16];
@@ -272,6 +278,7 @@ typedef struct bvox_contour_stack {
     bvox_section *sections;
     int32_t nsections;
     double origin[2];
+    uint32_t given;
 } bvox_contour_stack;
 typedef struct bvox_stack_volume_opts {
     double z_spacing;
@@ -300,6 +307,7 @@ typedef struct bvox_align_result {
     int32_t matched;
     double residual;
     int fallback;
+    int by_contours;
 } bvox_align_result;
 typedef enum bvox_recon_step {
     BVOX_RECON_READ = 0,
@@ -335,6 +343,8 @@ typedef struct bvox_recon_opts {
     char unit[16];
     double z_spacing;
     int interpolate;
+    const char *svg_select;
+    int strict;
     const char *save_steps;
     bvox_recon_progress progress;
     void *progress_ctx;

@@ -98,6 +98,8 @@ def _as_dict(vol, m):
         "components": m.components,
         "component_count": m.components,
         "cavities": m.cavities,
+        "cavities_6": m.cavities,
+        "cavities_26": m.cavities_26,
         "tunnels": m.tunnels,
         "euler": m.euler,
     }
