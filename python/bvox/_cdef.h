@@ -336,6 +336,7 @@ typedef struct bvox_recon_opts {
     int32_t contour_smooth;
     bvox_marker_opts markers;
     const char *markers_file;
+    const char *marker_coords;
     int align;
     int32_t reference;
     double pixel;
