@@ -72,7 +72,7 @@ static double now_ms(void)
 static char *dup_str(const char *s)
 {
     size_t n = strlen(s) + 1;
-    char *d = malloc(n);
+    char *d = bvox__mem_alloc(n);
     if (d) memcpy(d, s, n);
     return d;
 }
@@ -227,9 +227,9 @@ static void fallback_message(bvox_recon_section_report *s, int32_t nmarkers, int
 static bvox_status align_report(bvox_recon_report *rep, const bvox_recon_opts *o)
 {
     int32_t n = rep->nsections;
-    const bvox_point2 **pts = calloc((size_t)n, sizeof *pts);
-    int32_t *counts = calloc((size_t)n, sizeof *counts);
-    bvox_align_result *res = calloc((size_t)n, sizeof *res);
+    const bvox_point2 **pts = bvox__mem_zalloc((size_t)n, sizeof *pts);
+    int32_t *counts = bvox__mem_zalloc((size_t)n, sizeof *counts);
+    bvox_align_result *res = bvox__mem_zalloc((size_t)n, sizeof *res);
     bvox_status st = BVOX_OK;
     if (!pts || !counts || !res) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -337,9 +337,9 @@ static bvox_xform2 to_xform(const bvox_sim2 *t)
 static bvox_status report_alloc(int32_t n, bvox_recon_report **out)
 {
     *out = NULL;
-    bvox_recon_report *r = calloc(1, sizeof *r);
+    bvox_recon_report *r = bvox__mem_zalloc(1, sizeof *r);
     if (!r) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    r->sections = calloc((size_t)n, sizeof *r->sections);
+    r->sections = bvox__mem_zalloc((size_t)n, sizeof *r->sections);
     if (!r->sections) {
         free(r);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -362,7 +362,7 @@ static bvox_status set_markers(bvox_recon_section_report *s, const bvox_point2 *
     s->markers = NULL;
     s->nmarkers = 0;
     if (n <= 0) return BVOX_OK;
-    s->markers = malloc((size_t)n * sizeof *m);
+    s->markers = bvox__mem_alloc((size_t)n * sizeof *m);
     if (!s->markers) return bvox__fail(BVOX_ENOMEM, "out of memory");
     memcpy(s->markers, m, (size_t)n * sizeof *m);
     s->nmarkers = n;
@@ -587,8 +587,8 @@ bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char 
     if (st) return st;
     bvox_recon_opts o = opts ? *opts : bvox_recon_opts_default();
     if (n < 1 || !images) return bvox__fail(BVOX_EINVAL, "reconstruct: no sections");
-    sec_work *w = calloc((size_t)n, sizeof *w);
-    char (*auto_names)[32] = calloc((size_t)n, sizeof *auto_names);
+    sec_work *w = bvox__mem_zalloc((size_t)n, sizeof *w);
+    char (*auto_names)[32] = bvox__mem_zalloc((size_t)n, sizeof *auto_names);
     if (!w || !auto_names) {
         free(w);
         free(auto_names);
@@ -606,6 +606,10 @@ bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char 
     if (!st) st = run_images(w, n, &o, o.background_image, volume, stack, report);
     free_work(w, n);
     free(auto_names);
+    if (!st) {
+        if (volume) BVOX_CHECK_VOLUME(*volume);
+        if (stack) BVOX_CHECK_STACK(*stack);
+    }
     return st;
 }
 
@@ -684,7 +688,7 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
         if (!is_image_name(e->d_name)) continue;
         if (m == cap) {
             cap = cap ? cap * 2 : 64;
-            char **nn = realloc(names, (size_t)cap * sizeof *names);
+            char **nn = bvox__mem_resize(names, (size_t)cap * sizeof *names);
             if (!nn) {
                 st = bvox__fail(BVOX_ENOMEM, "out of memory");
                 break;
@@ -692,7 +696,7 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
             names = nn;
         }
         size_t len = strlen(dir) + strlen(e->d_name) + 2;
-        if (!(names[m] = malloc(len))) {
+        if (!(names[m] = bvox__mem_alloc(len))) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
             break;
         }
@@ -853,7 +857,7 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
                                                "file must be the only input", inputs[i]);
     }
     bvox_image *background = NULL;
-    sec_work *w = calloc((size_t)n, sizeof *w);
+    sec_work *w = bvox__mem_zalloc((size_t)n, sizeof *w);
     if (!w) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;
