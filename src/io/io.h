@@ -29,6 +29,8 @@ typedef struct bvox__gray {
     void *owned;         /* from bvox__alloc, or NULL */
     size_t owned_bytes;
     bool byteswap;       /* samples are in the other byte order than the CPU's */
+    bool z_fastest;      /* samples are z fastest, then y, then x (the C order of
+                            an [x][y][z] array, NumPy's default) instead */
     double slope, inter; /* real value = raw * slope + inter; slope 0 means 1 */
     bvox_geometry geom;  /* given to the volume */
 } bvox__gray;
@@ -189,5 +191,9 @@ void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t 
  * file or, on failure, nothing. */
 bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
                                     const void *header, size_t header_size);
+/* The whole volume as bytes 0/1, z fastest, then y, then x:
+ * dst[((size_t)x * ny + y) * nz + z] = voxel. Each column's words expand in
+ * place (no transpose); columns are split over the worker threads. */
+void bvox__unpack_columns(const bvox_volume *vol, uint8_t *dst);
 
 #endif
