@@ -347,6 +347,10 @@ int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, cons
         if (r == CLI_ARG_USED) *out = v;
         return r;
     }
+    if (!strcmp(argv[*i], "--force")) { /* folder outputs: see bvox_write_opts.force */
+        wo->force = 1;
+        return CLI_ARG_USED;
+    }
     if ((r = cli_match_value(cmd, argc, argv, i, "--output-format", &v)) == CLI_ARG_USED)
         wo->format = v;
     return r;

@@ -73,10 +73,17 @@ int cli_is_option(const char *arg);
 int cli_parse_input_arg(const char *cmd, const char *arg, int *options_done, const char **in,
                         void (*help)(FILE *));
 
-/* -o/--output OUT (sets *out) and --output-format NAME (sets wo->format), for
- * the commands that write a volume. Same returns as cli_match_value. */
+/* -o/--output OUT (sets *out), --output-format NAME (sets wo->format) and
+ * --force (sets wo->force: a folder output may go into a folder holding
+ * other files; nothing is removed), for the commands that write a volume.
+ * Same returns as cli_match_value. */
 int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, const char **out,
                             bvox_write_opts *wo);
+/* The help line of --force, for the commands that take it. */
+#define CLI_FORCE_HELP \
+    "  --force               a folder output may go into a folder holding other files\n" \
+    "                        (bvox's own file names are replaced, nothing is removed)\n"
+
 
 /* Strict parsers: the whole string must be consumed; 0 on success. */
 int cli_parse_double(const char *s, double *out);     /* finite */

@@ -32,6 +32,7 @@ static void help(FILE *f)
           "                        uint16 when there are at most 65535, else uint32\n",
           f);
     fprintf(f, "  --output-format NAME  force the format of -o (%s)\n", bvox_format_list());
+    fputs(CLI_FORCE_HELP, f);
     fputs("  --help                show this help\n", f);
     cli_print_read_options_help(f);
     cli_print_process_options_help(f);

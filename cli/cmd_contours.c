@@ -25,6 +25,7 @@ static void help(FILE *f)
           "Options:\n"
           "  --axis x|y|z          the axis the slices are across (default z)\n"
           "  -o, --output OUT      OUT.json, or a folder for SVG files\n"
+          CLI_FORCE_HELP
           "  --help                show this help\n",
           f);
     cli_print_read_options_help(f);
@@ -76,7 +77,7 @@ int cmd_contours(int argc, char **argv)
         rc = cli_fail();
     } else {
         bvox_status st = ends_with_json(out) ? bvox_stack_write_json(out, stack)
-                                             : bvox_stack_write_svg_dir(out, stack);
+                                             : bvox_stack_write_svg_dir_opts(out, stack, &wo);
         if (st) {
             rc = cli_fail();
         } else {

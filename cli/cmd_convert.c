@@ -22,6 +22,7 @@ static void help(FILE *f)
     fprintf(f, "  --output-format NAME  force the output format (%s);\n"
                "                        needed for a folder of PNG slices\n",
             bvox_format_list());
+    fputs(CLI_FORCE_HELP, f);
     fputs("  --help                show this help\n", f);
     cli_print_read_options_help(f);
     cli_print_process_options_help(f);
@@ -55,6 +56,8 @@ int cmd_convert(int argc, char **argv)
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &value))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
             wo.format = value;
+        } else if (!strcmp(arg, "--force")) {
+            wo.force = 1;
         } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
             return CLI_USAGE;
         }

@@ -50,6 +50,7 @@ static void help(FILE *f)
           "  --min-size N          islands: smallest component kept, in voxels (required)\n",
           f);
     fprintf(f, "  --output-format NAME  force the output format (%s)\n", bvox_format_list());
+    fputs(CLI_FORCE_HELP, f);
     fputs("  --help                show this help\n", f);
     cli_print_read_options_help(f);
     cli_print_process_options_help(f);

@@ -65,6 +65,8 @@ static void help(FILE *f)
           "                         NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png\n"
           "  --quiet                no progress on stderr\n"
           "  --output-format NAME   force the model's format\n"
+          "  --force                a folder output (--save-contours DIR) may go into a folder\n"
+          "                         holding other files (nothing is removed)\n"
           "  --help                 show this help\n",
           f);
     cli_print_process_options_help(f);
@@ -391,7 +393,7 @@ int cmd_reconstruct(int argc, char **argv)
     if (out && bvox_write(out, vol, &wo)) rc = cli_fail();
     if (!rc && save) {
         st = ends_with(save, ".json") ? bvox_stack_write_json(save, stack)
-                                      : bvox_stack_write_svg_dir(save, stack);
+                                      : bvox_stack_write_svg_dir_opts(save, stack, &wo);
         if (st) rc = cli_fail();
     }
     if (!rc && report_path) rc = save_report(report_path, rep, vol);

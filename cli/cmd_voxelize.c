@@ -30,6 +30,7 @@ static void help(FILE *f)
           "  --unit NAME           unit of the mesh coordinates, stored in OUT (e.g. mm)\n"
           "  --mesh-format NAME    stl, obj, ply or off (default: by extension/content)\n"
           "  --output-format NAME  force the output format\n"
+          CLI_FORCE_HELP
           "  --help                show this help\n",
           f);
     cli_print_process_options_help(f);

@@ -2,12 +2,19 @@
  * stream.c — whole files in memory, gzip decompression with a size cap, and
  * the output sink that never leaves a partial file: everything is written to
  * a temporary file in the target folder, flushed, fsync'ed and renamed over
- * the target only when complete (the rename is atomic within one folder).
+ * the target only when complete (the rename is atomic within one folder),
+ * then the folder is fsync'ed so that the rename survives a power loss.
+ * Only regular files are written: a device, FIFO or socket at the output
+ * path is refused, a symlink is followed to its final target (the temporary
+ * file is made beside that target, so the rename stays within one folder
+ * and the link stays a link). Replacing a file keeps its permission bits and
+ * group. Folder outputs are in dir_sink.c, temporary names in temp_files.c.
  */
 #include "io.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -168,18 +175,73 @@ bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, siz
 /* ------------------------------------------------------------- writing */
 
 static atomic_long sink_fail_countdown;
+static atomic_long folder_syncs;
 
 void bvox__sink_fail_after(long n) { atomic_store(&sink_fail_countdown, n); }
+long bvox__folder_syncs(void) { return atomic_load(&folder_syncs); }
 
-static char *temp_name_for(const char *path)
+bool bvox__sync_parent(const char *path)
 {
     const char *slash = strrchr(path, '/');
-    size_t dirlen = slash ? (size_t)(slash - path + 1) : 0;
-    const char *base = slash ? slash + 1 : path;
-    size_t n = strlen(path) + 16;
-    char *t = malloc(n);
-    if (t) snprintf(t, n, "%.*s.%s.XXXXXX", (int)dirlen, path, base);
-    return t;
+    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
+    if (!dir) return false;
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    free(dir);
+    if (fd < 0) return true; /* a folder we may write but not read: cannot sync it */
+    int rc = fsync(fd), e = errno;
+    close(fd);
+    if (rc == 0) atomic_fetch_add(&folder_syncs, 1);
+    errno = e;
+    return rc == 0 || e == EINVAL; /* EINVAL: this file system cannot sync folders */
+}
+
+/* Follow path while it is a symlink (relative targets are relative to the
+ * link's folder). *out: the final path (malloc'ed); *sb its lstat, or
+ * *exists = false when nothing is there yet. errno on failure. */
+static bool resolve_output(const char *path, char **out, struct stat *sb, bool *exists)
+{
+    char *cur = strdup(path);
+    for (int hops = 0; cur; hops++) {
+        if (lstat(cur, sb) != 0) {
+            if (errno != ENOENT) break;
+            *exists = false;
+            *out = cur;
+            return true;
+        }
+        if (!S_ISLNK(sb->st_mode)) {
+            *exists = true;
+            *out = cur;
+            return true;
+        }
+        if (hops == 40) {
+            errno = ELOOP;
+            break;
+        }
+        char link[PATH_MAX];
+        ssize_t n = readlink(cur, link, sizeof link - 1);
+        if (n < 0) break;
+        link[n] = '\0';
+        const char *slash = strrchr(cur, '/');
+        size_t dirlen = link[0] != '/' && slash ? (size_t)(slash - cur + 1) : 0;
+        char *next = malloc(dirlen + (size_t)n + 1);
+        if (next) {
+            memcpy(next, cur, dirlen);
+            memcpy(next + dirlen, link, (size_t)n + 1);
+        }
+        free(cur);
+        cur = next;
+        if (!cur) errno = ENOMEM;
+    }
+    int e = errno;
+    free(cur);
+    errno = e;
+    return false;
+}
+
+static const char *file_kind(mode_t m)
+{
+    return S_ISDIR(m) ? "a folder" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
+         : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "not a regular file";
 }
 
 static void sink_release(bvox__sink *s)
@@ -189,34 +251,54 @@ static void sink_release(bvox__sink *s)
         free(s->gz);
     }
     if (s->file) fclose(s->file);
+    bvox__temp_unregister(s->slot);
     free(s->tmp_path);
     free(s->final_path);
     memset(s, 0, sizeof *s);
+    s->slot = -1;
 }
 
 bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
 {
     memset(s, 0, sizeof *s);
+    s->slot = -1;
+    s->name = path;
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     if (!*base) return bvox__fail(BVOX_EINVAL, "%s: output path names a folder, not a file", path);
-    s->final_path = strdup(path);
-    s->tmp_path = temp_name_for(path);
-    if (!s->final_path || !s->tmp_path) {
+    struct stat old;
+    bool exists;
+    if (!resolve_output(path, &s->final_path, &old, &exists))
+        return bvox__fail(errno == ENOMEM ? BVOX_ENOMEM : BVOX_EIO, "%s: cannot follow the path: %s",
+                          path, strerror(errno));
+    /* bvox writes regular files only: renaming over a device or a FIFO
+     * would replace it (run as root against /dev/null, the system's). */
+    if (exists && !S_ISREG(old.st_mode)) {
+        sink_release(s);
+        return bvox__fail(BVOX_EIO, "%s: is %s; bvox writes only regular files", path,
+                          file_kind(old.st_mode));
+    }
+    s->tmp_path = bvox__temp_name(s->final_path);
+    if (!s->tmp_path) {
         sink_release(s);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
     }
-    int fd = mkstemp(s->tmp_path);
+    int fd = bvox__temp_create(s->tmp_path, false);
     if (fd < 0) {
         int e = errno;
         sink_release(s);
         return bvox__fail(e == ENOENT ? BVOX_ENOTFOUND : BVOX_EIO, "%s: cannot create: %s",
                           path, e == ENOENT ? "no such folder" : strerror(e));
     }
-    /* mkstemp makes 0600; give the file the usual permissions (umask applies) */
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
+    s->slot = bvox__temp_register(s->tmp_path, false);
+    if (exists) {
+        /* replacing a file keeps its permissions and group (the owner too
+         * when run as root); new files got 0666 less the umask from open */
+        if (fchown(fd, old.st_uid, old.st_gid) != 0 && fchown(fd, (uid_t)-1, old.st_gid) != 0) {
+            /* not a member of that group: the file keeps ours */
+        }
+        fchmod(fd, old.st_mode & 01777); /* never set-user/group-ID on new content */
+    }
     s->file = fdopen(fd, "wb");
     if (!s->file) {
         close(fd);
@@ -249,7 +331,7 @@ static bool raw_write(bvox__sink *s, const void *data, size_t size)
 static bvox_status write_failed(bvox__sink *s)
 {
     s->failed = true;
-    s->status = bvox__fail(BVOX_EIO, "%s: write failed: %s", s->final_path, strerror(errno));
+    s->status = bvox__fail(BVOX_EIO, "%s: write failed: %s", s->name, strerror(errno));
     return s->status;
 }
 
@@ -264,7 +346,7 @@ static bvox_status deflate_some(bvox__sink *s, int flush)
         rc = deflate(z, flush);
         if (rc == Z_STREAM_ERROR) {
             s->failed = true;
-            return s->status = bvox__fail(BVOX_EIO, "%s: zlib error", s->final_path);
+            return s->status = bvox__fail(BVOX_EIO, "%s: zlib error", s->name);
         }
         size_t n = sizeof out - z->avail_out;
         if (n && !raw_write(s, out, n)) return write_failed(s);
@@ -306,14 +388,26 @@ bvox_status bvox__sink_commit(bvox__sink *s)
         bvox__sink_abort(s);
         return st;
     }
-    if (rename(s->tmp_path, s->final_path) != 0) {
-        st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished file into place: %s",
-                        s->final_path, strerror(errno));
+    /* the target may have become a folder or a device since the open */
+    struct stat sb;
+    if (lstat(s->final_path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+        st = bvox__fail(BVOX_EIO, "%s: is %s; bvox writes only regular files", s->name,
+                        file_kind(sb.st_mode));
         bvox__sink_abort(s);
         return st;
     }
+    if (rename(s->tmp_path, s->final_path) != 0) {
+        st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished file into place: %s",
+                        s->name, strerror(errno));
+        bvox__sink_abort(s);
+        return st;
+    }
+    /* the rename itself is on disk only once the folder is */
+    if (!bvox__sync_parent(s->final_path))
+        st = bvox__fail(BVOX_EIO, "%s: written, but its folder could not be synced: %s", s->name,
+                        strerror(errno));
     sink_release(s);
-    return BVOX_OK;
+    return st;
 }
 
 void bvox__sink_abort(bvox__sink *s)
@@ -324,123 +418,6 @@ void bvox__sink_abort(bvox__sink *s)
     }
     if (s->tmp_path) unlink(s->tmp_path);
     sink_release(s);
-}
-
-/* ---------------------------------------------------- folder outputs */
-
-bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
-{
-    *tmp_dir = NULL;
-    size_t len = strlen(path);
-    while (len > 1 && path[len - 1] == '/') len--;
-    char *trimmed = strndup(path, len);
-    if (!trimmed) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    struct stat sb;
-    if (stat(trimmed, &sb) == 0 && !S_ISDIR(sb.st_mode)) {
-        free(trimmed);
-        return bvox__fail(BVOX_EIO, "%s: exists and is not a folder", path);
-    }
-    char *t = temp_name_for(trimmed);
-    free(trimmed);
-    if (!t) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    if (!mkdtemp(t)) {
-        int e = errno;
-        free(t);
-        return bvox__fail(e == ENOENT ? BVOX_ENOTFOUND : BVOX_EIO, "%s: cannot create: %s",
-                          path, e == ENOENT ? "no such parent folder" : strerror(e));
-    }
-    chmod(t, 0777 & ~(mode_t)0022);
-    *tmp_dir = t;
-    return BVOX_OK;
-}
-
-static void remove_dir_tree(const char *dir);
-static bool sync_dir_files(const char *dir);
-
-bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
-{
-    /* the files must be on disk before the folder is renamed into place */
-    if (!sync_dir_files(tmp_dir))
-        return bvox__fail(BVOX_EIO, "%s: cannot sync the written files: %s", path,
-                          strerror(errno));
-    size_t len = strlen(path);
-    while (len > 1 && path[len - 1] == '/') len--;
-    char *target = strndup(path, len);
-    if (!target) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    /* rename(2) replaces an empty folder only: move an existing one aside first,
-     * and remove it once the new one is in place. */
-    char *old = NULL;
-    struct stat sb;
-    if (stat(target, &sb) == 0) {
-        size_t n = len + 16;
-        old = malloc(n);
-        if (old) snprintf(old, n, "%s.old.XXXXXX", target);
-        if (!old || !mkdtemp(old) || rename(target, old) != 0) {
-            bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot replace the existing folder: %s",
-                                        path, strerror(errno));
-            if (old) rmdir(old);
-            free(old);
-            free(target);
-            return st;
-        }
-    }
-    if (rename(tmp_dir, target) != 0) {
-        bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished folder into place: %s",
-                                    path, strerror(errno));
-        if (old) rename(old, target); /* put the old one back */
-        free(old);
-        free(target);
-        return st;
-    }
-    if (old) remove_dir_tree(old);
-    free(old);
-    free(target);
-    return BVOX_OK;
-}
-
-#include <dirent.h>
-
-static bool sync_dir_files(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return false;
-    bool ok = true;
-    struct dirent *e;
-    while (ok && (e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        int fd = openat(dirfd(d), e->d_name, O_RDONLY | O_CLOEXEC);
-        if (fd < 0 || fsync(fd) != 0) ok = false;
-        if (fd >= 0) close(fd);
-    }
-    if (ok && fsync(dirfd(d)) != 0) ok = false;
-    closedir(d);
-    return ok;
-}
-
-static void remove_dir_tree(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d))) {
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-            size_t n = strlen(dir) + strlen(e->d_name) + 2;
-            char *p = malloc(n);
-            if (!p) continue;
-            snprintf(p, n, "%s/%s", dir, e->d_name);
-            struct stat sb;
-            if (lstat(p, &sb) == 0 && S_ISDIR(sb.st_mode)) remove_dir_tree(p);
-            else unlink(p);
-            free(p);
-        }
-        closedir(d);
-    }
-    rmdir(dir);
-}
-
-void bvox__dir_sink_abort(const char *tmp_dir)
-{
-    if (tmp_dir) remove_dir_tree(tmp_dir);
 }
 
 bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size)

@@ -173,32 +173,6 @@ TEST(sink_gzip_and_abort)
     return 0;
 }
 
-TEST(dir_sink_replaces_folder)
-{
-    const char *target = harness_path("slices");
-    CHECK(mkdir(target, 0777) == 0);
-    char old_file[1100];
-    snprintf(old_file, sizeof old_file, "%s/old.png", target);
-    CHECK(write_text(old_file, "old"));
-    char *tmp;
-    CHECK_OK(bvox__dir_sink_open(target, &tmp));
-    char new_file[1100];
-    snprintf(new_file, sizeof new_file, "%s/new.png", tmp);
-    CHECK(write_text(new_file, "new"));
-    CHECK_OK(bvox__dir_sink_commit(tmp, target));
-    free(tmp);
-    CHECK_EQ(count_entries(target), 1);
-    snprintf(new_file, sizeof new_file, "%s/new.png", target);
-    struct stat sb;
-    CHECK(stat(new_file, &sb) == 0);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1); /* no leftovers beside it */
-    CHECK_OK(bvox__dir_sink_open(target, &tmp));
-    bvox__dir_sink_abort(tmp);
-    free(tmp);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
-    return 0;
-}
-
 /* The public one-shot writer: content replaced whole, and a failed write
  * leaves the old file and no temporary file. */
 TEST(write_file_atomic)
