@@ -24,18 +24,34 @@
 
 /* ------------------------------------------------------------- reading */
 
+/* What a non-regular file is, for messages. */
+static const char *file_kind(mode_t m)
+{
+    return S_ISDIR(m) ? "a folder" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
+         : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "not a regular file";
+}
+
+
 bvox_status bvox__read_file(const char *path, bvox__bytes *out)
 {
     memset(out, 0, sizeof *out);
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO for reading would otherwise wait forever for
+     * a writer; it is refused below like any file that cannot be sized. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
         if (errno == ENOENT) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
         return bvox__fail(BVOX_EIO, "%s: cannot open: %s", path, strerror(errno));
     }
     struct stat sb;
-    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+    if (fstat(fd, &sb) != 0) {
+        int e = errno;
         close(fd);
-        return bvox__fail(BVOX_EIO, "%s: not a regular file", path);
+        return bvox__fail(BVOX_EIO, "%s: cannot open: %s", path, strerror(e));
+    }
+    if (!S_ISREG(sb.st_mode)) {
+        close(fd);
+        return bvox__fail(BVOX_EIO, "%s: not a regular file (%s); bvox reads only regular files",
+                          path, file_kind(sb.st_mode));
     }
     size_t size = (size_t)sb.st_size;
     bvox_status st;
@@ -236,12 +252,6 @@ static bool resolve_output(const char *path, char **out, struct stat *sb, bool *
     free(cur);
     errno = e;
     return false;
-}
-
-static const char *file_kind(mode_t m)
-{
-    return S_ISDIR(m) ? "a folder" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
-         : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "not a regular file";
 }
 
 static void sink_release(bvox__sink *s)
