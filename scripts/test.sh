@@ -3,7 +3,9 @@
 #  1. release build in build/ and every CTest test there;
 #  2. ASan + UBSan build in build-asan/ (-DBVOX_SANITIZE=ON), every test again;
 #  3. ThreadSanitizer build in build-tsan/ (-DBVOX_TSAN=ON) of the library and
-#     the thread stress test only (tests/unit/test_threads.c), which it runs;
+#     only the tests that run threads or processes at once: the thread stress
+#     test (tests/unit/test_threads.c), the concurrent folder writers
+#     (test_dir_sink.c) and the signal clean-up (test_temp_files.c);
 #  4. fuzz/run_fuzz.sh: each libFuzzer target for BVOX_FUZZ_SECONDS (default
 #     20) seconds on a clang ASan+UBSan build in build-fuzz/.
 # Stops at the first failing step and exits non-zero.
@@ -41,9 +43,9 @@ ctest --test-dir "$asan" -j"$jobs" --output-on-failure
 step "ThreadSanitizer build of the thread stress test ($tsan/)"
 cmake -S . -B "$tsan" -DCMAKE_BUILD_TYPE=Debug -DBVOX_TSAN=ON -DBVOX_SANITIZE=OFF -DBVOX_FUZZ=OFF \
     -DBVOX_BUILD_BENCH=OFF -DBVOX_BUILD_VIEWER=OFF
-cmake --build "$tsan" -j"$jobs" --target test_threads
-step "ThreadSanitizer: thread stress test"
-ctest --test-dir "$tsan" -R '^threads\.' --output-on-failure
+cmake --build "$tsan" -j"$jobs" --target test_threads test_dir_sink test_temp_files
+step "ThreadSanitizer: thread stress test, concurrent writers, signals"
+ctest --test-dir "$tsan" -R '^(threads|dir_sink|temp_files)\.' --output-on-failure
 
 if [ "$fuzz_secs" -gt 0 ]; then
     step "fuzzing, ${fuzz_secs}s per target (${BVOX_FUZZ_BUILD:-build-fuzz}/)"
