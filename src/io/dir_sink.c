@@ -223,7 +223,10 @@ static void survey(const char *target, int kind, survey_result *r)
         if (!strncmp(s, "." BVOX__MANIFEST_NAME ".", sizeof BVOX__MANIFEST_NAME + 1) &&
             strlen(s) == sizeof BVOX__MANIFEST_NAME + 7)
             continue;
-        if (!foreign || !strcmp(r->offender, BVOX__MANIFEST_NAME)) /* name a user's file first */
+        /* name the first in byte order, a user's file before the manifest */
+        bool manifest = !strcmp(s, BVOX__MANIFEST_NAME);
+        if (!foreign || (!manifest && (strcmp(s, r->offender) < 0 ||
+                                       !strcmp(r->offender, BVOX__MANIFEST_NAME))))
             snprintf(r->offender, sizeof r->offender, "%s", s);
         foreign = true;
     }
