@@ -68,7 +68,7 @@ typedef struct bvox__sink {
     FILE *file;
     char *tmp_path;
     char *final_path; /* where the rename goes: a symlink's final target */
-    const char *name; /* the path as given, for messages */
+    char *name;    /* the path as given, for messages */
     void *gz;      /* z_stream when compressing, else NULL */
     bool failed;   /* a write failed: commit will refuse */
     bvox_status status;

@@ -264,6 +264,7 @@ static void sink_release(bvox__sink *s)
     bvox__temp_unregister(s->slot);
     free(s->tmp_path);
     free(s->final_path);
+    free(s->name);
     memset(s, 0, sizeof *s);
     s->slot = -1;
 }
@@ -272,15 +273,18 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
 {
     memset(s, 0, sizeof *s);
     s->slot = -1;
-    s->name = path;
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     if (!*base) return bvox__fail(BVOX_EINVAL, "%s: output path names a folder, not a file", path);
+    if (!(s->name = strdup(path))) return bvox__fail(BVOX_ENOMEM, "out of memory");
     struct stat old;
     bool exists;
-    if (!resolve_output(path, &s->final_path, &old, &exists))
-        return bvox__fail(errno == ENOMEM ? BVOX_ENOMEM : BVOX_EIO, "%s: cannot follow the path: %s",
-                          path, strerror(errno));
+    if (!resolve_output(path, &s->final_path, &old, &exists)) {
+        int e = errno;
+        sink_release(s);
+        return bvox__fail(e == ENOMEM ? BVOX_ENOMEM : BVOX_EIO, "%s: cannot follow the path: %s",
+                          path, strerror(e));
+    }
     /* bvox writes regular files only: renaming over a device or a FIFO
      * would replace it (run as root against /dev/null, the system's). */
     if (exists && !S_ISREG(old.st_mode)) {

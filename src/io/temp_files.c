@@ -33,7 +33,10 @@
 #include <time.h>
 #include <unistd.h>
 
-enum { SLOT_FREE, SLOT_BUSY, SLOT_FILE, SLOT_DIR };
+/* FREE -> BUSY (path being copied) -> FILE/DIR (live) -> FREE, or -> GONE
+ * when the signal handler takes it: then the slot is never reused, so the
+ * handler cannot read a path while another thread copies a new one in. */
+enum { SLOT_FREE, SLOT_BUSY, SLOT_FILE, SLOT_DIR, SLOT_GONE };
 #define NSLOTS 64
 
 static struct {
@@ -57,7 +60,10 @@ int bvox__temp_register(const char *path, bool is_dir)
 
 void bvox__temp_unregister(int slot)
 {
-    if (slot >= 0 && slot < NSLOTS) atomic_store(&slots[slot].state, SLOT_FREE);
+    if (slot < 0 || slot >= NSLOTS) return;
+    int s = atomic_load(&slots[slot].state);
+    if (s == SLOT_FILE || s == SLOT_DIR) /* not if the handler took it */
+        atomic_compare_exchange_strong(&slots[slot].state, &s, SLOT_FREE);
 }
 
 /* ------------------------------------------------- temporary names */
@@ -143,8 +149,11 @@ void bvox__temp_remove_all_signal_safe(void)
 {
     for (int i = 0; i < NSLOTS; i++) {
         int s = atomic_load(&slots[i].state);
+        if ((s != SLOT_FILE && s != SLOT_DIR) ||
+            !atomic_compare_exchange_strong(&slots[i].state, &s, SLOT_GONE))
+            continue;
         if (s == SLOT_FILE) unlink(slots[i].path);
-        else if (s == SLOT_DIR) remove_dir_signal_safe(slots[i].path);
+        else remove_dir_signal_safe(slots[i].path);
     }
 }
 
