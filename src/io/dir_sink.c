@@ -373,19 +373,22 @@ static bvox_status replace_in(bvox__dir_sink *d, survey_result *r, const names *
         return bvox__fail(BVOX_ENOMEM, "out of memory");
     }
     names_sort(&all);
-    /* first the manifest of old and new together: whatever happens next,
-     * every file of bvox's in the folder is listed */
-    st = manifest_write(d->target, d->kind, &all);
-    names_free(&all);
-    if (st) return st;
     int from = open(d->tmp, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     int to = open(d->target, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (from < 0 || to < 0) st = bvox__fail(BVOX_EIO, "%s: cannot open the folder: %s", name, strerror(errno));
+    /* a folder or link of a new file's name (possible when forced): refuse
+     * before anything is moved */
     for (size_t i = 0; i < fresh->n && !st; i++) {
         struct stat sb;
         if (fstatat(to, fresh->v[i], &sb, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISREG(sb.st_mode))
             st = bvox__fail(BVOX_EIO, "%s/%s: exists and is not a regular file", name, fresh->v[i]);
-        else if (renameat(from, fresh->v[i], to, fresh->v[i]) != 0)
+    }
+    /* first the manifest of old and new together: whatever happens next,
+     * every file of bvox's in the folder is listed */
+    if (!st) st = manifest_write(d->target, d->kind, &all);
+    names_free(&all);
+    for (size_t i = 0; i < fresh->n && !st; i++) {
+        if (renameat(from, fresh->v[i], to, fresh->v[i]) != 0)
             st = bvox__fail(BVOX_EIO, "%s/%s: cannot rename the finished file into place: %s", name,
                             fresh->v[i], strerror(errno));
     }

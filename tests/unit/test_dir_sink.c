@@ -177,7 +177,15 @@ TEST(force_removes_nothing_else)
     CHECK(strcmp(read_text(p), "slice_0000.png new") == 0);
     CHECK(exists(t2, "slice_0009.png"));
     CHECK_EQ(count_entries(t2), 4);
-    CHECK_EQ(count_entries(harness_tmpdir()), 2);
+    /* a folder of one of the new names: refused before anything moves */
+    const char *t3 = harness_path("r");
+    CHECK(mkdir(t3, 0777) == 0);
+    snprintf(p, sizeof p, "%s/slice_0001.png", t3);
+    CHECK(mkdir(p, 0777) == 0);
+    CHECK_STATUS(put(t3, BVOX__DIR_PNG_SLICES, true, "new", two), BVOX_EIO);
+    CHECK(strstr(bvox_errmsg(), "not a regular file") != NULL);
+    CHECK_EQ(count_entries(t3), 1);
+    CHECK_EQ(count_entries(harness_tmpdir()), 3);
     return 0;
 }
 
