@@ -579,7 +579,9 @@ int bvox_view_parse(const char *name);
 
 /* A pre-image: per pixel the depth of the first 1-voxel and its code. Made
  * and released by the library (bvox_preimage_destroy); depth and code may be
- * edited in place, the other fields must not be changed. */
+ * edited in place, the other fields must not be changed. A caller may also
+ * fill one over its own arrays (a crop of a library-made pre-image, as the
+ * viewer's pane) to pass to the shading calls; it then frees them itself. */
 typedef struct bvox_preimage {
     int32_t width, height;
     int32_t *depth;       /* width*height, row-major; -1 for background */
@@ -788,6 +790,72 @@ const char *bvox_shade_mode_name(bvox_shade_mode mode); /* "depth", "binary", "g
                                                            "binary+depth" */
 int bvox_shade_mode_parse(const char *name);            /* -1 if unknown */
 
+/* Shading codes and colour tables: the paper's split kept for interactive
+ * display. A pre-image is turned once into a 16-bit shading code per pixel
+ * (bvox_shade_codes, for one mode); a colour table of BVOX_SCODES entries
+ * (bvox_shade_table_build) maps codes to RGB (bvox_shade_table_apply). A new
+ * light, depth curve, tint or colour rebuilds only the table (8193 entries),
+ * never the codes; a new view or mode remakes the codes. The codes by mode:
+ *   depth:        d * 255 / (depth_range - 1), 0..255 (256 depth levels)
+ *   binary:       the pre-image's code (normal index | 3-bit cue << 5)
+ *   gradient:     the Sobel normal of the depth map (physical units, as
+ *                 bvox_shade_gradient), its right and up components (-1..1)
+ *                 in 64 bins each: bx + 64 by, 0..4095
+ *   binary+depth: normal index | min(15, d * 16 / depth_range) << 5, 0..511;
+ *                 the table darkens level t by 1 - k (t + 0.5) / 16, k =
+ *                 light.depth_cue or 0.5 when that is 0
+ *   cut face:     BVOX_SCODE_CUT | d * 255 / (depth_range - 1): pixels whose
+ *                 entry point lies within half a voxel's extent plus half a
+ *                 depth step of the plane, counted into the kept side (as
+ *                 bvox_render's projections: every face the cut exposed,
+ *                 and a thin rim of the old surface beside it); lit flat by the plane's normal (depth mode:
+ *                 its depth shade, binary+depth: times its depth factor) and
+ *                 tinted with cut_color
+ *   background:   BVOX_SCODE_BACKGROUND
+ * Later modes and per-object colours plug in here: a mode adds its code
+ * layout below BVOX_SCODE_CUT and its table entries; an object's colour is
+ * `color` (one table per colour; white keeps the gray shades exactly). */
+#define BVOX_SCODE_CUT 4096
+#define BVOX_SCODE_BACKGROUND 8192
+#define BVOX_SCODES 8193
+typedef struct bvox_shade_opts {
+    bvox_shade_mode mode;
+    bvox_light light;           /* binary, gradient, binary+depth, cut face */
+    bvox_depth_shading depth;   /* depth mode (its background is not used) */
+    int cut;                    /* 1: mark and light the cut face */
+    /* The cut plane m . p + e = 0, p in the pre-image's frame (voxel (i, j, k)
+     * at (i sx, j sy, k sz)), m = plane[0..2] (not zero), e = plane[3]; the
+     * kept side is m . p + e >= 0. */
+    double plane[4];
+    uint8_t cut_color[3];       /* tint of the cut face */
+    uint8_t color[3];           /* the object's colour: shade * color / 255 */
+    uint8_t background[3];
+} bvox_shade_opts;
+#define BVOX_SHADE_OPTS_INIT                                                           \
+    { BVOX_SHADE_BINARY_DEPTH, BVOX_LIGHT_INIT, BVOX_DEPTH_SHADING_INIT, 0,            \
+      { 0, 0, 1, 0 }, { 255, 176, 96 }, { 255, 255, 255 }, { 0, 0, 0 } }
+/* RGB per shading code. */
+typedef struct bvox_shade_table {
+    uint8_t rgb[BVOX_SCODES][3];
+} bvox_shade_table;
+/* The shading codes of pre for opts->mode (and the cut face when opts->cut):
+ * codes has width * height entries, row-major. BVOX_EINVAL for a missing
+ * input, an unknown mode or a bad light or plane. Thread-safe. */
+bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *opts,
+                             uint16_t *codes);
+/* The colour table of opts for codes made from a pre-image with pre's eye
+ * frame and spacing (only those fields of pre are read). Cheap (8193
+ * entries, the 27 normals and 4096 gradient bins lit once): rebuild it when
+ * the light moves. BVOX_EINVAL for a missing input or bad options. */
+bvox_status bvox_shade_table_build(const bvox_preimage *pre, const bvox_shade_opts *opts,
+                                   bvox_shade_table *table);
+/* rgb (3 bytes a pixel, rows rgb_stride bytes apart) = table[codes] for a
+ * width x height block of codes (rows code_stride entries apart); a code
+ * beyond BVOX_SCODE_BACKGROUND shows as the background. Allocates nothing. */
+void bvox_shade_table_apply(const bvox_shade_table *table, const uint16_t *codes,
+                            int32_t width, int32_t height, size_t code_stride, uint8_t *rgb,
+                            size_t rgb_stride);
+
 typedef enum bvox_stereo {
     BVOX_STEREO_NONE = 0,
     BVOX_STEREO_SBS = 1,     /* left eye's image on the left (parallel viewing) */
@@ -808,8 +876,9 @@ typedef enum bvox_stereo {
  * The cut face: for an axis view, the pixels whose hit voxel is seen through
  * a face the cut exposed (the voxel in front of it was in the object); for a
  * projection, whose pre-image keeps depth only to a pixel unit, those whose
- * hit point lies on the kept side within about one voxel (along the plane's
- * normal) plus a depth step of the plane. They are lit flat with the plane's
+ * hit point lies within half a voxel's extent plus half a depth step (along
+ * the plane's normal) of the plane, counted into the kept side: every face
+ * the cut exposed, and a thin rim of the old surface. They are lit flat with the plane's
  * own normal (depth shading: their depth shade) and tinted
  * with cut_color, and the image is RGB; without a cut it is gray (anaglyphs
  * are RGB). */

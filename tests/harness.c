@@ -62,6 +62,28 @@ const char *harness_data_dir(void)
 #endif
 }
 
+const char *harness_golden_path(const char *name)
+{
+    static char path[4096];
+    const char *dir = getenv("BVOX_GOLDEN_DIR");
+    snprintf(path, sizeof path, "%s/%s", dir && *dir ? dir : harness_data_dir(), name);
+    return path;
+}
+
+int harness_golden_update(const bvox_image *img, const char *name)
+{
+    const char *mode = getenv("BVOX_UPDATE_GOLDEN");
+    if (!mode || !*mode || !strcmp(mode, "0")) return 0;
+    const char *path = harness_golden_path(name);
+    bvox_status st = bvox_image_write_png(img, path);
+    if (st) fprintf(stderr, "golden %s: could not write it: %s\n", path, bvox_errmsg());
+    else
+        fprintf(stderr, "golden %s updated; inspect and commit it, then re-run without "
+                        "BVOX_UPDATE_GOLDEN (this run fails on purpose)\n",
+                path);
+    return 1;
+}
+
 static void remove_tree(const char *path)
 {
     char cmd[1200];

@@ -26,6 +26,16 @@ const char *harness_path(const char *name);
 uint64_t harness_rand(void);
 /* Folder with the test data files (tests/data). */
 const char *harness_data_dir(void);
+/* Golden files. harness_golden_path: NAME under tests/data, or under
+ * $BVOX_GOLDEN_DIR when that is set (the test of the update mode uses a
+ * scratch folder). harness_golden_update: in update mode
+ * (BVOX_UPDATE_GOLDEN set and not "0"), write img as golden NAME, say so and
+ * return 1: the case must then FAIL (return 1), so that a run which rewrote
+ * its own answers never passes; look at the new file, commit it, re-run
+ * without the variable. 0 (and nothing written) otherwise. A failed write
+ * also returns 1. */
+const char *harness_golden_path(const char *name);
+int harness_golden_update(const bvox_image *img, const char *name);
 
 #define TEST(name)                                                                     \
     static int test_##name(void);                                                      \

@@ -12,11 +12,6 @@
 #include <math.h>
 #include <string.h>
 
-static double min_spacing(const vw_state *s)
-{
-    return fmin(s->sp[0], fmin(s->sp[1], s->sp[2]));
-}
-
 void vw_model_changed(vw_state *s, const bvox_box *changed)
 {
     s->count = bvox_volume_count(s->model);
@@ -70,7 +65,7 @@ bvox_status vw_brush(vw_state *s, const int32_t at[3])
     bvox_shape sh;
     memset(&sh, 0, sizeof sh);
     sh.kind = BVOX_SHAPE_SPHERE;
-    sh.radius = s->brush_radius * min_spacing(s);
+    sh.radius = s->brush_radius * vw_min_spacing(s);
     for (int a = 0; a < 3; a++) sh.center[a] = s->geom.origin[a] + at[a] * s->sp[a];
     double ext[3] = {sh.radius, sh.radius, sh.radius};
     bvox_status st = journalled_shape(s, &sh, s->brush_add ? BVOX_CSG_UNION : BVOX_CSG_DIFFERENCE, ext);
@@ -78,29 +73,6 @@ bvox_status vw_brush(vw_state *s, const int32_t at[3])
         fprintf(s->log, "view: brush %s r=%d at %d,%d,%d\n", s->brush_add ? "add" : "remove",
                 s->brush_radius, (int)at[0], (int)at[1], (int)at[2]);
     return st;
-}
-
-void vw_primitive_shape(const vw_state *s, bvox_shape *sh)
-{
-    memset(sh, 0, sizeof *sh);
-    double r = s->prim_size * min_spacing(s);
-    for (int a = 0; a < 3; a++) sh->center[a] = s->geom.origin[a] + s->cursor[a] * s->sp[a];
-    switch (s->prim) {
-    case VW_PRIM_BOX:
-        sh->kind = BVOX_SHAPE_BOX;
-        sh->semi_axes[0] = sh->semi_axes[1] = sh->semi_axes[2] = r;
-        break;
-    case VW_PRIM_CYLINDER:
-        sh->kind = BVOX_SHAPE_CYLINDER;
-        sh->radius = r;
-        sh->height = 4 * r;
-        memcpy(sh->axis, s->R + 6, sizeof sh->axis); /* along the view: a drill */
-        break;
-    default:
-        sh->kind = BVOX_SHAPE_SPHERE;
-        sh->radius = r;
-        break;
-    }
 }
 
 bvox_status vw_apply_primitive(vw_state *s, bvox_csg_op op)

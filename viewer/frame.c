@@ -4,13 +4,12 @@
  *
  * The 3D pane keeps the paper's split: a cast makes a pre-image (depth and
  * normal code per pixel, bvox_surface_cast of the displayed volume's
- * boundary voxels); each shading mode turns it into a small integer code per
- * pixel (depth: 8 bits of depth; binary: the normal code; gradient: the
- * depth-map normal quantised to 64 x 64 bins; combined: the normal and 16
- * depth levels; 4096 + 256 depth levels: the cut face, lit flat by the
- * plane's normal); a table of at most 8193 colours is
- * then applied. Turning the light only rebuilds the table and re-applies it
- * (vw_apply_lut): no cast, no per-pixel lighting.
+ * boundary voxels), cropped to the pane; the library's shading stage turns
+ * it into a 16-bit code per pixel for the mode (bvox_shade_codes: depth
+ * levels, the normal code, gradient bins, normal and depth, the cut face)
+ * and a table of 8193 colours lights the codes (bvox_shade_table_build, the
+ * same lighting as `bvox render`). Turning the light only rebuilds the
+ * table and re-applies it (vw_apply_lut): no cast, no per-pixel lighting.
  *
  * Pan and the centre: bvox_surface_cast centres its image on the displayed
  * volume's bounding box; the pane is centred on the model's centre at load
@@ -18,12 +17,11 @@
  */
 #include "view.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-enum { CODE_CUT = 4096, CODE_BG = 8192 };
 
 static const uint8_t BG[3] = {22, 26, 34};
 
@@ -37,25 +35,6 @@ double vw_now(void)
 static double dot3(const double a[3], const double b[3])
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4])
-{
-    int W = s->width, H = s->height, w2 = W / 2, h2 = H / 2;
-    switch (s->layout) {
-    case VW_LAYOUT_ORTHO:
-        rects[0] = (vw_rect){0, 0, w2, h2}, kinds[0] = VW_PANE_3D;
-        rects[1] = (vw_rect){w2, 0, W - w2, h2}, kinds[1] = VW_PANE_XY;
-        rects[2] = (vw_rect){0, h2, w2, H - h2}, kinds[2] = VW_PANE_XZ;
-        rects[3] = (vw_rect){w2, h2, W - w2, H - h2}, kinds[3] = VW_PANE_YZ;
-        return 4;
-    case VW_LAYOUT_MOSAIC:
-        rects[0] = (vw_rect){0, 0, W, H}, kinds[0] = VW_PANE_MOSAIC;
-        return 1;
-    default:
-        rects[0] = (vw_rect){0, 0, W, H}, kinds[0] = VW_PANE_3D;
-        return 1;
-    }
 }
 
 /* ------------------------------------------------------------ display */
@@ -169,161 +148,73 @@ static bvox_status cast_pane(vw_state *s, int w, int h)
     return BVOX_OK;
 }
 
-static inline double depth_or(const vw_3d *v, int x, int y, double c)
+/* The pane's pre-image: the cast cropped to the pane (and its pixels doubled
+ * when coarse), over the pane's own arrays, for the library's shading stage. */
+static void pane_preimage(const vw_state *s, bvox_preimage *p)
 {
-    if (x < 0 || y < 0 || x >= v->w || y >= v->h) return c;
-    int32_t d = v->depth[(size_t)y * (size_t)v->w + (size_t)x];
-    return d < 0 ? c : (double)d;
+    const vw_3d *v = &s->view3d;
+    memset(p, 0, sizeof *p);
+    p->width = v->w, p->height = v->h;
+    p->depth = v->depth, p->code = v->ncode;
+    p->depth_range = v->depth_range;
+    p->depth_step = v->step;
+    p->pixel_size[0] = p->pixel_size[1] = v->pixel;
+    memcpy(p->eye, v->eye, sizeof p->eye);
+    memcpy(p->origin, v->origin, sizeof p->origin);
+    memcpy(p->spacing, s->sp, sizeof p->spacing);
 }
 
+/* What the library's shading stage needs of the state: the mode, the light,
+ * the depth curve, the cut plane (oriented so that the kept side is >= 0, in
+ * the cast's frame), the tint and the background. */
+static bvox_shade_opts shade_opts(const vw_state *s)
+{
+    bvox_shade_opts o = BVOX_SHADE_OPTS_INIT;
+    o.mode = (bvox_shade_mode)s->shade;
+    o.light = s->light;
+    o.depth = s->depth;
+    o.cut = s->cut;
+    if (s->cut) {
+        double m[3], e;
+        vw_cut_plane_local(s, m, &e);
+        const double k = s->keep_above ? 1 : -1;
+        for (int a = 0; a < 3; a++) o.plane[a] = k * m[a];
+        o.plane[3] = k * e;
+    }
+    memcpy(o.background, BG, 3);
+    return o;
+}
+
+static void report_failure(vw_state *s, bvox_status st, const char *what)
+{
+    if (st) snprintf(s->status, sizeof s->status, "%s failed: %.100s", what, bvox_errmsg());
+}
+
+/* The per-pixel shading codes of the pane (a new cast, mode or cut). */
 static void make_codes(vw_state *s)
 {
-    vw_3d *v = &s->view3d;
-    const int32_t range = v->depth_range > 1 ? v->depth_range : 2;
-    double m[3] = {0, 0, 0}, e = 0, thr = 0;
-    if (s->cut) {
-        vw_cut_plane_local(s, m, &e);
-        if (!s->keep_above) m[0] = -m[0], m[1] = -m[1], m[2] = -m[2], e = -e;
-        double shift = 0;
-        for (int a = 0; a < 3; a++) shift = fmax(shift, fabs(m[a]) * s->sp[a]);
-        thr = shift + v->step;
-    }
-    for (int y = 0; y < v->h; y++)
-        for (int x = 0; x < v->w; x++) {
-            size_t i = (size_t)y * (size_t)v->w + (size_t)x;
-            int32_t d = v->depth[i];
-            if (d < 0) {
-                v->code[i] = CODE_BG;
-                continue;
-            }
-            unsigned c;
-            switch (s->shade) {
-            case VW_SHADE_DEPTH: c = (unsigned)((int64_t)d * 255 / (range - 1)); c = c > 255 ? 255 : c; break;
-            case VW_SHADE_BINARY: c = v->ncode[i]; break;
-            case VW_SHADE_GRADIENT: {
-                double cd = d, a = depth_or(v, x - 1, y - 1, cd), b = depth_or(v, x, y - 1, cd),
-                       ee = depth_or(v, x + 1, y - 1, cd), f = depth_or(v, x - 1, y, cd),
-                       hh = depth_or(v, x + 1, y, cd), k = depth_or(v, x - 1, y + 1, cd),
-                       mm = depth_or(v, x, y + 1, cd), q = depth_or(v, x + 1, y + 1, cd);
-                double gx = ((ee + 2 * hh + q) - (a + 2 * f + k)) / 8;
-                double gy = ((k + 2 * mm + q) - (a + 2 * b + ee)) / 8;
-                double n0 = gx, n1 = -gy, len = sqrt(n0 * n0 + n1 * n1 + 1.0);
-                int bx = (int)floor((n0 / len + 1) * 32), by = (int)floor((n1 / len + 1) * 32);
-                bx = bx < 0 ? 0 : bx > 63 ? 63 : bx;
-                by = by < 0 ? 0 : by > 63 ? 63 : by;
-                c = (unsigned)(bx + 64 * by);
-                break;
-            }
-            default: {
-                unsigned t = (unsigned)((int64_t)d * 16 / range);
-                c = (v->ncode[i] & 31u) | (t > 15 ? 15 : t) << 5;
-                break;
-            }
-            }
-            if (s->cut) {
-                double p[3];
-                for (int a = 0; a < 3; a++)
-                    p[a] = v->origin[a] + (x * v->eye[a] + y * v->eye[3 + a]) * v->pixel +
-                           d * v->step * v->eye[6 + a];
-                if (fabs(dot3(m, p) + e) <= thr) { /* lit flat by the plane's normal */
-                    int64_t q = (int64_t)d * 255 / (range - 1);
-                    c = CODE_CUT | (unsigned)(q > 255 ? 255 : q);
-                }
-            }
-            v->code[i] = (uint16_t)c;
-        }
+    bvox_preimage p;
+    pane_preimage(s, &p);
+    bvox_shade_opts o = shade_opts(s);
+    report_failure(s, bvox_shade_codes(&p, &o, s->view3d.code), "shading");
 }
 
-static double phong(const bvox_light *L, const double l[3], const double n[3])
-{
-    double nl = n[0] * l[0] + n[1] * l[1] + n[2] * l[2], i = L->ambient;
-    if (nl > 0) {
-        i += L->diffuse * nl;
-        double rv = 2 * nl * n[2] - l[2];
-        if (rv > 0 && L->specular > 0) i += L->specular * pow(rv, L->shininess);
-    }
-    i *= 255.0;
-    return i < 0 ? 0 : i > 255 ? 255 : i;
-}
-
+/* The colour of every code (the light, the depth curve, the tint). */
 static void build_lut(vw_state *s)
 {
-    uint8_t gray[4096];
-    int n = 0;
-    const bvox_light *L = &s->light;
-    const double deg = 3.14159265358979323846 / 180.0;
-    double l[3] = {cos(L->elevation * deg) * cos(L->azimuth * deg),
-                   cos(L->elevation * deg) * sin(L->azimuth * deg), sin(L->elevation * deg)};
-    bvox_preimage fake;
-    memset(&fake, 0, sizeof fake);
-    memcpy(fake.eye, s->view3d.eye, sizeof fake.eye);
-    memcpy(fake.spacing, s->sp, sizeof fake.spacing);
-    fake.width = fake.height = 1;
-    bvox_lut lut;
-    switch (s->shade) {
-    case VW_SHADE_DEPTH:
-        for (int c = 0; c < 256; c++) {
-            double t = c / 255.0, i = s->depth.curve == BVOX_DEPTH_LINEAR
-                                          ? s->depth.near_value + (s->depth.far_value - s->depth.near_value) * t
-                                          : s->depth.far_value + (s->depth.near_value - s->depth.far_value) *
-                                                                     exp(-s->depth.decay * t);
-            gray[c] = (uint8_t)(i < 0 ? 0 : i > 255 ? 255 : i + 0.5);
-        }
-        n = 256;
-        break;
-    case VW_SHADE_BINARY:
-        if (bvox_lut_light(&fake, L, &lut)) memset(lut.value, 128, sizeof lut.value);
-        memcpy(gray, lut.value, 256);
-        n = 256;
-        break;
-    case VW_SHADE_GRADIENT:
-        for (int by = 0; by < 64; by++)
-            for (int bx = 0; bx < 64; bx++) {
-                double nv[3] = {(bx + 0.5) / 32 - 1, (by + 0.5) / 32 - 1, 0}, r2 = nv[0] * nv[0] + nv[1] * nv[1];
-                if (r2 > 1) nv[0] /= sqrt(r2), nv[1] /= sqrt(r2), r2 = 1;
-                nv[2] = sqrt(1 - r2);
-                gray[bx + 64 * by] = (uint8_t)(phong(L, l, nv) + 0.5);
-            }
-        n = 4096;
-        break;
-    default: {
-        bvox_light flat = *L;
-        double k = L->depth_cue > 0 ? L->depth_cue : 0.5;
-        flat.depth_cue = 0;
-        if (bvox_lut_light(&fake, &flat, &lut)) memset(lut.value, 128, sizeof lut.value);
-        for (int t = 0; t < 16; t++)
-            for (int c = 0; c < 32; c++)
-                gray[c | t << 5] = (uint8_t)(lut.value[c] * (1 - k * (t + 0.5) / 16) + 0.5);
-        n = 512;
-        break;
-    }
-    }
-    static const int tint[3] = {255, 176, 96};
-    for (int c = 0; c < n; c++) memset(s->lut[c], gray[c], 3);
-    /* the cut face: the plane's normal in the eye frame (right, up, towards
-     * the viewer), turned to face the viewer; depth by 256 levels */
-    double pn[3] = {dot3(s->view3d.eye, s->cut_n), -dot3(s->view3d.eye + 3, s->cut_n),
-                    -dot3(s->view3d.eye + 6, s->cut_n)};
-    if (pn[2] < 0) pn[0] = -pn[0], pn[1] = -pn[1], pn[2] = -pn[2];
-    double flat = phong(L, l, pn), k = L->depth_cue > 0 ? L->depth_cue : 0.5;
-    for (int q = 0; q < 256; q++) {
-        double t = q / 255.0, g8;
-        if (s->shade == VW_SHADE_DEPTH) g8 = gray[q];
-        else if (s->shade == VW_SHADE_COMBINED) g8 = flat * (1 - k * t);
-        else g8 = flat;
-        for (int ch = 0; ch < 3; ch++) s->lut[CODE_CUT | q][ch] = (uint8_t)((g8 * tint[ch] + 127.5) / 255);
-    }
-    memcpy(s->lut[CODE_BG], BG, 3);
+    bvox_preimage p;
+    pane_preimage(s, &p);
+    bvox_shade_opts o = shade_opts(s);
+    report_failure(s, bvox_shade_table_build(&p, &o, &s->lut), "shading");
 }
 
 static void apply_pane(vw_state *s, vw_rect r)
 {
     const vw_3d *v = &s->view3d;
-    for (int y = 0; y < v->h && y < r.h; y++) {
-        uint8_t *dst = s->rgb + ((size_t)(r.y + y) * (size_t)s->width + (size_t)r.x) * 3;
-        const uint16_t *c = v->code + (size_t)y * (size_t)v->w;
-        for (int x = 0; x < v->w && x < r.w; x++, dst += 3) memcpy(dst, s->lut[c[x]], 3);
-    }
+    assert(r.x >= 0 && r.y >= 0 && r.x + r.w <= s->width && r.y + r.h <= s->height);
+    bvox_shade_table_apply(&s->lut, v->code, v->w < r.w ? v->w : r.w, v->h < r.h ? v->h : r.h,
+                           (size_t)v->w, s->rgb + ((size_t)r.y * (size_t)s->width + (size_t)r.x) * 3,
+                           (size_t)s->width * 3);
 }
 
 void vw_apply_lut(vw_state *s)
@@ -586,6 +477,7 @@ static void draw_help(vw_state *s)
 
 bvox_status vw_render(vw_state *s)
 {
+    assert(vw_state_ok(s));
     double t0 = vw_now(), t;
     bvox_status st;
     memset(&s->times, 0, sizeof s->times);
@@ -637,13 +529,6 @@ bvox_status vw_render(vw_state *s)
     double end = vw_now();
     s->times.compose = (end - c0) * 1e3;
     s->times.total = (end - t0) * 1e3;
-    return BVOX_OK;
-}
-
-bvox_status vw_canvas_image(const vw_state *s, bvox_image **out)
-{
-    bvox_status st = bvox_image_create(s->width, s->height, 3, 8, out);
-    if (st) return st;
-    memcpy((*out)->pixels, s->rgb, (size_t)s->width * (size_t)s->height * 3);
+    assert(vw_state_ok(s));
     return BVOX_OK;
 }

@@ -46,8 +46,11 @@ typedef struct vw_event {
 int vw_key_parse(const char *text, int *key, unsigned *mods);
 const char *vw_key_name(int key); /* static buffer for printable keys */
 
-typedef enum vw_shade { VW_SHADE_DEPTH, VW_SHADE_BINARY, VW_SHADE_GRADIENT, VW_SHADE_COMBINED,
-                        VW_NSHADE } vw_shade;
+/* The shading modes, in the order the s key cycles them: the library's
+ * (the 3D pane is shaded by bvox_shade_codes and bvox_shade_table_build). */
+typedef enum vw_shade { VW_SHADE_DEPTH = BVOX_SHADE_DEPTH, VW_SHADE_BINARY = BVOX_SHADE_BINARY,
+                        VW_SHADE_GRADIENT = BVOX_SHADE_GRADIENT,
+                        VW_SHADE_COMBINED = BVOX_SHADE_BINARY_DEPTH, VW_NSHADE } vw_shade;
 typedef enum vw_layout { VW_LAYOUT_3D, VW_LAYOUT_ORTHO, VW_LAYOUT_MOSAIC } vw_layout;
 typedef enum vw_prim { VW_PRIM_NONE, VW_PRIM_SPHERE, VW_PRIM_BOX, VW_PRIM_CYLINDER, VW_NPRIM } vw_prim;
 typedef enum vw_pane_kind { VW_PANE_3D, VW_PANE_XY, VW_PANE_XZ, VW_PANE_YZ, VW_PANE_MOSAIC } vw_pane_kind;
@@ -66,7 +69,7 @@ typedef struct vw_3d {
     int w, h;
     int32_t *depth;   /* -1 background; pixel units of the cast */
     uint8_t *ncode;   /* the cast's code (normal | cue << 5) */
-    uint16_t *code;   /* the shading mode's code (bit 13: cut face) */
+    uint16_t *code;   /* the shading codes (bvox_shade_codes) */
     /* the frame of the cast, shifted to the pane's pixel (0, 0) */
     double eye[9], origin[3], pixel, step;
     int32_t depth_range;
@@ -131,7 +134,7 @@ typedef struct vw_state {
     int width, height;
     uint8_t *rgb;            /* width*height*3 */
     vw_3d view3d;
-    uint8_t lut[8193][3];    /* codes 0..4095, cut face 4096..4351, background 8192 */
+    bvox_shade_table lut;    /* RGB of the pane's shading codes */
     /* dirty flags */
     int need_surface, need_cast, need_code, need_lut, need_mosaic;
     /* bookkeeping */
@@ -152,7 +155,7 @@ typedef struct vw_state {
 bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out);
 void vw_close(vw_state *s);
 
-/* ---- view_state.c: camera and state changes ---- */
+/* ---- view_state.c: the state and its geometry (calls no other viewer file) ---- */
 void vw_set_axis_view(vw_state *s, bvox_view view);
 void vw_set_iso_view(vw_state *s, int corner); /* corner 0..7: signs of x, y, z */
 /* Turn by a trackball drag from (x0, y0) to (x1, y1) in a pane of w x h. */
@@ -163,20 +166,33 @@ void vw_orthonormalize(double R[9]);
 /* The cut plane as m . p + e (physical axis frame); world plane for bvox_cut_plane. */
 void vw_cut_plane_local(const vw_state *s, double m[3], double *e);
 void vw_cut_plane_world(const vw_state *s, double plane[4]);
-/* Handle one event (the keys and mouse of the help screen). */
-void vw_handle(vw_state *s, const vw_event *ev);
+/* Turn the cut plane's normal by angle (radians) about axis (physical frame). */
+void vw_cut_tilt(vw_state *s, const double *axis, double angle);
+/* The panes of the current layout. Returns their number. */
+int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4]);
+/* The smallest voxel size (a step of one voxel in physical units). */
+double vw_min_spacing(const vw_state *s);
+/* The shape of the current primitive at the cursor. */
+void vw_primitive_shape(const vw_state *s, bvox_shape *shape);
+/* The canvas as an image (RGB, a copy). */
+bvox_status vw_canvas_image(const vw_state *s, bvox_image **out);
+/* Debug invariant of the state (a rotation for the camera, the cursor in
+ * the volume, known modes, the pane's arrays together): asserted where the
+ * event handler and the frame take and hand back the state; release builds
+ * (NDEBUG) compile the asserts out. */
+int vw_state_ok(const vw_state *s);
 /* The help text: NULL-terminated lines. */
 extern const char *const vw_help_lines[];
 
-/* ---- frame.c: drawing ---- */
-/* The panes of the current layout. Returns their number. */
-int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4]);
+/* ---- input.c: events (on view_state.c, edits.c, frame.c) ---- */
+/* Handle one event (the keys and mouse of the help screen). */
+void vw_handle(vw_state *s, const vw_event *ev);
+
+/* ---- frame.c: drawing (on view_state.c, font.c, pick.c) ---- */
 /* Bring the canvas up to date (casts only what changed). */
 bvox_status vw_render(vw_state *s);
 /* Only the shading table and its application (a light change). */
 void vw_apply_lut(vw_state *s);
-/* The canvas as an image (RGB, a copy). */
-bvox_status vw_canvas_image(const vw_state *s, bvox_image **out);
 
 /* ---- pick.c: ray from a pixel of the 3D pane to the first 1-voxel ---- */
 /* The ray of pane pixel (u, v) (pixel centres at integers) in the physical
@@ -189,14 +205,12 @@ int vw_pick_ray(const bvox_volume *vol, const double sp[3], const double p0[3],
 /* Pick under canvas pixel (x, y) of the 3D pane (or a slice pane). */
 int vw_pick(vw_state *s, int x, int y, int32_t hit[3]);
 
-/* ---- edits.c: journalled edits (undo/redo) ---- */
+/* ---- edits.c: journalled edits, undo/redo (on view_state.c) ---- */
 bvox_status vw_brush(vw_state *s, const int32_t at[3]);
 bvox_status vw_edit_box(vw_state *s, int keep);
 bvox_status vw_apply_primitive(vw_state *s, bvox_csg_op op);
 bvox_status vw_apply_cut(vw_state *s);
 bvox_status vw_undo(vw_state *s, int redo);
-/* The shape of the current primitive at the cursor. */
-void vw_primitive_shape(const vw_state *s, bvox_shape *shape);
 /* After the model changed inside *changed (half-open; NULL: anywhere):
  * the count, and the surface (updated in that box only when no cut is
  * shown, else rebuilt) at the next frame. */

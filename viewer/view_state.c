@@ -1,17 +1,16 @@
 /*
- * view_state.c — the viewer's state and what each key and mouse gesture does
- * to it: camera (trackball, axis and isometric views, zoom, pan), light,
- * shading mode, cut plane, layout, cursor, selection, brush and primitive.
- * No drawing and no SDL here: an event changes numbers and sets the dirty
- * flags that tell frame.c what to recompute (a light change only the table).
+ * view_state.c — the viewer's state and the geometry every other part reads
+ * from it: open/close, the camera (trackball, axis and isometric views), the
+ * cut plane, the panes of the layout, the primitive's shape, the canvas as
+ * an image, and the help text. It calls no other file of the viewer: edits.c,
+ * frame.c and input.c build on it (input.c, the event handler, on all three),
+ * so the files form layers, not a circle.
  */
 #include "view.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const double deg = 3.14159265358979323846 / 180.0;
 
 const char *const vw_help_lines[] = {
     "bvox view: keys and mouse (any key closes)",
@@ -167,43 +166,8 @@ void vw_cut_plane_world(const vw_state *s, double plane[4])
     plane[3] = e - dot3(n, o);
 }
 
-/* ------------------------------------------------------------ actions */
-
-static void say(vw_state *s, const char *fmt, const char *arg)
+void vw_cut_tilt(vw_state *s, const double *axis_world, double angle)
 {
-    snprintf(s->status, sizeof s->status, fmt, arg);
-}
-
-static void clamp_cursor(vw_state *s)
-{
-    const int32_t n[3] = {s->dims.nx, s->dims.ny, s->dims.nz};
-    for (int a = 0; a < 3; a++) {
-        if (s->cursor[a] < 0) s->cursor[a] = 0;
-        if (s->cursor[a] >= n[a]) s->cursor[a] = n[a] - 1;
-    }
-}
-
-static void report(vw_state *s, bvox_status st, const char *what)
-{
-    if (st) snprintf(s->status, sizeof s->status, "%s failed: %.100s", what, bvox_errmsg());
-    if (st && s->log) fprintf(s->log, "view: %s failed: %s\n", what, bvox_errmsg());
-}
-
-static void cut_toggle(vw_state *s)
-{
-    s->cut = !s->cut;
-    if (s->cut) { /* a new plane through the centre, facing the viewer: the far side kept */
-        memcpy(s->cut_n, s->R + 6, sizeof s->cut_n);
-        s->cut_s = 0;
-        s->keep_above = 1;
-    }
-    s->need_surface = 1;
-    say(s, "%s", s->cut ? "cut plane on" : "cut plane off");
-}
-
-static void cut_tilt(vw_state *s, const double *axis_world, double angle)
-{
-    /* rotate the normal about a screen axis (world vector) */
     double a[3] = {axis_world[0], axis_world[1], axis_world[2]}, n[3];
     unit(a);
     double c = cos(angle), sn = sin(angle), k = dot3(a, s->cut_n), x[3];
@@ -214,263 +178,86 @@ static void cut_tilt(vw_state *s, const double *axis_world, double angle)
     s->need_surface = 1;
 }
 
-static double min_spacing(const vw_state *s)
+/* ------------------------------------------------- layout, shapes, canvas */
+
+int vw_panes(const vw_state *s, vw_rect rects[4], vw_pane_kind kinds[4])
 {
-    double m = s->sp[0];
-    for (int a = 1; a < 3; a++) m = s->sp[a] < m ? s->sp[a] : m;
-    return m;
+    int W = s->width, H = s->height, w2 = W / 2, h2 = H / 2;
+    switch (s->layout) {
+    case VW_LAYOUT_ORTHO:
+        rects[0] = (vw_rect){0, 0, w2, h2}, kinds[0] = VW_PANE_3D;
+        rects[1] = (vw_rect){w2, 0, W - w2, h2}, kinds[1] = VW_PANE_XY;
+        rects[2] = (vw_rect){0, h2, w2, H - h2}, kinds[2] = VW_PANE_XZ;
+        rects[3] = (vw_rect){w2, h2, W - w2, H - h2}, kinds[3] = VW_PANE_YZ;
+        return 4;
+    case VW_LAYOUT_MOSAIC:
+        rects[0] = (vw_rect){0, 0, W, H}, kinds[0] = VW_PANE_MOSAIC;
+        return 1;
+    default:
+        rects[0] = (vw_rect){0, 0, W, H}, kinds[0] = VW_PANE_3D;
+        return 1;
+    }
 }
 
-static void key(vw_state *s, int k, unsigned mods)
+double vw_min_spacing(const vw_state *s)
 {
-    const int shift = mods & VW_MOD_SHIFT, ctrl = mods & VW_MOD_CTRL;
-    if (s->help && k != 'h' && k != '?' && k != VW_KEY_F1 && k != 'q') {
-        s->help = 0; /* any key closes the help */
-        return;
-    }
-    if (ctrl) {
-        switch (k) {
-        case 'z': report(s, vw_undo(s, shift ? 1 : 0), "undo"); return;
-        case 'y': report(s, vw_undo(s, 1), "redo"); return;
-        case 's': report(s, vw_save(s, s->save_path), "save"); return;
-        case 'p': k = VW_KEY_F12; break; /* a screenshot, as f12 */
-        default: return;
-        }
-    }
-    if (s->layout == VW_LAYOUT_MOSAIC && k >= '1' && k <= '8') {
-        s->planes ^= (uint8_t)(1u << (k - '1'));
-        s->need_mosaic = 1;
-        return;
-    }
-    switch (k) {
-    case 'q': s->quit = 1; break;
-    case 'h': case '?': case VW_KEY_F1: s->help = !s->help; break;
-    case 'v': s->overlay = !s->overlay; break;
-    case '1': case '2': case '3': case '4': case '5': case '6':
-        vw_set_axis_view(s, (bvox_view)(k - '1'));
-        say(s, "view %s", bvox_view_name((bvox_view)(k - '1')));
-        break;
-    case 'i':
-        s->iso = (s->iso + (shift ? 7 : 1)) & 7;
-        vw_set_iso_view(s, s->iso);
-        say(s, "%s", "isometric view");
-        break;
-    case 'r':
-        s->zoom = 1;
-        vw_set_iso_view(s, s->iso);
-        break;
-    case '+': case '=': s->zoom *= 1.25; s->need_cast = 1; break;
-    case '-': s->zoom /= 1.25; s->need_cast = 1; break;
-    case VW_KEY_LEFT: s->light.azimuth += 15; s->need_lut = 1; break;
-    case VW_KEY_RIGHT: s->light.azimuth -= 15; s->need_lut = 1; break;
-    case VW_KEY_UP: s->light.elevation += 10; s->need_lut = 1; break;
-    case VW_KEY_DOWN: s->light.elevation -= 10; s->need_lut = 1; break;
-    case 'l': s->light = (bvox_light)BVOX_LIGHT_INIT; s->need_lut = 1; break;
-    case 's':
-        s->shade = (vw_shade)((s->shade + (shift ? VW_NSHADE - 1 : 1)) % VW_NSHADE);
-        s->need_code = 1;
-        break;
-    case 'c': cut_toggle(s); break;
-    case VW_KEY_PAGEUP: case VW_KEY_PAGEDOWN:
-        if (!s->cut) break;
-        s->cut_s += (k == VW_KEY_PAGEUP ? -1 : 1) * (shift ? min_spacing(s) : s->radius * 0.05);
-        s->need_surface = 1;
-        break;
-    case 't': if (s->cut) cut_tilt(s, s->R, (shift ? -5 : 5) * deg); break;
-    case 'y': if (s->cut) cut_tilt(s, s->R + 3, (shift ? -5 : 5) * deg); break;
-    case 'f': if (s->cut) s->keep_above = !s->keep_above, s->need_surface = 1; break;
-    case 'a': if (s->cut) report(s, vw_apply_cut(s), "cut"); break;
-    case 'o': s->layout = s->layout == VW_LAYOUT_ORTHO ? VW_LAYOUT_3D : VW_LAYOUT_ORTHO; s->need_cast = 1; break;
-    case 'm': s->layout = s->layout == VW_LAYOUT_MOSAIC ? VW_LAYOUT_3D : VW_LAYOUT_MOSAIC; s->need_cast = 1; break;
-    case 'n':
-        s->mosaic_display = (bvox_mosaic_display)((s->mosaic_display + 1) % 3);
-        s->need_mosaic = 1;
-        break;
-    case 'e': s->brush = !s->brush; say(s, "%s", s->brush ? "brush on" : "brush off"); break;
-    case 'x': s->brush_add = !s->brush_add; break;
-    case '[': if (s->brush_radius > 0) s->brush_radius--; break;
-    case ']': if (s->brush_radius < 256) s->brush_radius++; break;
-    case 'b':
-        if (shift) {
-            memcpy(s->sel[1], s->cursor, sizeof s->sel[1]);
-            if (s->sel_n < 1) memcpy(s->sel[0], s->cursor, sizeof s->sel[0]);
-            s->sel_n = 2;
-        } else {
-            memcpy(s->sel[0], s->cursor, sizeof s->sel[0]);
-            memcpy(s->sel[1], s->cursor, sizeof s->sel[1]);
-            s->sel_n = 1;
-        }
-        break;
-    case VW_KEY_DELETE: case VW_KEY_BACKSPACE: if (s->sel_n) report(s, vw_edit_box(s, 0), "remove box"); break;
-    case 'k': if (s->sel_n) report(s, vw_edit_box(s, 1), "keep box"); break;
-    case VW_KEY_ESCAPE: s->sel_n = 0; s->prim = VW_PRIM_NONE; break;
-    case 'p': s->prim = (vw_prim)((s->prim + 1) % VW_NPRIM); break;
-    case ',': if (s->prim_size > 1) s->prim_size--; break;
-    case '.': if (s->prim_size < 4096) s->prim_size++; break;
-    case 'u': if (s->prim) report(s, vw_apply_primitive(s, BVOX_CSG_UNION), "union"); break;
-    case 'd': if (s->prim) report(s, vw_apply_primitive(s, BVOX_CSG_DIFFERENCE), "difference"); break;
-    default: break;
-    }
-    if (k == VW_KEY_F12) {
-        char path[64];
-        snprintf(path, sizeof path, "bvox-view-%03d.png", s->shot_seq++);
-        report(s, vw_screenshot(s, path), "screenshot");
-    }
-    if (s->light.elevation > 90) s->light.elevation = 90;
-    if (s->light.elevation < -90) s->light.elevation = -90;
-    s->light.azimuth = fmod(s->light.azimuth + 360.0, 360.0);
+    return fmin(s->sp[0], fmin(s->sp[1], s->sp[2]));
 }
 
-enum { DRAG_NONE, DRAG_ROTATE, DRAG_PAN, DRAG_LIGHT, DRAG_BRUSH, DRAG_CURSOR, DRAG_SELECT };
-
-static int pane_at(const vw_state *s, int x, int y, vw_rect *r, vw_pane_kind *kind)
+void vw_primitive_shape(const vw_state *s, bvox_shape *sh)
 {
-    vw_rect rects[4];
-    vw_pane_kind kinds[4];
-    int n = vw_panes(s, rects, kinds);
-    for (int i = 0; i < n; i++)
-        if (x >= rects[i].x && y >= rects[i].y && x < rects[i].x + rects[i].w &&
-            y < rects[i].y + rects[i].h) {
-            *r = rects[i];
-            *kind = kinds[i];
-            return 1;
-        }
-    return 0;
-}
-
-static void brush_at(vw_state *s, int x, int y)
-{
-    int32_t hit[3];
-    if (!vw_pick(s, x, y, hit)) return;
-    memcpy(s->cursor, hit, sizeof hit);
-    report(s, vw_brush(s, hit), "brush");
-}
-
-void vw_handle(vw_state *s, const vw_event *ev)
-{
-    vw_rect r;
-    vw_pane_kind kind;
-    switch (ev->type) {
-    case VW_EV_QUIT: s->quit = 1; break;
-    case VW_EV_EXPOSE: break; /* the caller draws again */
-    case VW_EV_KEY: key(s, ev->key, ev->mods); break;
-    case VW_EV_WHEEL:
-        s->zoom *= pow(1.1, ev->wheel);
-        if (s->zoom < 0.05) s->zoom = 0.05;
-        if (s->zoom > 200) s->zoom = 200;
-        s->need_cast = 1;
+    memset(sh, 0, sizeof *sh);
+    double r = s->prim_size * vw_min_spacing(s);
+    for (int a = 0; a < 3; a++) sh->center[a] = s->geom.origin[a] + s->cursor[a] * s->sp[a];
+    switch (s->prim) {
+    case VW_PRIM_BOX:
+        sh->kind = BVOX_SHAPE_BOX;
+        sh->semi_axes[0] = sh->semi_axes[1] = sh->semi_axes[2] = r;
         break;
-    case VW_EV_DOWN:
-        if (s->help) { s->help = 0; break; }
-        s->drag_button = ev->button;
-        s->last_x = s->press_x = ev->x;
-        s->last_y = s->press_y = ev->y;
-        s->moved = 0;
-        s->drag_mode = DRAG_NONE;
-        if (!pane_at(s, ev->x, ev->y, &r, &kind)) break;
-        if (kind == VW_PANE_3D) {
-            if (ev->button == VW_BUTTON_RIGHT) s->drag_mode = DRAG_PAN;
-            else if (ev->button == VW_BUTTON_MIDDLE ||
-                     (ev->button == VW_BUTTON_LEFT && (ev->mods & VW_MOD_SHIFT)))
-                s->drag_mode = DRAG_LIGHT;
-            else if (s->brush) {
-                s->drag_mode = DRAG_BRUSH;
-                bvox_journal_begin(s->journal);
-                s->stroke = 1;
-                brush_at(s, ev->x, ev->y);
-            } else s->drag_mode = DRAG_ROTATE;
-        } else if (kind != VW_PANE_MOSAIC && ev->button == VW_BUTTON_LEFT) {
-            int32_t at[3];
-            if (ev->mods & VW_MOD_CTRL) { /* a selection rectangle, through the whole depth */
-                if (!vw_pick(s, ev->x, ev->y, at)) break;
-                const int32_t n[3] = {s->dims.nx, s->dims.ny, s->dims.nz};
-                int a = kind == VW_PANE_XY ? 2 : kind == VW_PANE_XZ ? 1 : 0;
-                memcpy(s->sel[0], at, sizeof at);
-                memcpy(s->sel[1], at, sizeof at);
-                s->sel[0][a] = 0;
-                s->sel[1][a] = n[a] - 1;
-                s->sel_n = 2;
-                s->drag_axis = a;
-                s->drag_mode = DRAG_SELECT;
-            } else if (s->brush) {
-                s->drag_mode = DRAG_BRUSH;
-                bvox_journal_begin(s->journal);
-                s->stroke = 1;
-                brush_at(s, ev->x, ev->y);
-            } else {
-                s->drag_mode = DRAG_CURSOR;
-                int32_t hit[3];
-                if (vw_pick(s, ev->x, ev->y, hit)) memcpy(s->cursor, hit, sizeof hit);
-            }
-        }
+    case VW_PRIM_CYLINDER:
+        sh->kind = BVOX_SHAPE_CYLINDER;
+        sh->radius = r;
+        sh->height = 4 * r;
+        memcpy(sh->axis, s->R + 6, sizeof sh->axis); /* along the view: a drill */
         break;
-    case VW_EV_MOTION: {
-        int dx = ev->x - s->last_x, dy = ev->y - s->last_y;
-        if (abs(ev->x - s->press_x) + abs(ev->y - s->press_y) > 2) s->moved = 1;
-        vw_rect rects[4];
-        vw_pane_kind kinds[4];
-        vw_panes(s, rects, kinds);
-        switch (s->drag_mode) {
-        case DRAG_ROTATE:
-            if (s->coarse_ms > 0 && s->last_full_cast_ms > s->coarse_ms) s->coarse = 1;
-            vw_trackball(s->R, s->last_x - rects[0].x, s->last_y - rects[0].y, ev->x - rects[0].x,
-                         ev->y - rects[0].y, rects[0].w, rects[0].h);
-            s->need_cast = 1;
-            break;
-        case DRAG_PAN:
-            if (s->coarse_ms > 0 && s->last_full_cast_ms > s->coarse_ms) s->coarse = 1;
-            s->pan[0] += dx;
-            s->pan[1] += dy;
-            s->need_cast = 1;
-            break;
-        case DRAG_LIGHT:
-            s->light.azimuth = fmod(s->light.azimuth - dx * 0.5 + 360.0, 360.0);
-            s->light.elevation -= dy * 0.5;
-            if (s->light.elevation > 90) s->light.elevation = 90;
-            if (s->light.elevation < -90) s->light.elevation = -90;
-            s->need_lut = 1;
-            break;
-        case DRAG_BRUSH: brush_at(s, ev->x, ev->y); break;
-        case DRAG_SELECT: {
-            int32_t at[3];
-            if (vw_pick(s, ev->x, ev->y, at))
-                for (int a = 0; a < 3; a++)
-                    if (a != s->drag_axis) s->sel[1][a] = at[a];
-            break;
-        }
-        case DRAG_CURSOR: {
-            int32_t hit[3];
-            if (vw_pick(s, ev->x, ev->y, hit)) memcpy(s->cursor, hit, sizeof hit);
-            break;
-        }
-        default: break;
-        }
-        s->last_x = ev->x;
-        s->last_y = ev->y;
+    default:
+        sh->kind = BVOX_SHAPE_SPHERE;
+        sh->radius = r;
         break;
     }
-    case VW_EV_UP:
-        if (s->drag_mode == DRAG_ROTATE && !s->moved) { /* a click: the cursor */
-            int32_t hit[3];
-            if (vw_pick(s, ev->x, ev->y, hit)) {
-                memcpy(s->cursor, hit, sizeof hit);
-                snprintf(s->status, sizeof s->status, "cursor %d,%d,%d", (int)hit[0], (int)hit[1],
-                         (int)hit[2]);
-            }
+}
+
+bvox_status vw_canvas_image(const vw_state *s, bvox_image **out)
+{
+    bvox_status st = bvox_image_create(s->width, s->height, 3, 8, out);
+    if (st) return st;
+    memcpy((*out)->pixels, s->rgb, (size_t)s->width * (size_t)s->height * 3);
+    return BVOX_OK;
+}
+
+/* ------------------------------------------------------------ invariants */
+
+int vw_state_ok(const vw_state *s)
+{
+    if (!s || !s->model || !s->rgb || !s->journal || s->width < 64 || s->height < 64) return 0;
+    for (int i = 0; i < 3; i++) /* the camera stays a rotation */
+        for (int j = 0; j < 3; j++) {
+            double d = s->R[i * 3] * s->R[j * 3] + s->R[i * 3 + 1] * s->R[j * 3 + 1] +
+                       s->R[i * 3 + 2] * s->R[j * 3 + 2];
+            if (!(fabs(d - (i == j)) < 1e-6)) return 0;
         }
-        if (s->stroke) {
-            bvox_journal_end(s->journal);
-            s->stroke = 0;
-        }
-        if (s->coarse) { /* full quality on release */
-            s->coarse = 0;
-            s->need_cast = 1;
-        }
-        s->drag_mode = DRAG_NONE;
-        s->drag_button = 0;
-        break;
-    }
-    clamp_cursor(s);
+    if (!(s->zoom > 0) || (unsigned)s->shade >= VW_NSHADE || (unsigned)s->layout > VW_LAYOUT_MOSAIC ||
+        (unsigned)s->prim >= VW_NPRIM || s->sel_n < 0 || s->sel_n > 2)
+        return 0;
+    const int32_t n[3] = {s->dims.nx, s->dims.ny, s->dims.nz};
+    for (int a = 0; a < 3; a++)
+        if (s->cursor[a] < 0 || s->cursor[a] >= n[a] || !(s->sp[a] > 0)) return 0;
+    if (s->cut && !(fabs(dot3(s->cut_n, s->cut_n) - 1) < 1e-6)) return 0;
+    const vw_3d *v = &s->view3d; /* the pane's arrays exist together, of w x h */
+    if ((v->depth != NULL) != (v->w > 0) || (v->ncode != NULL) != (v->w > 0) ||
+        (v->code != NULL) != (v->w > 0) || v->w < 0 || v->h < 0)
+        return 0;
+    return !v->valid || (v->depth && v->pixel > 0 && v->step > 0);
 }
 
 /* ------------------------------------------------------------ open/close */

@@ -49,7 +49,7 @@ double bvox__phong(const bvox_light *light, const double l[3], const double n[3]
     return i < 0 ? 0 : i > 255 ? 255 : i;
 }
 
-static bvox_status depth_check(const bvox_depth_shading *s)
+bvox_status bvox__depth_check(const bvox_depth_shading *s)
 {
     if (!s) return bvox__fail(BVOX_EINVAL, "no depth shading given");
     if (!(s->near_value >= 0 && s->near_value <= 255 && s->far_value >= 0 &&
@@ -62,8 +62,7 @@ static bvox_status depth_check(const bvox_depth_shading *s)
     return BVOX_OK;
 }
 
-/* Intensity for t in 0..1 (shared with the full-depth shading). */
-static uint8_t depth_value(const bvox_depth_shading *s, double t)
+uint8_t bvox__depth_value(const bvox_depth_shading *s, double t)
 {
     double i = s->curve == BVOX_DEPTH_LINEAR
                    ? s->near_value + (s->far_value - s->near_value) * t
@@ -73,11 +72,11 @@ static uint8_t depth_value(const bvox_depth_shading *s, double t)
 
 bvox_status bvox_lut_depth(const bvox_depth_shading *shading, bvox_lut *lut)
 {
-    bvox_status st = depth_check(shading);
+    bvox_status st = bvox__depth_check(shading);
     if (st) return st;
     for (unsigned c = 0; c < 256; c++)
         lut->value[c] = BVOX_CODE_NORMAL(c) >= 27 ? shading->background
-                                                  : depth_value(shading, BVOX_CODE_CUE(c) / 7.0);
+                                                  : bvox__depth_value(shading, BVOX_CODE_CUE(c) / 7.0);
     return BVOX_OK;
 }
 
@@ -132,7 +131,7 @@ bvox_status bvox_shade_depth(const bvox_preimage *pre, const bvox_depth_shading 
 {
     *out = NULL;
     if (!pre || !pre->depth) return bvox__fail(BVOX_EINVAL, "shade: missing pre-image");
-    bvox_status st = depth_check(shading);
+    bvox_status st = bvox__depth_check(shading);
     if (st) return st;
     int32_t range = pre->depth_range > 0 ? pre->depth_range : 1;
     /* the paper's table over every depth value, not only the 3-bit cue */
@@ -140,7 +139,7 @@ bvox_status bvox_shade_depth(const bvox_preimage *pre, const bvox_depth_shading 
     uint8_t *table = bvox__alloc(tbytes, false, "depth table", &st);
     if (!table) return st;
     for (int32_t d = 0; d < range; d++)
-        table[d] = depth_value(shading, range > 1 ? (double)d / (range - 1) : 0.0);
+        table[d] = bvox__depth_value(shading, range > 1 ? (double)d / (range - 1) : 0.0);
     st = bvox_image_create(pre->width, pre->height, 1, 8, out);
     if (!st) {
         const size_t n = (size_t)pre->width * (size_t)pre->height;

@@ -122,3 +122,19 @@ void bvox__normal_eye(const bvox_preimage *pre, unsigned idx, double n[3])
     n[1] = -down / len;
     n[2] = -view / len;
 }
+
+int bvox__preimage_ok(const bvox_preimage *pre)
+{
+    if (!pre || pre->width <= 0 || pre->height <= 0 || pre->width > BVOX_IMAGE_MAX_DIM ||
+        pre->height > BVOX_IMAGE_MAX_DIM || !pre->depth || !pre->code)
+        return 0;
+    for (int r = 0; r < 3; r++) {
+        const double *e = pre->eye + 3 * r;
+        if (!(fabs(e[0] * e[0] + e[1] * e[1] + e[2] * e[2] - 1) < 1e-6)) return 0;
+    }
+    if (!(pre->depth_step >= 0) || !(pre->pixel_size[0] >= 0) || !(pre->pixel_size[1] >= 0)) return 0;
+    const size_t n = (size_t)pre->width * (size_t)pre->height;
+    for (size_t i = 0; i < n; i++)
+        if (pre->depth[i] < -1 || (pre->depth_range > 0 && pre->depth[i] >= pre->depth_range)) return 0;
+    return 1;
+}

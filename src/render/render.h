@@ -54,6 +54,34 @@ void bvox__light_dir(const bvox_light *light, double l[3]);
 double bvox__phong(const bvox_light *light, const double l[3], const double n[3], unsigned cue);
 /* Checks the numbers of a light (finite, non-negative, depth_cue 0..1). */
 bvox_status bvox__light_check(const bvox_light *light);
+/* Depth shading: BVOX_EINVAL for a bad curve or values; the intensity of
+ * depth t in 0..1 (0 nearest), rounded and clamped. */
+bvox_status bvox__depth_check(const bvox_depth_shading *shading);
+uint8_t bvox__depth_value(const bvox_depth_shading *shading, double t);
+/* The unit surface normal (eye frame: right, up, towards the viewer) of the
+ * depth map at a foreground pixel (x, y), from central or Sobel differences
+ * in physical units; a background or outside neighbour takes the centre's
+ * depth. */
+void bvox__depth_normal(const bvox_preimage *pre, bvox_gradient op, int32_t x, int32_t y,
+                        double n[3]);
+/* The cut face of a projection (shade_table.c): the plane m . p + e, kept
+ * side >= 0; a foreground pixel is on the face when its entry point (the
+ * middle of its depth step) has m . p + e below half a voxel's extent along
+ * m plus half a depth step's: every pixel that shows a face the cut exposed
+ * passes (see the proof in bvox__cut_test_init), and only a thin rim of the
+ * original surface next to the plane passes with them. */
+typedef struct bvox__cut_test {
+    double m[3], e, limit;
+} bvox__cut_test;
+void bvox__cut_test_init(bvox__cut_test *t, const double m[3], double e, const bvox_preimage *pre);
+int bvox__cut_test_at(const bvox__cut_test *t, const bvox_preimage *pre, int32_t c, int32_t r,
+                      int32_t d);
+/* The plane normal m as a unit vector in the eye frame, facing the viewer. */
+void bvox__cut_normal_eye(const bvox_preimage *pre, const double m[3], double n[3]);
+/* Debug invariant of a pre-image handed across the render boundary: sane
+ * size, arrays present, unit eye rows, depths in -1 .. depth_range-1.
+ * Used in assert() only (compiled out in release builds). */
+int bvox__preimage_ok(const bvox_preimage *pre);
 
 /* Image sample access for ops that handle both depths. */
 static inline uint32_t bvox__img_get(const bvox_image *im, size_t i)

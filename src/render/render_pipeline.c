@@ -9,10 +9,10 @@
  * towards the viewer: it is on the cut face iff the voxel in front of it was
  * in the object, i.e. the cut removed it. No tolerance. A projection's
  * pre-image keeps the depth only to a pixel unit and neither the voxel nor
- * the face, so there the entry point is tested against the plane instead: on
- * the kept side within one voxel (along the plane normal's fastest axis) plus
- * half a voxel's extent and one depth step, which every voxel the cut exposed
- * satisfies (and a rim of the original surface that close to the plane).
+ * the face, so there the entry point is tested against the plane instead
+ * (bvox__cut_test, shared with the viewer's shading codes): within half a
+ * voxel's extent plus half a depth step of the plane, which every face the
+ * cut exposed satisfies (and a thin rim of the original surface beside it).
  */
 #include "scene.h"
 
@@ -45,10 +45,7 @@ bvox_status bvox__scene_open(const bvox_volume *vol, const bvox_render_opts *opt
     for (int a = 0; a < 3; a++) {
         sc->m[a] = 0;
         for (int r = 0; r < 3; r++) sc->m[a] += n[r] * g->direction[3 * r + a];
-        double s = fabs(sc->m[a]) * g->spacing[a];
-        sc->shift = s > sc->shift ? s : sc->shift;
     }
-    sc->mlen = sqrt(sc->m[0] * sc->m[0] + sc->m[1] * sc->m[1] + sc->m[2] * sc->m[2]);
     return BVOX_OK;
 }
 
@@ -109,21 +106,6 @@ static int axis_cut_face(const bvox__scene *sc, bvox_view view, int32_t c, int32
     return bvox_volume_get(sc->orig, q[0], q[1], q[2]);
 }
 
-static int proj_cut_face(const bvox__scene *sc, const bvox_preimage *p, int32_t c, int32_t r,
-                         int32_t d)
-{
-    const double *e = p->eye;
-    double f = sc->e, half = 0;
-    for (int a = 0; a < 3; a++) {
-        double x = p->origin[a] + c * p->pixel_size[0] * e[a] + r * p->pixel_size[1] * e[3 + a] +
-                   (d + 0.5) * p->depth_step * e[6 + a];
-        f += sc->m[a] * x;
-        half += 0.5 * fabs(sc->m[a]) * p->spacing[a];
-    }
-    double g = sc->opts->keep_above ? f : -f; /* distance (times |m|) into the kept side */
-    return g < sc->shift + half + sc->mlen * p->depth_step;
-}
-
 /* Turn the gray image into RGB with the cut face lit flat by the plane's
  * normal and tinted. */
 static bvox_status mark_cut(const bvox__scene *sc, const bvox_preimage *p, const bvox_render_opts *o,
@@ -132,16 +114,14 @@ static bvox_status mark_cut(const bvox__scene *sc, const bvox_preimage *p, const
     bvox_image *rgb;
     bvox_status st = bvox_image_create(p->width, p->height, 3, 8, &rgb);
     if (st) return st;
-    /* the kept solid's outward normal on the cut face, in the eye frame */
-    const double ks = sc->opts->keep_above ? -1.0 : 1.0, *e = p->eye;
-    double u[3], nrm[3] = {0, 0, 0}, l[3];
-    for (int a = 0; a < 3; a++) u[a] = ks * sc->m[a] / sc->mlen;
-    for (int a = 0; a < 3; a++) {
-        nrm[0] += e[a] * u[a];
-        nrm[1] -= e[3 + a] * u[a];
-        nrm[2] -= e[6 + a] * u[a];
-    }
-    if (nrm[2] < 0) nrm[0] = -nrm[0], nrm[1] = -nrm[1], nrm[2] = -nrm[2];
+    /* the cut face's normal in the eye frame, facing the viewer */
+    double nrm[3], l[3];
+    bvox__cut_normal_eye(p, sc->m, nrm);
+    /* projections: the plane oriented so that the kept side is >= 0 */
+    const double ks = sc->opts->keep_above ? 1.0 : -1.0;
+    const double mk[3] = {ks * sc->m[0], ks * sc->m[1], ks * sc->m[2]};
+    bvox__cut_test test;
+    bvox__cut_test_init(&test, mk, ks * sc->e, p);
     bvox_light light = o->light;
     double k = light.depth_cue > 0 ? light.depth_cue : 0.5;
     if (o->shade == BVOX_SHADE_BINARY_DEPTH) light.depth_cue = 0;
@@ -154,7 +134,7 @@ static bvox_status mark_cut(const bvox__scene *sc, const bvox_preimage *p, const
             uint8_t *dst = rgb->pixels + 3 * i;
             int32_t d = p->depth[i];
             int cut = d >= 0 && (axis_cast ? axis_cut_face(sc, o->view, c, r, d)
-                                           : proj_cut_face(sc, p, c, r, d));
+                                           : bvox__cut_test_at(&test, p, c, r, d));
             if (!cut) {
                 dst[0] = dst[1] = dst[2] = gray[i];
                 continue;

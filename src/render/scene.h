@@ -21,9 +21,8 @@ typedef struct bvox__scene {
     bvox_volume *cut;             /* the cut copy, owned; NULL without a cut */
     bvox_surface *surf;           /* built on the first projection, owned */
     /* The cut plane in the casting frame p: f(p) = m . p + e, kept where
-     * keep_sign * f >= 0 (above), or < 0 (below); shift = max_a |m_a| s_a is
-     * how much f changes over one voxel along the fastest axis. */
-    double m[3], e, shift, mlen;
+     * keep_sign * f >= 0 (above), or < 0 (below). */
+    double m[3], e;
 } bvox__scene;
 
 /* Validate opts, make the cut copy if asked. On failure nothing is held. */

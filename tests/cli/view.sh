@@ -5,7 +5,8 @@
 # differ from each other as they should (a turn moves the silhouette; a light
 # change keeps every object pixel in place but changes their shades; the cut
 # face is tinted; the brush changes only pixels near the click), they match
-# the golden images in tests/data/view/ within a tolerance, the window shows
+# the golden images in tests/data/view/ within a tolerance (BVOX_UPDATE_GOLDEN=1
+# rewrites them and fails), the window shows
 # exactly the canvas (the same script off screen gives identical pictures),
 # and the saved model holds exactly the voxels the script left: the model cut
 # at z >= 31 minus the brush ball around the voxel the click picked, which
@@ -134,10 +135,16 @@ assert removed > 10000, removed
 print("saved model: exact (%d voxels removed)" % removed)
 PY
 
-# the pictures
-python3 - "$pngtool" "$tmp/win" "$tmp/off" "$DATA/view" <<'PY' || fail "the screenshots are not as expected"
-import json, subprocess, sys
-tool, win, off, gold = sys.argv[1:5]
+# the pictures; goldens in $DATA/view (or $BVOX_GOLDEN_DIR/view). With
+# BVOX_UPDATE_GOLDEN=1 the goldens are rewritten from this run and the test
+# FAILS on purpose: look at them, commit them, run again without it.
+golden_dir=${BVOX_GOLDEN_DIR:-$DATA}/view
+update=${BVOX_UPDATE_GOLDEN:-0}
+[ -n "$update" ] || update=0
+set +e
+python3 - "$pngtool" "$tmp/win" "$tmp/off" "$golden_dir" "$update" <<'PY'
+import json, shutil, subprocess, sys
+tool, win, off, gold, update = sys.argv[1:6]
 def load(path):
     g = json.loads(subprocess.check_output([sys.executable, tool, "read", path]))
     assert (g["width"], g["height"], g["channels"], g["bits"]) == (320, 320, 3, 8), path
@@ -161,6 +168,12 @@ diff = [i for i in range(TOP, 320 * 320) if shots["s4"][i] != shots["s5"][i]]
 assert len(diff) > 30, ("the brush changed nothing on screen", len(diff))
 far = [i for i in diff if (i % 320 - 163) ** 2 + (i // 320 - 163) ** 2 > 45 ** 2]
 assert not far, ("the brush changed pixels far from the click", len(far))
+if update != "0":  # rewrite the goldens from this run, then fail (exit 3)
+    for k in ("s1", "s2", "s3", "s5"):
+        shutil.copyfile("%s/%s.png" % (win, k), "%s/%s.png" % (gold, k))
+        print("golden %s/%s.png updated; inspect and commit it, then re-run without "
+              "BVOX_UPDATE_GOLDEN" % (gold, k), file=sys.stderr)
+    sys.exit(3)
 for k in ("s1", "s2", "s3", "s5"):  # golden images, looked at once
     g = load("%s/%s.png" % (gold, k))
     d = [max(abs(a - b) for a, b in zip(p, q)) for p, q in zip(shots[k], g)]
@@ -169,6 +182,10 @@ for k in ("s1", "s2", "s3", "s5"):  # golden images, looked at once
     assert mean <= 1.0 and big <= 0.005 * len(d), (k, "differs from its golden image", mean, big)
 print("screenshots: as expected")
 PY
+rc=$?
+set -e
+[ $rc -ne 3 ] || fail "goldens updated (BVOX_UPDATE_GOLDEN): this run fails on purpose"
+[ $rc -eq 0 ] || fail "the screenshots are not as expected"
 
 # the benchmark runs off screen and prints the rate
 "$BVOX" view "$tmp/ball.nii" --bench --frames 4 --size 128,128 >"$tmp/bench.txt" || fail "--bench"
