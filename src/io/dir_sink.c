@@ -69,12 +69,12 @@ static bool names_add(names *l, const char *s, size_t len)
 {
     if (l->n == l->cap) {
         size_t cap = l->cap ? l->cap * 2 : 64;
-        char **v = realloc(l->v, cap * sizeof *v);
+        char **v = bvox__mem_resize(l->v, cap * sizeof *v);
         if (!v) return false;
         l->v = v;
         l->cap = cap;
     }
-    char *c = strndup(s, len);
+    char *c = bvox__mem_strndup(s, len);
     if (!c) return false;
     l->v[l->n++] = c;
     return true;
@@ -97,7 +97,7 @@ static bool names_has(const names *l, const char *s)
 
 /* ---------------------------------------------------------- manifest */
 
-enum { MF_NONE, MF_OK, MF_OTHER_KIND, MF_BAD };
+enum { MF_NONE, MF_OK, MF_OTHER_KIND, MF_BAD, MF_NOMEM };
 
 /* Read dir's manifest into *listed (sorted). *other: the kind it names when
  * MF_OTHER_KIND. */
@@ -112,7 +112,11 @@ static int manifest_read(int dirfd, int kind, names *listed, const char **other)
         return MF_BAD;
     }
     size_t size = (size_t)sb.st_size, got = 0;
-    char *buf = malloc(size + 1);
+    char *buf = bvox__mem_alloc(size + 1);
+    if (!buf) {
+        close(fd);
+        return MF_NOMEM;
+    }
     while (buf && got < size) {
         ssize_t n = read(fd, buf + got, size - got);
         if (n < 0 && errno == EINTR) continue;
@@ -142,8 +146,10 @@ static int manifest_read(int dirfd, int kind, names *listed, const char **other)
                     result = MF_OTHER_KIND;
                 }
             if (result == MF_OK && strcmp(kind_name, kinds[kind].name)) result = MF_BAD;
-        } else if (len && (!owned_name(kind, p) || !names_add(listed, p, len))) {
+        } else if (len && !owned_name(kind, p)) {
             result = MF_BAD;
+        } else if (len && !names_add(listed, p, len)) {
+            result = MF_NOMEM;
         }
         p += len + (e ? 1 : 0);
     }
@@ -158,7 +164,7 @@ static int manifest_read(int dirfd, int kind, names *listed, const char **other)
 static bvox_status manifest_write(const char *dir, int kind, const names *l)
 {
     size_t n = strlen(dir) + sizeof BVOX__MANIFEST_NAME + 1;
-    char *path = malloc(n);
+    char *path = bvox__mem_alloc(n);
     if (!path) return bvox__fail(BVOX_ENOMEM, "out of memory");
     snprintf(path, n, "%s/%s", dir, BVOX__MANIFEST_NAME);
     bvox__sink s;
@@ -181,7 +187,7 @@ static bvox_status manifest_write(const char *dir, int kind, const names *l)
 
 /* ---------------------------------------------------------- survey */
 
-enum { T_ABSENT, T_EMPTY, T_OURS, T_FOREIGN, T_NOTDIR, T_ERROR };
+enum { T_ABSENT, T_EMPTY, T_OURS, T_FOREIGN, T_NOTDIR, T_ERROR, T_NOMEM };
 
 typedef struct {
     int state;
@@ -211,6 +217,11 @@ static void survey(const char *target, int kind, survey_result *r)
         return;
     }
     int mf = manifest_read(dirfd(d), kind, &r->listed, &r->other);
+    if (mf == MF_NOMEM) {
+        closedir(d);
+        r->state = T_NOMEM;
+        return;
+    }
     bool any = false, foreign = false;
     struct dirent *e;
     while ((e = readdir(d))) {
@@ -237,6 +248,7 @@ static void survey(const char *target, int kind, survey_result *r)
 
 static bvox_status refuse(const char *name, int kind, const survey_result *r)
 {
+    if (r->state == T_NOMEM) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
     if (r->state == T_NOTDIR) return bvox__fail(BVOX_EIO, "%s: exists and is not a folder", name);
     if (r->state == T_ERROR)
         return bvox__fail(BVOX_EIO, "%s: cannot look into the folder: %s", name, strerror(r->err));
@@ -291,27 +303,27 @@ bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool forc
     d->force = force;
     size_t len = strlen(path);
     while (len > 1 && path[len - 1] == '/') len--;
-    d->target = strndup(path, len);
+    d->target = bvox__mem_strndup(path, len);
     if (!d->target) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    /* a link to a folder (or to where one will be): work beside the final
+     * target, so the temporary folder is on the same file system and the
+     * link stays a link */
     struct stat sb;
-    if (lstat(d->target, &sb) == 0 && S_ISLNK(sb.st_mode)) {
-        /* a link to a folder: work beside the folder it names, so the
-         * temporary folder is on the same file system */
-        char *real = realpath(d->target, NULL);
-        if (!real) {
-            bvox_status st = bvox__fail(BVOX_EIO, "%s: is a symlink that leads nowhere usable: %s",
-                                        path, strerror(errno));
-            dir_release(d);
-            return st;
-        }
-        free(d->target);
-        d->target = real;
+    bool exists;
+    char *real = NULL;
+    if (!bvox__resolve_output(d->target, &real, &sb, &exists)) {
+        bvox_status st = bvox__fail(errno == ENOMEM ? BVOX_ENOMEM : BVOX_EIO,
+                                    "%s: cannot follow the path: %s", path, strerror(errno));
+        dir_release(d);
+        return st;
     }
+    free(d->target);
+    d->target = real;
     /* refuse before any work is done; checked again at commit */
     survey_result r;
     survey(d->target, kind, &r);
     names_free(&r.listed);
-    if (r.state == T_NOTDIR || r.state == T_ERROR || (r.state == T_FOREIGN && !force)) {
+    if (r.state == T_NOTDIR || r.state == T_ERROR || r.state == T_NOMEM || (r.state == T_FOREIGN && !force)) {
         bvox_status st = refuse(path, kind, &r);
         dir_release(d);
         return st;
@@ -334,9 +346,10 @@ bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool forc
 }
 
 /* The files written into the temporary folder, each fsync'ed. */
-static bool list_and_sync(const char *dir, names *out)
+static bool list_and_sync(const char *dir, names *out, bool *nomem)
 {
     memset(out, 0, sizeof *out);
+    *nomem = false;
     DIR *d = opendir(dir);
     if (!d) return false;
     bool ok = true;
@@ -346,8 +359,9 @@ static bool list_and_sync(const char *dir, names *out)
         int fd = openat(dirfd(d), e->d_name, O_RDONLY | O_CLOEXEC);
         if (fd < 0 || fsync(fd) != 0) ok = false;
         if (fd >= 0) close(fd);
-        if (ok && strcmp(e->d_name, BVOX__MANIFEST_NAME))
-            ok = names_add(out, e->d_name, strlen(e->d_name));
+        if (ok && strcmp(e->d_name, BVOX__MANIFEST_NAME) &&
+            !names_add(out, e->d_name, strlen(e->d_name)))
+            ok = false, *nomem = true;
     }
     if (ok && fsync(dirfd(d)) != 0) ok = false;
     int err = errno;
@@ -410,8 +424,11 @@ bvox_status bvox__dir_sink_commit(bvox__dir_sink *d)
 {
     names fresh;
     bvox_status st = BVOX_OK;
-    if (!list_and_sync(d->tmp, &fresh)) {
-        st = bvox__fail(BVOX_EIO, "%s: cannot sync the written files: %s", d->name, strerror(errno));
+    bool nomem;
+    if (!list_and_sync(d->tmp, &fresh, &nomem)) {
+        st = nomem ? bvox__fail(BVOX_ENOMEM, "%s: out of memory", d->name)
+                   : bvox__fail(BVOX_EIO, "%s: cannot sync the written files: %s", d->name,
+                                strerror(errno));
         names_free(&fresh);
         bvox__dir_sink_abort(d);
         return st;
@@ -443,7 +460,7 @@ bvox_status bvox__dir_sink_commit(bvox__dir_sink *d)
             if (st) break;
             continue;
         }
-        if (r.state == T_NOTDIR || r.state == T_ERROR || (r.state == T_FOREIGN && !d->force)) {
+        if (r.state == T_NOTDIR || r.state == T_ERROR || r.state == T_NOMEM || (r.state == T_FOREIGN && !d->force)) {
             st = refuse(d->name, d->kind, &r);
         } else {
             /* forced into a foreign folder: its manifest, if any of this kind,

@@ -96,6 +96,12 @@ void bvox__sink_fail_after(long n);
 long bvox__folder_syncs(void);
 /* fsync the folder that holds path (after a rename into it). */
 bool bvox__sync_parent(const char *path);
+struct stat;
+/* Follow path while it is a symlink (relative targets are relative to the
+ * link's folder, at most 40 links). *out: the final path (free() it); *sb
+ * its lstat, or *exists = false when nothing is there yet. false with errno
+ * on failure (ELOOP, ENOMEM, ...). */
+bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *exists);
 
 /* Folder outputs (PNG slices, SVG sections): the files are written into a
  * temporary folder beside the target (tmp), then

@@ -198,11 +198,16 @@ long bvox__folder_syncs(void) { return atomic_load(&folder_syncs); }
 
 bool bvox__sync_parent(const char *path)
 {
+    /* no allocation here: this runs after the rename, when a failure could
+     * only misreport a finished write */
+    char dir[PATH_MAX];
     const char *slash = strrchr(path, '/');
-    char *dir = slash ? strndup(path, slash == path ? 1 : (size_t)(slash - path)) : strdup(".");
-    if (!dir) return false;
+    size_t n = slash ? (slash == path ? 1 : (size_t)(slash - path)) : 1;
+    if (n >= sizeof dir) return true; /* cannot name it: leave it unsynced */
+    if (slash) memcpy(dir, path, n);
+    else dir[0] = '.';
+    dir[n] = '\0';
     int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    free(dir);
     if (fd < 0) return true; /* a folder we may write but not read: cannot sync it */
     int rc = fsync(fd), e = errno;
     close(fd);
@@ -212,11 +217,12 @@ bool bvox__sync_parent(const char *path)
 }
 
 /* Follow path while it is a symlink (relative targets are relative to the
- * link's folder). *out: the final path (malloc'ed); *sb its lstat, or
+ * link's folder). *out: the final path (free() it); *sb its lstat, or
  * *exists = false when nothing is there yet. errno on failure. */
-static bool resolve_output(const char *path, char **out, struct stat *sb, bool *exists)
+bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *exists)
 {
-    char *cur = strdup(path);
+    char *cur = bvox__mem_strdup(path);
+    if (!cur) errno = ENOMEM;
     for (int hops = 0; cur; hops++) {
         if (lstat(cur, sb) != 0) {
             if (errno != ENOENT) break;
@@ -239,7 +245,7 @@ static bool resolve_output(const char *path, char **out, struct stat *sb, bool *
         link[n] = '\0';
         const char *slash = strrchr(cur, '/');
         size_t dirlen = link[0] != '/' && slash ? (size_t)(slash - cur + 1) : 0;
-        char *next = malloc(dirlen + (size_t)n + 1);
+        char *next = bvox__mem_alloc(dirlen + (size_t)n + 1);
         if (next) {
             memcpy(next, cur, dirlen);
             memcpy(next + dirlen, link, (size_t)n + 1);
@@ -276,10 +282,10 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     if (!*base) return bvox__fail(BVOX_EINVAL, "%s: output path names a folder, not a file", path);
-    if (!(s->name = strdup(path))) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    if (!(s->name = bvox__mem_strdup(path))) return bvox__fail(BVOX_ENOMEM, "out of memory");
     struct stat old;
     bool exists;
-    if (!resolve_output(path, &s->final_path, &old, &exists)) {
+    if (!bvox__resolve_output(path, &s->final_path, &old, &exists)) {
         int e = errno;
         sink_release(s);
         return bvox__fail(e == ENOMEM ? BVOX_ENOMEM : BVOX_EIO, "%s: cannot follow the path: %s",
@@ -321,7 +327,7 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
         return bvox__fail(BVOX_EIO, "%s: cannot open for writing", path);
     }
     if (gzip) {
-        z_stream *z = calloc(1, sizeof *z);
+        z_stream *z = bvox__mem_zalloc(1, sizeof *z);
         if (!z || deflateInit2(z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
             free(z);
             bvox__sink_abort(s);

@@ -92,7 +92,7 @@ char *bvox__temp_name(const char *path)
     size_t dirlen = slash ? (size_t)(slash - path + 1) : 0;
     const char *base = slash ? slash + 1 : path;
     size_t n = strlen(path) + 16;
-    char *t = malloc(n);
+    char *t = bvox__mem_alloc(n);
     if (t) snprintf(t, n, "%.*s.%s.XXXXXX", (int)dirlen, path, base);
     return t;
 }
