@@ -373,9 +373,12 @@ typedef struct bvox_write_opts {
     const char *format; /* NULL: by extension ("png" for a path ending in '/' or
                            without extension is not guessed: give it) */
     int raw_bits;       /* raw only: 8 (0/1 bytes, default) */
+    int force;          /* folder outputs: write into a folder that holds other
+                           files (replacing files of bvox's names, removing
+                           nothing else); 0 refuses such a folder */
 } bvox_write_opts;
 
-#define BVOX_WRITE_OPTS_INIT { NULL, 8 }
+#define BVOX_WRITE_OPTS_INIT { NULL, 8, 0 }
 
 /* The dimensions bvox_read(path, opts) would give, from the header alone
  * (no voxel data is read or decoded), so that a caller can refuse an
@@ -390,13 +393,36 @@ BVOX_API bvox_status bvox_read_dims(const char *path, const bvox_read_opts *opts
  * BVOX_ETOOBIG). Writes nothing. */
 BVOX_API bvox_status bvox_write_check(const char *path, bvox_dims dims, const bvox_write_opts *opts);
 /* Write a volume. The output is first written under a temporary name in the
- * target folder, synced and then renamed: a failure leaves no partial file
- * and an existing file unchanged. */
+ * target folder, synced and then renamed, and the folder is synced: a
+ * failure leaves no partial file and an existing file unchanged.
+ * What is overwritten:
+ *  - a regular file: replaced whole; it keeps its permission bits and group
+ *    (new files get 0666 less the umask);
+ *  - a symlink: followed; its final target is replaced the same way (the
+ *    temporary file is made beside that target) and the link stays;
+ *  - a folder, device, FIFO or socket where a file is written: refused
+ *    (BVOX_EIO), never replaced;
+ *  - a folder output (PNG slices): goes into a new or empty folder, or over
+ *    bvox's own earlier output of the same kind (recognised by the manifest
+ *    ".bvox-manifest" it writes there, listing its files), whose listed files
+ *    are replaced or removed; a folder holding anything else is refused
+ *    unless opts->force, and even then only files of bvox's names
+ *    (slice_NNNN.png) are replaced and nothing is removed.
+ * bvox never removes a file it did not write. */
 BVOX_API bvox_status bvox_write(const char *path, const bvox_volume *vol,
                                 const bvox_write_opts *opts);
 /* Write size bytes as the file path the same way (temporary file in the
  * target folder, fsync, rename): for reports and other small outputs. */
 BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size);
+
+/* Remove the temporary files and folders of writes in progress when the
+ * process is ended by SIGINT, SIGTERM or SIGHUP: installs a handler for each
+ * of those signals whose action is the default (an ignored signal, or one the
+ * application handles itself, is left alone), which removes the temporaries
+ * (async-signal-safely) and then ends the process by the signal as before.
+ * Call once, early, from the main thread of a program (the `bvox` command
+ * does). BVOX_EIO if sigaction fails. */
+BVOX_API bvox_status bvox_cleanup_on_signals(void);
 
 /* Write a label volume (e.g. from bvox_components_labels) as NIfTI-1, .nii
  * or .nii.gz by the path's suffix: labels holds nx*ny*nz values, x fastest

@@ -224,6 +224,11 @@ BVOX_API bvox_status bvox_stack_read_reconstruct_section_memory(const char *data
  * <circle class="marker">). */
 BVOX_API bvox_status bvox_stack_write_json(const char *path, const bvox_contour_stack *stack);
 BVOX_API bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *stack);
+/* The same with write options: only opts->force is used (NULL: not forced);
+ * see bvox_write for what a folder output may overwrite (here the files are
+ * section_NNNN.svg). */
+BVOX_API bvox_status bvox_stack_write_svg_dir_opts(const char *dir, const bvox_contour_stack *stack,
+                                                   const bvox_write_opts *opts);
 
 /* ------------------------------------------------- model -> contours */
 

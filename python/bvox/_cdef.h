@@ -100,6 +100,7 @@ typedef struct bvox_read_opts {
 typedef struct bvox_write_opts {
     const char *format;
     int raw_bits;
+    int force;
 } bvox_write_opts;
 typedef struct bvox_component {
     int64_t voxels;
