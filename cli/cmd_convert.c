@@ -21,6 +21,7 @@ typedef struct convert_args {
 static const cli_opt convert_opts[] = {
     {"--output-format", 0, CLI_STR, "NAME",
      "force the output format ({formats}); needed for a folder of PNG slices", A(wo.format)},
+    {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(wo.force)},
     {NULL},
 };
 static const cli_group convert_group = {"Options", convert_opts, NULL};

@@ -171,6 +171,9 @@ int main(int argc, char **argv)
         if (name[0] == '-') return cli_usage_error(NULL, "unknown option '%s'", name);
         return cli_usage_error(NULL, "unknown command '%s'", name);
     }
+    /* Ctrl-C, SIGTERM or SIGHUP during a write removes its temporary files.
+     * Not for the viewer, whose window library turns Ctrl-C into a quit. */
+    if (c->run != cmd_view && bvox_cleanup_on_signals()) return cli_fail();
     int rc = c->run(argc - 1, argv + 1);
     /* A full disk or closed pipe on stdout is a failure too. */
     if (fflush(stdout) != 0 || ferror(stdout)) {

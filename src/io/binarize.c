@@ -18,6 +18,8 @@
  *     z, which are exactly the words of 64 columns. Rows beyond nz are zero,
  *     so the tail bits of each column come out zero. Work is split over y and
  *     runs of x with bvox__parallel_for; each piece writes its own columns.
+ *     Samples in z-fastest order (NumPy's C order of [x][y][z]) skip the
+ *     transpose: a column's samples compare straight into its words.
  */
 #include "binarize_kernels.h"
 
@@ -323,6 +325,29 @@ static void pack_range(void *ctx, int64_t begin, int64_t end)
     for (int64_t i = begin; i < end; i++) pack_item(ctx, i, m);
 }
 
+/* z-fastest samples (g->z_fastest): a column's nz samples are contiguous, so
+ * the compare kernel's 64 bits per block are already the column's words (bit
+ * i = slice i); no transpose. Item i is the column x = i / ny, y = i % ny. */
+static void pack_columns(void *ctx, int64_t begin, int64_t end)
+{
+    const pack_ctx *c = ctx;
+    size_t nz = c->nz, wpc = c->wpc, size = c->size;
+    size_t nfull = nz / 64, tail = nz % 64;
+    _Alignas(64) unsigned char pad[64 * 8];
+    for (int64_t i = begin; i < end; i++) {
+        size_t x = (size_t)i / c->ny, y = (size_t)i % c->ny;
+        const unsigned char *src = c->data + (size_t)i * nz * size;
+        uint64_t *dst = c->words + (y * c->nx + x) * wpc;
+        if (nfull) c->blocks(src, nfull, &c->pred, dst, 1);
+        if (tail) {
+            memcpy(pad, src + nfull * 64 * size, tail * size);
+            memset(pad + tail * size, 0, (64 - tail) * size);
+            c->blocks(pad, 1, &c->pred, dst + nfull, 1);
+            dst[nfull] &= (1ull << tail) - 1; /* the padding may pass the test */
+        }
+    }
+}
+
 static bvox__bin_blocks_fn choose_blocks(void)
 {
 #if defined(__x86_64__)
@@ -396,7 +421,14 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
     if (use_pred) {
         pack_ctx c = {.data = g->data, .size = bvox_dtype_size(g->dtype),
                       .nx = (size_t)v->nx, .ny = (size_t)v->ny, .nz = (size_t)v->nz,
-                      .wpc = v->wpc, .words = v->words, .pred = pred, .blocks = blocks};
+                      .wpc = v->wpc, .words = v->words, .pred = pred,
+                      .blocks = blocks};
+        if (g->z_fastest) {
+            bvox__parallel_for((int64_t)(c.nx * c.ny), ((int64_t)1 << 20) / (int64_t)c.nz + 1,
+                               pack_columns, &c);
+            *out = v;
+            return BVOX_OK;
+        }
         size_t nxb = (c.nx + 63) / 64, per_item = ITEM_BYTES / (64 * c.size);
         if (nxb <= per_item) {
             c.rows_per_item = per_item / nxb;

@@ -29,6 +29,8 @@ typedef struct bvox__gray {
     void *owned;         /* from bvox__alloc, or NULL */
     size_t owned_bytes;
     bool byteswap;       /* samples are in the other byte order than the CPU's */
+    bool z_fastest;      /* samples are z fastest, then y, then x (the C order of
+                            an [x][y][z] array, NumPy's default) instead */
     double slope, inter; /* real value = raw * slope + inter; slope 0 means 1 */
     bvox_geometry geom;  /* given to the volume */
 } bvox__gray;
@@ -84,30 +86,86 @@ bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, siz
 typedef struct bvox__sink {
     FILE *file;
     char *tmp_path;
-    char *final_path;
+    char *final_path; /* where the rename goes: a symlink's final target */
+    char *name;    /* the path as given, for messages */
     void *gz;      /* z_stream when compressing, else NULL */
     bool failed;   /* a write failed: commit will refuse */
     bvox_status status;
+    int slot;      /* bvox__temp_register's slot, -1 if none */
 } bvox__sink;
 
 /* Open a temporary file next to path (".name.XXXXXX" in the same folder).
- * gzip != 0 compresses what is written (for .nii.gz). */
+ * gzip != 0 compresses what is written (for .nii.gz). Refused (BVOX_EIO):
+ * a path that names a folder, a device, a FIFO or a socket. A symlink is
+ * followed: the temporary file is made beside its final target, which the
+ * rename replaces (the link stays a link). An existing file's permission
+ * bits (and group, where allowed) are kept; a new file gets 0666 less the
+ * umask. */
 bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s);
 bvox_status bvox__sink_write(bvox__sink *s, const void *data, size_t size);
-/* Flush, fsync, close and rename over path. On failure the temporary file is
- * removed and an existing file at path is unchanged. Always releases s. */
+/* Flush, fsync, close, rename over path and fsync the folder. On failure
+ * the temporary file is removed and an existing file at path is unchanged.
+ * Always releases s. */
 bvox_status bvox__sink_commit(bvox__sink *s);
 /* Close and remove the temporary file; releases s. Safe after a failed open. */
 void bvox__sink_abort(bvox__sink *s);
 /* Test hook: make the n-th following bvox__sink_write fail (1: the next). */
 void bvox__sink_fail_after(long n);
+/* Test hook: how many times a folder was fsync'ed after a rename into it. */
+long bvox__folder_syncs(void);
+/* fsync the folder that holds path (after a rename into it). */
+bool bvox__sync_parent(const char *path);
+struct stat;
+/* Follow path while it is a symlink (relative targets are relative to the
+ * link's folder, at most 40 links). *out: the final path (free() it); *sb
+ * its lstat, or *exists = false when nothing is there yet. false with errno
+ * on failure (ELOOP, ENOMEM, ...). */
+bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *exists);
 
-/* Directory outputs (PNG slices): a temporary folder next to path, renamed
- * over path on commit (an existing folder is replaced only then). A failed
- * commit removes the temporary folder, as abort does. */
-bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir);
-bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path);
-void bvox__dir_sink_abort(const char *tmp_dir);
+/* Folder outputs (PNG slices, SVG sections): the files are written into a
+ * temporary folder beside the target (tmp), then
+ *  - a target that does not exist: the temporary folder is renamed into place;
+ *  - an empty target, or one holding only an earlier bvox output of the
+ *    same kind (its manifest, MANIFEST_NAME, lists the files bvox wrote, and
+ *    every name in it has the kind's pattern): the new files are renamed
+ *    into it one by one, the listed files that are not written again are
+ *    removed, and the manifest is rewritten; the folder itself is kept;
+ *  - anything else is refused (BVOX_EIO, naming a file found there) before
+ *    anything is written, and again at commit; with force, the new files
+ *    replace files of the same names and nothing else is removed.
+ * Nothing but the listed files is ever deleted. The temporary folder is
+ * removed on every failure, and by bvox_cleanup_on_signals' handler. */
+typedef enum { BVOX__DIR_PNG_SLICES, BVOX__DIR_SVG_SECTIONS } bvox__dir_kind;
+#define BVOX__MANIFEST_NAME ".bvox-manifest"
+typedef struct bvox__dir_sink {
+    char *target;  /* trailing slashes removed, a symlink resolved */
+    char *tmp;     /* the temporary folder: writers put their files here */
+    const char *name; /* the path as given, for messages */
+    bvox__dir_kind kind;
+    bool force;
+    int slot;
+} bvox__dir_sink;
+bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool force,
+                                bvox__dir_sink *d);
+/* Put the files in place as described above; always releases d. */
+bvox_status bvox__dir_sink_commit(bvox__dir_sink *d);
+/* Remove the temporary folder; releases d. Safe after a failed open. */
+void bvox__dir_sink_abort(bvox__dir_sink *d);
+
+/* ---- temporary names and signal cleanup (temp_files.c) ---- */
+
+/* "DIR/.BASE.XXXXXX" for path "DIR/BASE" (malloc'ed; NULL when out of memory). */
+char *bvox__temp_name(const char *path);
+/* Make a unique file (returns an open fd, mode 0666 less the umask) or
+ * folder (returns 0, mode 0777 less the umask) from templ, whose last six
+ * characters are replaced. -1 with errno on failure. */
+int bvox__temp_create(char *templ, bool is_dir);
+/* Track a temporary path so that a signal removes it; returns the slot for
+ * bvox__temp_unregister (-1: not tracked, which unregister accepts). */
+int bvox__temp_register(const char *path, bool is_dir);
+void bvox__temp_unregister(int slot);
+/* Remove every tracked temporary (what the signal handler does). */
+void bvox__temp_remove_all_signal_safe(void);
 
 /* ---- the format table (format.c) ---- */
 
@@ -189,5 +247,9 @@ void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t 
  * file or, on failure, nothing. */
 bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
                                     const void *header, size_t header_size);
+/* The whole volume as bytes 0/1, z fastest, then y, then x:
+ * dst[((size_t)x * ny + y) * nz + z] = voxel. Each column's words expand in
+ * place (no transpose); columns are split over the worker threads. */
+void bvox__unpack_columns(const bvox_volume *vol, uint8_t *dst);
 
 #endif
