@@ -30,6 +30,7 @@ int cmd_demo(int argc, char **argv);
 int cmd_morph(int argc, char **argv);
 int cmd_components(int argc, char **argv);
 int cmd_measure(int argc, char **argv);
+int cmd_labels(int argc, char **argv);
 int cmd_edit(int argc, char **argv);
 int cmd_cut(int argc, char **argv);
 int cmd_csg(int argc, char **argv);

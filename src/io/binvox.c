@@ -454,5 +454,5 @@ static bvox_status binvox_write_path(const char *path, const bvox_volume *vol,
 static const char *const binvox_extensions[] = {".binvox", NULL};
 
 const bvox__format bvox__format_binvox = {
-    "binvox", binvox_extensions, binvox_sniff, binvox_read_memory, NULL, binvox_write_path,
+    "binvox", binvox_extensions, binvox_sniff, binvox_read_memory, NULL, binvox_write_path, NULL,
 };

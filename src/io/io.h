@@ -104,6 +104,11 @@ typedef struct bvox__format {
     bvox_status (*read_path)(const char *path, const bvox_read_opts *opts, bvox_volume **out);
     bvox_status (*write_path)(const char *path, const bvox_volume *vol,
                               const bvox_write_opts *opts);
+    /* Decode to typed samples without binarising (label volumes read them
+     * once, labels.c); NULL for formats that hold only binary voxels. On
+     * success g->data points into data or into g->owned. */
+    bvox_status (*gray_memory)(const uint8_t *data, size_t size, const char *name,
+                               const bvox_read_opts *opts, bvox__gray *g);
 } bvox__format;
 
 extern const bvox__format bvox__format_nifti;
@@ -111,6 +116,15 @@ extern const bvox__format bvox__format_binvox;
 extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
+
+/* The typed samples of a file or buffer, for readers of label volumes: the
+ * format resolved as bvox_read does (forced, extension, content). On success
+ * g->data may point into *file (released by the caller after g) or into
+ * g->owned. BVOX_EUNSUPPORTED for formats without samples (binvox, png). */
+bvox_status bvox__read_gray(const char *path, const bvox_read_opts *opts, bvox__bytes *file,
+                            bvox__gray *g);
+bvox_status bvox__read_gray_memory(const void *data, size_t size, const char *name,
+                                   const bvox_read_opts *opts, bvox__gray *g);
 
 /* The TIFF writer, in its own file (tiff_write.c) beside the reader (tiff.c). */
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,

@@ -328,10 +328,13 @@ static int nifti_sniff(const uint8_t *data, size_t size)
 
 /* ------------------------------------------------------------------ reading */
 
-static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const char *name,
-                                     const bvox_read_opts *opts, bvox_volume **out)
+/* Decode into a gray volume: g->data points into data, or into the
+ * decompressed copy that g owns (.nii.gz). */
+static bvox_status nifti_gray_memory(const uint8_t *data, size_t size, const char *name,
+                                     const bvox_read_opts *opts, bvox__gray *g)
 {
-    *out = NULL;
+    (void)opts;
+    bvox__gray_init(g);
     if (!name) name = "input";
     bvox__bytes unz = {0};
     header hd;
@@ -364,20 +367,32 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
                         "%s: truncated: header claims %llu bytes of voxel data, file has %llu",
                         name, (unsigned long long)hd.data_bytes,
                         (unsigned long long)(size - hd.vox_offset));
-    if (st == BVOX_OK) {
-        bvox__gray g;
-        bvox__gray_init(&g);
-        g.dims = hd.dims;
-        g.dtype = hd.dtype;
-        g.data = data + hd.vox_offset; /* no copy: the binariser reads in place */
-        g.byteswap = hd.swap && hd.elem > 1;
-        g.slope = hd.slope;
-        g.inter = hd.inter;
-        g.geom = hd.geom;
-        st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
-        bvox__gray_release(&g);
+    if (st) {
+        if (unz.data) bvox__bytes_release(&unz);
+        return st;
     }
-    if (unz.data) bvox__bytes_release(&unz);
+    g->dims = hd.dims;
+    g->dtype = hd.dtype;
+    g->data = data + hd.vox_offset; /* no copy: the binariser reads in place */
+    g->owned = unz.data;
+    g->owned_bytes = unz.alloc_bytes;
+    g->byteswap = hd.swap && hd.elem > 1;
+    g->slope = hd.slope;
+    g->inter = hd.inter;
+    g->geom = hd.geom;
+    return BVOX_OK;
+}
+
+static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const char *name,
+                                     const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    if (!name) name = "input";
+    bvox__gray g;
+    bvox_status st = nifti_gray_memory(data, size, name, opts, &g);
+    if (st) return st;
+    st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
+    bvox__gray_release(&g);
     return st;
 }
 
@@ -546,4 +561,5 @@ static const char *const nifti_extensions[] = {".nii.gz", ".nii", NULL};
 
 const bvox__format bvox__format_nifti = {
     "nifti", nifti_extensions, nifti_sniff, nifti_read_memory, NULL, nifti_write_path,
+    nifti_gray_memory,
 };

@@ -415,5 +415,5 @@ static bvox_status png_write_path(const char *path, const bvox_volume *v,
 static const char *const png_extensions[] = {".png", NULL};
 
 const bvox__format bvox__format_png = {
-    "png", png_extensions, png_sniff, png_read_memory, png_read_path, png_write_path,
+    "png", png_extensions, png_sniff, png_read_memory, png_read_path, png_write_path, NULL,
 };

@@ -371,19 +371,30 @@ static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *
     return BVOX_OK;
 }
 
-static bvox_status tiff_read_memory(const uint8_t *data, size_t size, const char *name,
-                                    const bvox_read_opts *opts, bvox_volume **out)
+/* Decode every page into a gray volume that owns its samples. */
+static bvox_status tiff_gray_memory(const uint8_t *data, size_t size, const char *name,
+                                    const bvox_read_opts *opts, bvox__gray *g)
 {
-    *out = NULL;
+    (void)opts;
+    bvox__gray_init(g);
     if (!name) name = "TIFF";
     bvox__tiff_src src;
     TIFF *tif;
     bvox_status st = bvox__tiff_open_memory(data, size, name, &src, &tif);
     if (st) return st;
-    bvox__gray g;
-    bvox__gray_init(&g);
-    st = read_pages(tif, &src, name, &g);
+    st = read_pages(tif, &src, name, g);
     TIFFClose(tif);
+    if (st) bvox__gray_release(g);
+    return st;
+}
+
+static bvox_status tiff_read_memory(const uint8_t *data, size_t size, const char *name,
+                                    const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    if (!name) name = "TIFF";
+    bvox__gray g;
+    bvox_status st = tiff_gray_memory(data, size, name, opts, &g);
     if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
     bvox__gray_release(&g);
     return st;
@@ -393,4 +404,5 @@ static const char *const tiff_extensions[] = {".tif", ".tiff", NULL};
 
 const bvox__format bvox__format_tiff = {
     "tiff", tiff_extensions, tiff_sniff, tiff_read_memory, NULL, bvox__tiff_write,
+    tiff_gray_memory,
 };
