@@ -301,6 +301,16 @@ int cmd_labels(int argc, char **argv)
         bvox_label_table_destroy(table);
         return cli_fail();
     }
+    if (ra.spacing_given || ra.unit) { /* as cli_read_volume does for one volume */
+        bvox_geometry g = set->geometry;
+        if (ra.spacing_given) memcpy(g.spacing, ra.spacing, sizeof g.spacing);
+        if (ra.unit) snprintf(g.unit, sizeof g.unit, "%s", ra.unit);
+        if (bvox_labelset_set_geometry(set, &g)) {
+            bvox_labelset_destroy(set);
+            bvox_label_table_destroy(table);
+            return cli_fail();
+        }
+    }
     if (table) {
         int shown = table->nwarnings < 8 ? table->nwarnings : 8;
         for (int k = 0; k < shown; k++) fprintf(stderr, "bvox: warning: %s\n", table->warnings[k]);

@@ -536,6 +536,10 @@ bvox_status bvox_labels_read_memory(const void *data, size_t size, const char *n
                                     bvox_labelset **out);
 /* Release a label set and its volumes; NULL is fine. */
 void bvox_labelset_destroy(bvox_labelset *set);
+/* Give the label volume a new geometry (e.g. a voxel size the file lacks):
+ * every crop follows, keeping its place in the volume. BVOX_EINVAL for an
+ * invalid geometry (as bvox_volume_set_geometry). */
+bvox_status bvox_labelset_set_geometry(bvox_labelset *set, const bvox_geometry *geom);
 /* Index of label in set->objects, or -1. */
 int64_t bvox_labelset_find(const bvox_labelset *set, int64_t label);
 /* bvox_measure of object `index`, reported in the label volume's frame

@@ -541,3 +541,18 @@ int64_t bvox_labelset_find(const bvox_labelset *set, int64_t label)
     }
     return lo < set->n && set->objects[lo].label == label ? lo : -1;
 }
+
+bvox_status bvox_labelset_set_geometry(bvox_labelset *set, const bvox_geometry *geom)
+{
+    bvox__clear_error();
+    if (!set || !geom) return bvox__fail(BVOX_EINVAL, "bvox_labelset_set_geometry: NULL argument");
+    for (int64_t i = 0; i < set->n; i++) {
+        bvox_label_object *o = &set->objects[i];
+        bvox_geometry g = *geom;
+        bvox__geometry_shift(&g, o->crop.x0, o->crop.y0, o->crop.z0);
+        bvox_status st = bvox_volume_set_geometry(o->volume, &g);
+        if (st) return st; /* checked on the first: every crop gets the same spacing */
+    }
+    set->geometry = *geom;
+    return BVOX_OK;
+}
