@@ -262,6 +262,48 @@ static void print_text(const char *path, const bvox_labelset *set, const row *ro
     }
 }
 
+int cli_labels_load(const char *path, const cli_read_args *ra, const char *lut,
+                    int64_t max_labels, bvox_labelset **set_out, bvox_label_table **table_out)
+{
+    *set_out = NULL;
+    *table_out = NULL;
+    bvox_label_table *table = NULL;
+    if (lut && bvox_label_table_read(lut, &table)) return -1;
+    bvox_labelset *set = NULL;
+    if (bvox_labels_read(path, &ra->opts, max_labels, &set)) {
+        bvox_label_table_destroy(table);
+        return -1;
+    }
+    if (ra->spacing_given || ra->unit) { /* as cli_read_volume does for one volume */
+        bvox_geometry g = set->geometry;
+        if (ra->spacing_given) memcpy(g.spacing, ra->spacing, sizeof g.spacing);
+        if (ra->unit) snprintf(g.unit, sizeof g.unit, "%s", ra->unit);
+        if (bvox_labelset_set_geometry(set, &g)) {
+            bvox_labelset_destroy(set);
+            bvox_label_table_destroy(table);
+            return -1;
+        }
+    }
+    if (table) {
+        int shown = table->nwarnings < 8 ? table->nwarnings : 8;
+        for (int k = 0; k < shown; k++) fprintf(stderr, "bvox: warning: %s\n", table->warnings[k]);
+        if (table->nwarnings > shown)
+            fprintf(stderr, "bvox: warning: %s: %d more warnings\n", lut,
+                    table->nwarnings - shown);
+        int64_t missing = 0;
+        for (int64_t i = 0; i < set->n; i++)
+            if (!bvox_label_table_find(table, set->objects[i].label) && missing++ < 8)
+                fprintf(stderr, "bvox: warning: label %lld is not in %s\n",
+                        (long long)set->objects[i].label, lut);
+        if (missing > 8)
+            fprintf(stderr, "bvox: warning: %lld labels in all are not in %s\n",
+                    (long long)missing, lut);
+    }
+    *set_out = set;
+    *table_out = table;
+    return 0;
+}
+
 int cmd_labels(int argc, char **argv)
 {
     const char *cmd = "labels", *path = NULL, *lut = NULL, *v = NULL;
@@ -295,29 +337,8 @@ int cmd_labels(int argc, char **argv)
                                     "--otsu and --nonzero do not apply");
 
     bvox_label_table *table = NULL;
-    if (lut && bvox_label_table_read(lut, &table)) return cli_fail();
     bvox_labelset *set = NULL;
-    if (bvox_labels_read(path, &ra.opts, max_labels, &set)) {
-        bvox_label_table_destroy(table);
-        return cli_fail();
-    }
-    if (ra.spacing_given || ra.unit) { /* as cli_read_volume does for one volume */
-        bvox_geometry g = set->geometry;
-        if (ra.spacing_given) memcpy(g.spacing, ra.spacing, sizeof g.spacing);
-        if (ra.unit) snprintf(g.unit, sizeof g.unit, "%s", ra.unit);
-        if (bvox_labelset_set_geometry(set, &g)) {
-            bvox_labelset_destroy(set);
-            bvox_label_table_destroy(table);
-            return cli_fail();
-        }
-    }
-    if (table) {
-        int shown = table->nwarnings < 8 ? table->nwarnings : 8;
-        for (int k = 0; k < shown; k++) fprintf(stderr, "bvox: warning: %s\n", table->warnings[k]);
-        if (table->nwarnings > shown)
-            fprintf(stderr, "bvox: warning: %s: %d more warnings\n", lut,
-                    table->nwarnings - shown);
-    }
+    if (cli_labels_load(path, &ra, lut, max_labels, &set, &table)) return cli_fail();
     row *rows = calloc((size_t)set->n + 1, sizeof *rows);
     adjacency adj = {0};
     int rc = CLI_OK;
@@ -326,18 +347,10 @@ int cmd_labels(int argc, char **argv)
         rc = CLI_FAIL;
         goto done;
     }
-    int64_t missing = 0;
     for (int64_t i = 0; i < set->n && rc == CLI_OK; i++) {
         if (bvox_labelset_measure(set, i, &rows[i].m)) rc = cli_fail();
-        if (table && !(rows[i].entry = bvox_label_table_find(table, set->objects[i].label))) {
-            if (missing++ < 8)
-                fprintf(stderr, "bvox: warning: label %lld is not in %s\n",
-                        (long long)set->objects[i].label, lut);
-        }
+        rows[i].entry = bvox_label_table_find(table, set->objects[i].label);
     }
-    if (missing > 8)
-        fprintf(stderr, "bvox: warning: %lld labels in all are not in %s\n", (long long)missing,
-                lut);
     if (rc != CLI_OK) goto done;
     if (json) print_json(path, set, rows, &adj);
     else if (csv) print_csv(set, rows, &adj);

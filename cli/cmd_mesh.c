@@ -3,6 +3,8 @@
  * options, bvox_mesh_from_volume (marching cubes or cuberille, optional
  * Taubin smoothing), bvox_mesh_write in the format OUT's extension names
  * (STL, PLY, OBJ, OFF; binary unless --ascii). Prints one summary line.
+ * With --labels, a label volume becomes one mesh per label in a folder
+ * (cli/mesh_labels.c).
  */
 #include "args.h"
 #include "cli.h"
@@ -29,6 +31,11 @@ static void help(FILE *f)
           "  --lambda L, --mu M    Taubin's factors (default 0.5 and -0.53)\n"
           "  --ascii               ASCII STL or PLY instead of binary\n"
           "  --mesh-format NAME    stl, ply, obj or off, whatever OUT's extension\n"
+          "  --labels all|L,L,...  IN is a label volume: one cuberille mesh per label in\n"
+          "                        the folder OUT, named LABEL_NAME.EXT (--mesh-format,\n"
+          "                        default ply); touching labels share their boundary\n"
+          "  --lut TABLE           label names for the file names (see 'bvox labels')\n"
+          "  --max-labels N        refuse label volumes with more labels (default 65535)\n"
           "  --help                show this help\n",
           f);
     cli_print_read_options_help(f);
@@ -36,7 +43,8 @@ static void help(FILE *f)
     fputs("\nExamples:\n"
           "  bvox mesh embryo.nii.gz -o embryo.stl\n"
           "  bvox mesh atlas.nii.gz --label 37 -o hippocampus.ply --smooth 10\n"
-          "  bvox mesh cells.tif -o cells.obj --method cuberille\n",
+          "  bvox mesh cells.tif -o cells.obj --method cuberille\n"
+          "  bvox mesh aal.nii.gz --labels all --lut aal.nii.txt -o aal_meshes/\n",
           f);
 }
 
@@ -46,7 +54,8 @@ int cmd_mesh(int argc, char **argv)
     cli_read_args ra;
     cli_read_args_init(&ra);
     bvox_mesh_opts mo = BVOX_MESH_OPTS_INIT;
-    int ascii = 0, options_done = 0, r;
+    int ascii = 0, options_done = 0, r, method_given = 0;
+    const char *labels = NULL, *lut = NULL, *max_labels = NULL;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
@@ -57,11 +66,18 @@ int cmd_mesh(int argc, char **argv)
                    (r = cli_match_value(cmd, argc, argv, &i, "--output", &value))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
             out = value;
+        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--labels", &labels))) {
+            if (r == CLI_ARG_BAD) return CLI_USAGE;
+        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--lut", &lut))) {
+            if (r == CLI_ARG_BAD) return CLI_USAGE;
+        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--max-labels", &max_labels))) {
+            if (r == CLI_ARG_BAD) return CLI_USAGE;
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--mesh-format", &value))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
             fmt = value;
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--method", &value))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
+            method_given = 1;
             if (!strcmp(value, "mc")) mo.method = BVOX_MESH_MC;
             else if (!strcmp(value, "cuberille")) mo.method = BVOX_MESH_CUBERILLE;
             else return cli_usage_error(cmd, "--method must be mc or cuberille, not '%s'", value);
@@ -85,6 +101,17 @@ int cmd_mesh(int argc, char **argv)
         }
     }
     if (!in) return cli_usage_error(cmd, "needs IN");
+    if (labels || lut || max_labels) {
+        if (!labels) return cli_usage_error(cmd, "--lut and --max-labels go with --labels");
+        if (!out) return cli_usage_error(cmd, "needs -o FOLDER for the per-label meshes");
+        if (method_given && mo.method != BVOX_MESH_CUBERILLE)
+            return cli_usage_error(cmd, "per-label meshes are cuberille (shared boundaries); "
+                                        "--method mc does not apply");
+        if (mo.smooth > 0)
+            return cli_usage_error(cmd, "per-label meshes are not smoothed (shared "
+                                        "boundaries would part)");
+        return cli_mesh_labels(in, &ra, labels, lut, max_labels, out, fmt ? fmt : "ply", ascii);
+    }
     if (!out) return cli_usage_error(cmd, "needs -o OUT (.stl, .ply, .obj or .off)");
     if (!fmt && !bvox_mesh_format_for_path(out))
         return cli_usage_error(cmd, "%s: the extension must be .stl, .ply, .obj or .off", out);

@@ -113,6 +113,34 @@ jcheck "$tmp/j3" 'o["unit"] == "um" and o["labels"][0]["count"] == 137 and near(
 jcheck "$tmp/j3" 'near(o["labels"][0]["centroid"][0], 2 * o["labels"][0]["centroid"][0] / 2) and o["labels"][0]["bbox"]["min"] == [1, 1, 1]' ||
     fail "override bbox"
 
+# Per-label meshes: one file per label in a new folder, named after the
+# label and its table name; a list picks labels; mc and smoothing refused.
+"$BVOX" mesh "$tmp/lab.raw" --dims 12,10,9 --type u16 --labels all --lut "$tmp/itk.txt" \
+    -o "$tmp/meshes" >"$tmp/o" 2>/dev/null || fail "mesh --labels all exited $?"
+[ "$(ls "$tmp/meshes" | tr '\n' ' ')" = "300.ply 4_Cortex.ply 9_Core_inner.ply " ] ||
+    fail "mesh files: $(ls "$tmp/meshes")"
+grep -q "3 meshes" "$tmp/o" || fail "mesh summary: $(cat "$tmp/o")"
+"$BVOX" meshinfo "$tmp/meshes/9_Core_inner.ply" --json >"$tmp/mi" || fail "meshinfo"
+jcheck "$tmp/mi" 'o["triangles"] == 12 and near(o["volume"], 1)' || fail "mesh of 9: $(cat "$tmp/mi")"
+"$BVOX" mesh "$tmp/all.nii" --labels 1 --mesh-format obj -o "$tmp/m2/" >/dev/null ||
+    fail "mesh --labels 1"
+[ -f "$tmp/m2/1.obj" ] || fail "mesh --labels 1: $(ls "$tmp/m2")"
+for args in "--labels 1 --method mc -o $tmp/m3" "--labels 1 --smooth 3 -o $tmp/m3" \
+    "--labels 1" "--lut $tmp/itk.txt -o $tmp/m3" "--labels 1,x -o $tmp/m3"; do
+    set +e
+    # shellcheck disable=SC2086
+    "$BVOX" mesh "$tmp/all.nii" $args >/dev/null 2>"$tmp/err"
+    rc=$?
+    set -e
+    [ $rc -eq 2 ] || fail "mesh $args exited $rc (want 2): $(cat "$tmp/err")"
+done
+set +e
+"$BVOX" mesh "$tmp/all.nii" --labels 5 -o "$tmp/m3" >/dev/null 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 1 ] && grep -q "no voxel has label 5" "$tmp/err" || fail "mesh --labels 5: $rc $(cat "$tmp/err")"
+[ ! -e "$tmp/m3" ] || fail "a folder was left behind"
+
 # Bad input: too many labels, float labels that are not integers, binary
 # formats, a missing table, bad command lines.
 set +e
