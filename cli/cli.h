@@ -58,6 +58,8 @@ int cmd_contours(int argc, char **argv);
 
 /* "bvox: <message>" on stderr for a failed library call; returns CLI_FAIL. */
 int cli_fail(void);
+/* Set by the global --quiet (main.c): no warnings, no progress on stderr. */
+extern int cli_quiet;
 /* "bvox: <cmd>: <message> (see 'bvox <cmd> --help')" on stderr; returns CLI_USAGE. */
 int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

@@ -148,6 +148,8 @@ static void print_json(const char *path, const bvox_labelset *set, const row *ro
         cli_json_int(&j, m->components);
         cli_json_key(&j, "cavities");
         cli_json_int(&j, m->cavities);
+        cli_json_key(&j, "cavities_26");
+        cli_json_int(&j, m->cavities_26);
         cli_json_key(&j, "tunnels");
         cli_json_int(&j, m->tunnels);
         cli_json_key(&j, "euler");
@@ -208,7 +210,7 @@ static void print_csv(const bvox_labelset *set, const row *rows, const adjacency
 {
     puts("label,name,voxels,volume,surface_area,surface_area_faces,centroid_x,centroid_y,"
          "centroid_z,bbox_min_x,bbox_min_y,bbox_min_z,bbox_max_x,bbox_max_y,bbox_max_z,"
-         "components,cavities,tunnels,euler,equivalent_diameter,sphericity,neighbours");
+         "components,cavities,tunnels,euler,equivalent_diameter,sphericity,neighbours,cavities_26");
     for (int64_t i = 0; i < set->n; i++) {
         const bvox_measures *m = &rows[i].m;
         printf("%lld", (long long)set->objects[i].label);
@@ -234,7 +236,7 @@ static void print_csv(const bvox_labelset *set, const row *rows, const adjacency
             printf("%s%lld:%s", k > adj->start[i] ? ";" : "", (long long)set->objects[other].label,
                    buf);
         }
-        putchar('\n');
+        printf(",%lld\n", (long long)m->cavities_26);
     }
 }
 
@@ -255,9 +257,11 @@ static void print_text(const char *path, const bvox_labelset *set, const row *ro
     for (int64_t i = 0; i < set->n; i++) {
         const bvox_measures *m = &rows[i].m;
         const char *name = name_of(&rows[i]);
-        printf("%8lld  %-24.24s %10lld %12.6g %12.6g %6lld %6.3f %5lld\n",
+        char sph[16] = "   n/a"; /* under 1000 voxels: not estimated */
+        if (!isnan(m->sphericity)) snprintf(sph, sizeof sph, "%6.3f", m->sphericity);
+        printf("%8lld  %-24.24s %10lld %12.6g %12.6g %6lld %s %5lld\n",
                (long long)set->objects[i].label, name ? name : "-", (long long)m->count,
-               m->volume, m->area, (long long)m->components, m->sphericity,
+               m->volume, m->area, (long long)m->components, sph,
                (long long)(adj->start[i + 1] - adj->start[i]));
     }
 }

@@ -55,7 +55,8 @@ static void print_text(const bvox_info *info, const bvox_measures *m, const char
     const char *sep = g->unit[0] ? " " : "", *unit = g->unit;
     char au[32];
     area_unit(g, au, sizeof au);
-    printf("%-14s%.6g %s (voxel faces: %.6g)\n", "surface area:", m->area, au, m->area_faces);
+    printf("%-14s%.6g %s (area of the voxel faces: %.6g %s)\n", "surface area:", m->area, au,
+           m->area_faces, au);
     if (m->count > 0) {
         printf("%-14s%.6g, %.6g, %.6g%s%s\n", "centroid:", m->centroid[0] + 0.0,
                m->centroid[1] + 0.0, m->centroid[2] + 0.0, sep, unit);
@@ -69,10 +70,13 @@ static void print_text(const bvox_info *info, const bvox_measures *m, const char
                    sep, unit);
         }
         printf("%-14s%.6g%s%s\n", "eq. diameter:", m->equivalent_diameter, sep, unit);
-        printf("%-14s%.4f\n", "sphericity:", m->sphericity);
+        if (isnan(m->sphericity))
+            printf("%-14s%s\n", "sphericity:", "n/a (under 1000 voxels: the area estimate is too rough)");
+        else printf("%-14s%.4f\n", "sphericity:", m->sphericity);
     }
     printf("%-14s%lld (26-connected)\n", "components:", (long long)m->components);
-    printf("%-14s%lld\n", "cavities:", (long long)m->cavities);
+    printf("%-14s%lld (6-connected background; 26-connected: %lld)\n", "cavities:",
+           (long long)m->cavities, (long long)m->cavities_26);
     printf("%-14s%lld\n", "tunnels:", (long long)m->tunnels);
     printf("%-14s%lld\n", "euler:", (long long)m->euler);
 }
@@ -126,6 +130,10 @@ static void print_json(const bvox_info *info, const bvox_measures *m, const char
     cli_json_int(&j, m->components);
     cli_json_key(&j, "cavities");
     cli_json_int(&j, m->cavities);
+    cli_json_key(&j, "cavities_6"); /* the same: the background's connectivity named */
+    cli_json_int(&j, m->cavities);
+    cli_json_key(&j, "cavities_26");
+    cli_json_int(&j, m->cavities_26);
     cli_json_key(&j, "tunnels");
     cli_json_int(&j, m->tunnels);
     cli_json_key(&j, "euler");
@@ -150,7 +158,7 @@ static void print_csv(const bvox_measures *all, int64_t n)
     puts("component,voxels,volume,surface_area,surface_area_faces,centroid_x,centroid_y,"
          "centroid_z,bbox_min_x,bbox_min_y,bbox_min_z,bbox_max_x,bbox_max_y,bbox_max_z,"
          "axis1_x,axis1_y,axis1_z,moment1,moment2,moment3,equivalent_diameter,sphericity,"
-         "cavities,tunnels,euler");
+         "cavities,tunnels,euler,cavities_26");
     for (int64_t i = 0; i < n; i++) {
         const bvox_measures *m = &all[i];
         printf("%lld,%lld", (long long)(i + 1), (long long)m->count);
@@ -164,8 +172,8 @@ static void print_csv(const bvox_measures *all, int64_t n)
         for (int a = 0; a < 3; a++) csv_double(m->principal_moments[a]);
         csv_double(m->equivalent_diameter);
         csv_double(m->sphericity);
-        printf(",%lld,%lld,%lld\n", (long long)m->cavities, (long long)m->tunnels,
-               (long long)m->euler);
+        printf(",%lld,%lld,%lld,%lld\n", (long long)m->cavities, (long long)m->tunnels,
+               (long long)m->euler, (long long)m->cavities_26);
     }
 }
 

@@ -57,13 +57,18 @@ static void help(FILE *f)
           "  --no-interpolate       copy the nearest section instead of interpolating\n"
           "  --simplify TOL         simplify traced contours to TOL pixels (default: exact)\n"
           "  --smooth-contours N    moving average over 2N+1 contour points (area kept)\n"
+          "  --svg-select SEL       SVG sections: read only elements named by SEL, a list of\n"
+          "                         id:NAME, class:NAME, layer:NAME or NAME (default: every\n"
+          "                         visible outline; a full-canvas background is skipped)\n"
+          "  --strict               refuse a contour that crosses itself (default: fill it\n"
+          "                         even-odd and warn)\n"
           "  --save-contours OUT    the aligned contours: OUT.json, or a folder of SVG files\n"
           "  --report REPORT.json   per section: markers, transform, residual, fallback;\n"
           "                         the time of each step\n"
           "  --save-steps DIR       each section's steps as PNG files in the folder DIR\n"
           "                         (created): NAME.1_flat.png (background corrected),\n"
           "                         NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png\n"
-          "  --quiet                no progress on stderr\n"
+          "  --quiet, -q            no progress and no warnings on stderr\n"
           "  --output-format NAME   force the model's format\n"
           "  --help                 show this help\n",
           f);
@@ -345,14 +350,20 @@ int cmd_reconstruct(int argc, char **argv)
         } else if (VALUE("--save-contours")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             save = v;
+        } else if (VALUE("--svg-select")) {
+            if (r == CLI_ARG_BAD) goto bad_value;
+            o.svg_select = v;
+        } else if (!strcmp(arg, "--strict")) {
+            o.strict = 1;
         } else if (VALUE("--save-steps")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             o.save_steps = v;
         } else if (VALUE("--report")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             report_path = v;
-        } else if (!strcmp(arg, "--quiet") || !strcmp(arg, "-q")) {
+        } else if (!strcmp(arg, "-q")) {
             quiet = 1;
+            bvox_set_warning_handler(NULL, NULL);
         } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
             free(inputs);
             return CLI_USAGE;
@@ -364,6 +375,7 @@ int cmd_reconstruct(int argc, char **argv)
     if (thr_given && otsu_given) USAGE("--threshold and --otsu exclude each other");
     if (markers_given > 1) USAGE("--markers and --markers-file exclude each other");
     if (bg_given > 1) USAGE("--background and --no-background exclude each other");
+    if (cli_quiet) quiet = 1;
     progress_state ps = {isatty(2), -1, 0};
     if (!quiet) {
         o.progress = on_progress;
@@ -385,7 +397,7 @@ int cmd_reconstruct(int argc, char **argv)
     free(inputs);
     if (st) return cli_fail();
     int rc = CLI_OK;
-    for (int32_t i = 0; i < rep->nsections; i++)
+    for (int32_t i = 0; i < rep->nsections && !quiet; i++)
         if (rep->sections[i].message[0])
             fprintf(stderr, "bvox: warning: %s\n", rep->sections[i].message);
     if (out && bvox_write(out, vol, &wo)) rc = cli_fail();

@@ -12,7 +12,8 @@
 
 static void help(FILE *f)
 {
-    fputs("Usage: bvox voxelize MESH -o OUT (--res N | --voxel-size S) [--shell] [options]\n"
+    fputs("Usage: bvox voxelize MESH -o OUT (--res N | --voxel-size S | --like IMAGE) [--shell]\n"
+          "                     [options]\n"
           "\n"
           "Turn a triangle mesh (STL, OBJ, PLY, OFF) into a binary volume: a voxel is set\n"
           "when its centre is inside the mesh (exact, robust to vertices and edges on\n"
@@ -25,7 +26,12 @@ static void help(FILE *f)
           "Options:\n"
           "  -o, --output OUT      the volume file (format by extension)\n"
           "  --res N               N voxels along the longest side of the bounding box\n"
-          "  --voxel-size S        or the voxel size in mesh units (cubic voxels)\n"
+          "  --voxel-size S        or the voxel size in mesh units (cubic voxels), or\n"
+          "                        SX,SY,SZ for anisotropic voxels\n"
+          "  --like IMAGE          or the grid of an existing image (its dimensions, voxel\n"
+          "                        size, origin, axes and unit), to overlay the two\n"
+          "  --dims NX,NY,NZ --origin X,Y,Z  with --voxel-size: a grid given in full, voxel\n"
+          "                        (0,0,0)'s centre at the origin (mesh parts outside are cut)\n"
           "  --shell               only the voxels the surface passes through\n"
           "  --unit NAME           unit of the mesh coordinates, stored in OUT (e.g. mm)\n"
           "  --mesh-format NAME    stl, obj, ply or off (default: by extension/content)\n"
@@ -46,7 +52,11 @@ int cmd_voxelize(int argc, char **argv)
     bvox_voxelize_opts vo;
     memset(&vo, 0, sizeof vo);
     bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r;
+    int options_done = 0, r, have_dims = 0, have_origin = 0;
+    const char *like = NULL;
+    bvox_dims grid_dims = {0, 0, 0};
+    double origin[3] = {0, 0, 0};
+    bvox_geometry grid = bvox_geometry_default();
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
@@ -62,9 +72,28 @@ int cmd_voxelize(int argc, char **argv)
             vo.res = (int32_t)n;
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--voxel-size", &value))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_double(value, &vo.voxel_size) || !(vo.voxel_size > 0))
+            if (strchr(value, ',')) { /* SX,SY,SZ: anisotropic voxels */
+                if (cli_parse_triple(value, vo.spacing) || !(vo.spacing[0] > 0) ||
+                    !(vo.spacing[1] > 0) || !(vo.spacing[2] > 0))
+                    return cli_usage_error(cmd, "--voxel-size needs S or SX,SY,SZ > 0, not '%s'",
+                                           value);
+            } else if (cli_parse_double(value, &vo.voxel_size) || !(vo.voxel_size > 0)) {
                 return cli_usage_error(cmd, "--voxel-size needs a positive number, not '%s'",
                                        value);
+            }
+        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--like", &value))) {
+            if (r == CLI_ARG_BAD) return CLI_USAGE;
+            like = value;
+        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--dims", &value))) {
+            if (r == CLI_ARG_BAD) return CLI_USAGE;
+            if (cli_parse_dims(value, &grid_dims))
+                return cli_usage_error(cmd, "--dims needs NX,NY,NZ, not '%s'", value);
+            have_dims = 1;
+        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--origin", &value))) {
+            if (r == CLI_ARG_BAD) return CLI_USAGE;
+            if (cli_parse_triple(value, origin))
+                return cli_usage_error(cmd, "--origin needs X,Y,Z, not '%s'", value);
+            have_origin = 1;
         } else if ((r = cli_match_value(cmd, argc, argv, &i, "--unit", &value))) {
             if (r == CLI_ARG_BAD) return CLI_USAGE;
             if (strlen(value) >= sizeof vo.unit)
@@ -82,8 +111,32 @@ int cmd_voxelize(int argc, char **argv)
     }
     if (!in) return cli_usage_error(cmd, "needs MESH");
     if (!out) return cli_usage_error(cmd, "needs -o OUT");
-    if ((vo.res > 0) == (vo.voxel_size > 0))
-        return cli_usage_error(cmd, "give one of --res N or --voxel-size S");
+    if (like && (vo.res > 0 || vo.voxel_size > 0 || vo.spacing[0] > 0 || have_dims || have_origin))
+        return cli_usage_error(cmd, "--like takes the whole grid from IMAGE: no --res, "
+                                    "--voxel-size, --dims or --origin with it");
+    if ((have_dims || have_origin) && !(have_dims && have_origin && (vo.voxel_size > 0 ||
+                                                                   vo.spacing[0] > 0)))
+        return cli_usage_error(cmd, "a grid needs all of --dims, --origin and --voxel-size");
+    if (!like && (vo.res > 0) + (vo.voxel_size > 0) + (vo.spacing[0] > 0) != 1)
+        return cli_usage_error(cmd, "give one of --res N, --voxel-size S or --like IMAGE");
+    if (like) {
+        bvox_volume *ref = NULL;
+        if (bvox_read(like, NULL, &ref)) return cli_fail();
+        grid = *bvox_volume_geometry(ref);
+        grid_dims = bvox_volume_dims(ref);
+        bvox_volume_destroy(ref);
+        vo.grid = &grid;
+        vo.grid_dims = grid_dims;
+    } else if (have_dims) { /* the grid given in full: voxel (0,0,0)'s centre at --origin */
+        for (int k = 0; k < 3; k++) {
+            grid.spacing[k] = vo.voxel_size > 0 ? vo.voxel_size : vo.spacing[k];
+            grid.origin[k] = origin[k];
+        }
+        vo.voxel_size = 0;
+        memset(vo.spacing, 0, sizeof vo.spacing);
+        vo.grid = &grid;
+        vo.grid_dims = grid_dims;
+    }
     if (!wo.format && !bvox_format_for_path(out))
         return cli_usage_error(cmd,
                                "%s: cannot tell the output format from the name; use "

@@ -53,11 +53,41 @@ static void help(FILE *f)
                "Global options:\n"
                "  --help, -h     show this help ('bvox COMMAND --help' for a command)\n"
                "  --version      show the version and the SIMD level in use\n"
+               "  --quiet        no warnings on stderr (errors are still printed)\n"
                "\n"
                "Formats: %s\n"
                "Exit status: 0 success, 1 failure, 2 wrong command line.\n",
             bvox_format_list());
 }
+
+/* Library warnings: one line each on stderr, "bvox: warning: ...". */
+static void print_warning(const char *message, void *user)
+{
+    (void)user;
+    fprintf(stderr, "bvox: warning: %s\n", message);
+}
+
+/* --quiet is global: accepted anywhere on the line, removed before the
+ * command sees its arguments. Returns the new argc. */
+static int take_quiet(int argc, char **argv, int *quiet)
+{
+    int n = 0;
+    for (int i = 0; i < argc; i++) {
+        if (i > 0 && !strcmp(argv[i], "--")) { /* operands from here on */
+            while (i < argc) argv[n++] = argv[i++];
+            break;
+        }
+        if (i > 0 && !strcmp(argv[i], "--quiet")) {
+            *quiet = 1;
+            continue;
+        }
+        argv[n++] = argv[i];
+    }
+    argv[n] = NULL;
+    return n;
+}
+
+int cli_quiet;
 
 static void version(void)
 {
@@ -68,6 +98,8 @@ static void version(void)
 
 int main(int argc, char **argv)
 {
+    argc = take_quiet(argc, argv, &cli_quiet);
+    if (!cli_quiet) bvox_set_warning_handler(print_warning, NULL);
     if (argc < 2) {
         help(stderr);
         return CLI_USAGE;

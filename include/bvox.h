@@ -48,6 +48,20 @@ const char *bvox_status_name(bvox_status status);
  * valid until the next bvox call in this thread. */
 const char *bvox_errmsg(void);
 
+/* Warnings: the library never prints. Where it makes an assumption the user
+ * should know about (a missing voxel size taken as 1, an SVG element skipped,
+ * a self-crossing contour repaired), it formats one line without a trailing
+ * newline ("section 3: contour 2 crosses itself at (10.5, 4); filled by ...")
+ * and passes it to the handler set here; with no handler the warning is
+ * dropped. The handler belongs to the calling thread (a thread-local setting:
+ * set it in each thread that wants warnings); warnings are raised only in the
+ * thread that called the library function. fn NULL removes the handler. */
+typedef void (*bvox_warning_fn)(const char *message, void *user);
+void bvox_set_warning_handler(bvox_warning_fn fn, void *user);
+/* Number of warnings raised in this thread since it started (handler or not):
+ * lets a caller tell whether a call warned. */
+uint64_t bvox_warning_count(void);
+
 /* The library version, e.g. "0.1.0". */
 const char *bvox_version(void);
 
@@ -112,6 +126,11 @@ typedef struct bvox_geometry {
     double origin[3];
     double direction[9];
     char unit[16];
+    /* The space the origin and direction are in, as NIfTI's xform codes: 0
+     * unknown (bvox writes scanner), 1 scanner, 2 aligned, 3 Talairach, 4
+     * MNI-152. Read from NIfTI's sform (else qform) code and written back, so
+     * an MNI atlas stays MNI through convert; other formats keep 0. */
+    int32_t space;
 } bvox_geometry;
 
 /* spacing 1, origin 0, identity direction, empty unit. */
@@ -457,7 +476,12 @@ typedef struct bvox_measures {
     double principal_moments[3];
     double principal_inertia[3];
     double equivalent_diameter; /* of the sphere of the same volume: (6V/pi)^(1/3) */
-    double sphericity;      /* pi^(1/3) (6V)^(2/3) / area: 1 for a ball, less otherwise */
+    /* pi^(1/3) (6V)^(2/3) / area: 1 for a ball, less otherwise. Never above 1:
+     * the smooth area estimate is within about 0.5 % on round objects, so a
+     * ball may come out a little above 1 and is reported as 1. NaN (JSON
+     * null) below BVOX_SPHERICITY_MIN_VOXELS voxels, where the estimate errs
+     * by 2-17 % (a 2x2x2 cube would read 1.17); 0 for an empty volume. */
+    double sphericity;
     /* Topology with 26-connectivity for the object and 6-connectivity for the
      * background (scikit-image's euler_number(connectivity=3), the Euler
      * characteristic of the union of the closed voxel cubes):
@@ -468,7 +492,13 @@ typedef struct bvox_measures {
                                the border of the volume */
     int64_t tunnels;        /* components + cavities - euler (the genus for
                                one component without cavities) */
+    int64_t cavities_26;    /* the same cavities counted with 26-connectivity for the
+                               background (the pairing of a 6-connected object): at
+                               most cavities, since diagonal steps join more */
 } bvox_measures;
+
+/* Fewer voxels than this: sphericity is NaN (not estimated). */
+#define BVOX_SPHERICITY_MIN_VOXELS 1000
 
 /* All the measures of vol. Runs on whole words (split over the worker
  * threads) plus two labellings (the object, the complement) for the

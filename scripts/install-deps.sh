@@ -12,7 +12,7 @@ $SUDO apt-get install -y -qq --no-install-recommends \
     build-essential cmake pkg-config \
     zlib1g-dev libpng-dev libtiff-dev libgif-dev \
     clang libclang-rt-14-dev \
-    mricron-data python3 >/dev/null
+    mricron-data python3 python3-numpy python3-tifffile >/dev/null
 # tests: libcgal-demo for CGAL's data sets (data.tar.gz: the bunny mesh the
 # mesh tests voxelize, extracted by tests/setup_meshdata.sh)
 $SUDO apt-get install -y -qq --no-install-recommends libcgal-demo >/dev/null

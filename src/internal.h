@@ -34,6 +34,9 @@ bvox_status bvox__fail(bvox_status status, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 /* Clear the message (at the start of public calls that may succeed). */
 void bvox__clear_error(void);
+/* Raise one warning (see bvox_set_warning_handler): formatted, passed to the
+ * calling thread's handler if any. */
+void bvox__warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prefix the current message with "prefix: " (adds a file name to a codec error). */
 void bvox__error_prefix(const char *prefix);
 

@@ -36,6 +36,8 @@ typedef struct bvox_section {
     int32_t ncontours;
     bvox_point2 *markers;    /* reference marker centres (pixels), may be 0 */
     int32_t nmarkers;
+    int32_t z_from_index;    /* 1: the file gave no z; z = index * the stack's spacing, so
+                                a spacing given later (--spacing) re-places the section */
 } bvox_section;
 
 typedef struct bvox_contour_stack {
@@ -47,7 +49,15 @@ typedef struct bvox_contour_stack {
     int32_t nsections;
     double origin[2];        /* physical x, y of pixel coordinate (0, 0), in unit; so
                                 that model -> contours -> model keeps its position */
+    uint32_t given;          /* BVOX_STACK_GIVEN_*: which of pixel, spacing, unit the
+                                file stated (the others are defaults: reconstruct warns) */
 } bvox_contour_stack;
+
+enum {
+    BVOX_STACK_GIVEN_PIXEL = 1,
+    BVOX_STACK_GIVEN_SPACING = 2,
+    BVOX_STACK_GIVEN_UNIT = 4,
+};
 
 /* An empty stack: unit "", pixel 1, spacing 1, width = height = 0. */
 bvox_status bvox_stack_create(bvox_contour_stack **out);
@@ -179,6 +189,22 @@ bvox_status bvox_stack_read_svg_files(const char *const *paths, int32_t n,
 /* Memory entry points (name is for messages). */
 bvox_status bvox_stack_read_json_memory(const char *data, size_t size, const char *name,
                                         bvox_contour_stack **out);
+/* Options of bvox_stack_read_with. */
+typedef struct bvox_stack_read_opts {
+    /* SVG only: read only the elements that are, or lie inside, one named here:
+     * a comma-separated list of id:NAME, class:NAME, layer:NAME (Inkscape's
+     * layer label or a <g id>) or a bare NAME matching any of these. NULL:
+     * every visible outline. Either way hidden elements (display:none,
+     * visibility:hidden) and a full-canvas background <rect> are skipped, with
+     * one warning per file (bvox_set_warning_handler) counting what was. A
+     * selection that names nothing in any section: BVOX_EINVAL. */
+    const char *svg_select;
+} bvox_stack_read_opts;
+
+/* bvox_stack_read with options (opts NULL: the defaults). */
+bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *opts,
+                                 bvox_contour_stack **out);
+
 /* One SVG document as one section at z (pixel 1, spacing 1); appended to
  * *stack when *stack is not NULL, else a new stack is made. */
 bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char *name, double z,

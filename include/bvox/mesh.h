@@ -112,6 +112,16 @@ typedef struct bvox_voxelize_opts {
     double voxel_size; /* or the voxel size (world units); exactly one > 0 */
     int shell;         /* 1: only the voxels the surface passes through */
     char unit[16];     /* unit of the output geometry ("" unknown) */
+    /* Or (res and voxel_size 0) anisotropic voxels: spacing[0..2] > 0, the
+     * grid covering the bounding box as above, per axis. */
+    double spacing[3];
+    /* Or (res, voxel_size and spacing 0) a given grid, e.g. an existing
+     * image's (bvox voxelize --like): grid_dims voxels of grid->spacing, voxel
+     * (0,0,0)'s centre at grid->origin, axes grid->direction; the output
+     * takes the grid's geometry (and its unit when unit is ""). Parts of the
+     * mesh outside the grid are cut off. */
+    const bvox_geometry *grid;
+    bvox_dims grid_dims;
 } bvox_voxelize_opts;
 
 typedef struct bvox_voxelize_report {

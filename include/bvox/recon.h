@@ -191,6 +191,9 @@ typedef struct bvox_align_result {
     int32_t matched;     /* markers matched with the neighbour */
     double residual;     /* RMS distance (pixels) of the matched markers after the step */
     int fallback;        /* 1: no usable match: step = identity (the neighbour's transform) */
+    int by_contours;     /* 1: the markers were unusable and bvox_reconstruct aligned the
+                            section by its traced contours onto its neighbour's instead
+                            (step and residual are that registration's; fallback stays 1) */
 } bvox_align_result;
 
 /* Align n sections by their markers, chained to the reference section
@@ -255,6 +258,12 @@ typedef struct bvox_recon_opts {
     char unit[16];                /* "" (default): none, or the file's */
     double z_spacing;             /* output slice spacing; 0 (default): pixel (isotropic) */
     int interpolate;              /* 1 (default): shape-based interpolation */
+    /* contour inputs */
+    const char *svg_select;       /* SVG sections: which elements are outlines
+                                     (bvox_stack_read_opts.svg_select); NULL: all visible */
+    int strict;                   /* 1: refuse a contour crossing itself; 0 (default): fill it
+                                     even-odd and warn (contours crossing each other are
+                                     always refused) */
     /* looking at the steps */
     const char *save_steps;       /* an existing folder, or NULL (default): each image
                                      section's steps as PNG files NAME.1_flat.png (after the

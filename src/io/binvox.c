@@ -391,8 +391,15 @@ static bvox_status binvox_write_path(const char *path, const bvox_volume *vol,
     const bvox_geometry *g = &vol->geom;
     int32_t maxdim = vol->nx > vol->ny ? vol->nx : vol->ny;
     if (vol->nz > maxdim) maxdim = vol->nz;
-    /* binvox has one voxel size: x's is used when the volume's are not equal. */
+    /* binvox has one voxel size: x's is used when the volume's are not equal,
+     * and no unit; what cannot be kept is said (the translate and scale are) */
     double s = g->spacing[0];
+    if (g->spacing[1] != s || g->spacing[2] != s)
+        bvox__warn("%s: binvox has one voxel size: %g x %g x %g %s voxels are written as %g "
+                   "(the anisotropy is lost)",
+                   path, g->spacing[0], g->spacing[1], g->spacing[2], g->unit, s);
+    if (g->unit[0])
+        bvox__warn("%s: binvox stores no unit: the voxel size is in %s", path, g->unit);
     char head[512];
     int hl = snprintf(head, sizeof head,
                       "#binvox 1\ndim %d %d %d\ntranslate %.17g %.17g %.17g\nscale %.17g\n"

@@ -161,6 +161,14 @@ void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double
 /* 1 if path ends in ".gz" (any case): the writer compresses. */
 bool bvox__path_has_gz(const char *path);
 
+/* OME-XML (ome_xml.c). Parse: 1 if desc is OME-XML; then the axes that give
+ * a physical size in a known unit get spacing[a] (all in one unit, the
+ * first axis's; have[a] true) and unit is set. Describe: a minimal OME
+ * document for vol (uint8 planes, XYZCT, one IFD per plane from IFD 0, the
+ * voxel size when the unit is a length); returns snprintf's count. */
+int bvox__ome_parse(const char *desc, double spacing[3], char unit[16], bool have[3]);
+int bvox__ome_describe(const bvox_volume *vol, char *buf, size_t cap);
+
 /* Natural ("human") order of file names: "s2.png" < "s10.png". */
 int bvox__natural_compare(const char *a, const char *b);
 

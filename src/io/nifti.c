@@ -170,6 +170,7 @@ static void read_geometry(const uint8_t *h, bool swap, header *hd)
             for (int i = 0; i < 3; i++) dir[i * 3 + j] = a[i * 4 + j] / n;
         }
         if (ok) { /* a degenerate sform falls through to the qform */
+            g->space = geti16(h, 254, swap) <= 4 ? geti16(h, 254, swap) : 0;
             memcpy(g->spacing, sp, sizeof sp);
             memcpy(g->direction, dir, sizeof dir);
             for (int i = 0; i < 3; i++) g->origin[i] = a[i * 4 + 3];
@@ -186,6 +187,7 @@ static void read_geometry(const uint8_t *h, bool swap, header *hd)
         if (ok) {
             double qfac = getf32(h, 76, swap) < 0 ? -1.0 : 1.0;
             quatern_to_rot(q[0], q[1], q[2], qfac, r);
+            g->space = geti16(h, 252, swap) <= 4 ? geti16(h, 252, swap) : 0;
             memcpy(g->direction, r, sizeof r);
             for (int i = 0; i < 3; i++) g->origin[i] = q[3 + i];
         }
@@ -502,9 +504,11 @@ void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double
     putf(h, 128, 0.0);
     put32(h, 140, 1);
     snprintf((char *)h + 148, 80, "bvox %s %s", BVOX_VERSION, descrip);
-    /* code 1 (scanner-based) for both, so readers that prefer either agree */
-    put16(h, 252, 1);
-    put16(h, 254, 1);
+    /* the volume's space (an MNI atlas stays MNI), else 1 (scanner-based);
+     * the same code for both, so readers that prefer either agree */
+    int16_t space = g->space >= 1 && g->space <= 4 ? (int16_t)g->space : 1;
+    put16(h, 252, space);
+    put16(h, 254, space);
     for (int i = 0; i < 3; i++) putf(h, 256 + 4 * (size_t)i, q[i]);
     for (int i = 0; i < 3; i++) putf(h, 268 + 4 * (size_t)i, org[i]);
     for (int r = 0; r < 3; r++) {

@@ -125,6 +125,22 @@ static bvox_status read_geometry(TIFF *tif, const char *name, bvox_geometry *g, 
     double sx = res_to_spacing(tif, TIFFTAG_XRESOLUTION, &hx);
     double sy = res_to_spacing(tif, TIFFTAG_YRESOLUTION, &hy);
     if (hx && !hy) sy = sx;
+    double ome_sp[3] = {0, 0, 0};
+    bool ome_have[3];
+    char ome_unit[16] = "";
+    if (!ij.present && bvox__ome_parse(desc, ome_sp, ome_unit, ome_have) &&
+        (ome_have[0] || ome_have[1] || ome_have[2])) {
+        /* OME-TIFF: the physical sizes are the truth; an axis without one
+         * takes x's (y) or 1 (z), as an ImageJ stack without spacing= */
+        strcpy(g->unit, ome_unit);
+        g->spacing[0] = ome_have[0] ? ome_sp[0] : ome_have[1] ? ome_sp[1] : 1.0;
+        g->spacing[1] = ome_have[1] ? ome_sp[1] : g->spacing[0];
+        g->spacing[2] = ome_have[2] ? ome_sp[2] : 1.0;
+        if (!ome_have[2] && TIFFNumberOfDirectories(tif) > 1)
+            bvox__warn("%s: the OME-XML gives no PhysicalSizeZ: z spacing 1 %s assumed", name,
+                       g->unit);
+        return BVOX_OK;
+    }
     if (ij.present) {
         map_unit(ij.unit, g->unit);
         g->spacing[2] = ij.spacing > 0 ? ij.spacing : 1.0;

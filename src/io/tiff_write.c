@@ -19,6 +19,7 @@
 
 #include <math.h>
 #include <string.h>
+#include <strings.h>
 
 enum { T_ASCII = 2, T_SHORT = 3, T_LONG = 4, T_RATIONAL = 5 };
 #define IFD0_ENTRIES 14
@@ -100,8 +101,16 @@ static int imagej_description(const bvox_volume *v, char *buf, size_t cap)
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *v, const bvox_write_opts *opts)
 {
     (void)opts;
-    char desc[512];
-    uint32_t desc_len = (uint32_t)imagej_description(v, desc, sizeof desc) + 1;
+    char desc[2048];
+    /* NAME.ome.tif: OME-XML (Bio-Formats, napari, QuPath read its physical
+     * sizes); otherwise ImageJ's description */
+    size_t plen = strlen(path);
+    int ome = (plen > 8 && !strcasecmp(path + plen - 8, ".ome.tif")) ||
+              (plen > 9 && !strcasecmp(path + plen - 9, ".ome.tiff"));
+    int dl = ome ? bvox__ome_describe(v, desc, sizeof desc) : imagej_description(v, desc, sizeof desc);
+    if (dl < 0 || (size_t)dl >= sizeof desc)
+        return bvox__fail(BVOX_EINVAL, "%s: cannot format the TIFF description", path);
+    uint32_t desc_len = (uint32_t)dl + 1;
     const uint64_t page = (uint64_t)v->nx * (uint64_t)v->ny, nz = (uint64_t)v->nz;
     const uint64_t res_off = 8 + IFD_BYTES(IFD0_ENTRIES), desc_off = res_off + 16;
     const uint64_t data_off = (desc_off + desc_len + 1) & ~1ull;

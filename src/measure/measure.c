@@ -108,6 +108,9 @@ static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures
     if (st) return st;
     bvox_volume_complement(bg);
     st = bvox__components_count(bg, 6, 1, &m->cavities);
+    /* a 26-connected cavity is a union of 6-connected ones: none of those,
+     * none of these, and the second labelling is saved */
+    if (!st && m->cavities > 0) st = bvox__components_count(bg, 26, 1, &m->cavities_26);
     bvox_volume_destroy(bg);
     return st;
 }
@@ -155,7 +158,12 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
                 m.inertia[i * 3 + j] = m.volume * ((i == j ? trace : 0) - m.covariance[i * 3 + j]);
         principal(&m);
         m.equivalent_diameter = cbrt(6 * m.volume / M_PI);
-        if (m.area > 0) m.sphericity = cbrt(M_PI) * pow(6 * m.volume, 2.0 / 3.0) / m.area;
+        if (s.count < BVOX_SPHERICITY_MIN_VOXELS) {
+            m.sphericity = NAN;
+        } else if (m.area > 0) {
+            m.sphericity = cbrt(M_PI) * pow(6 * m.volume, 2.0 / 3.0) / m.area;
+            if (m.sphericity > 1) m.sphericity = 1;
+        }
         st = topology(vol, s.count, &m);
         if (st) return st;
     }

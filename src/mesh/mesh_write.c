@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
@@ -180,6 +181,35 @@ const char *bvox_mesh_format_for_path(const char *path)
     return NULL;
 }
 
+typedef struct position {
+    double p[3];
+} position;
+
+static int cmp_position(const void *a, const void *b)
+{
+    const double *p = ((const position *)a)->p, *q = ((const position *)b)->p;
+    for (int k = 0; k < 3; k++)
+        if (p[k] != q[k]) return p[k] < q[k] ? -1 : 1;
+    return 0;
+}
+
+/* Vertices at exactly the position of another vertex (a cuberille mesh
+ * keeps two where cubes touch only along an edge, which keeps it manifold).
+ * STL stores triangles, not vertices: every reader welds by position, and
+ * these become non-manifold. -1 when the count could not be made. */
+static int64_t shared_positions(const bvox_mesh *m)
+{
+    if (m->nvertices < 2) return 0;
+    position *v = malloc((size_t)m->nvertices * sizeof *v);
+    if (!v) return -1;
+    memcpy(v, m->vertices, (size_t)m->nvertices * sizeof *v);
+    qsort(v, (size_t)m->nvertices, sizeof *v, cmp_position);
+    int64_t n = 0;
+    for (int64_t i = 1; i < m->nvertices; i++) n += cmp_position(&v[i - 1], &v[i]) == 0;
+    free(v);
+    return n;
+}
+
 bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *format, int ascii)
 {
     bvox__clear_error();
@@ -199,6 +229,14 @@ bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *fo
     for (int64_t i = 0; i < 3 * m->ntriangles; i++)
         if (m->triangles[i] < 0 || m->triangles[i] >= m->nvertices)
             return bvox__fail(BVOX_EINVAL, "bvox_mesh_write: triangle index out of range");
+    if (kind == 0) {
+        int64_t shared = shared_positions(m);
+        if (shared > 0)
+            bvox__warn("%s: %lld vertices share their position with another (as a cuberille mesh "
+                       "has where cubes touch along an edge); STL keeps no vertices, so the mesh "
+                       "is not manifold once welded: write .ply, .obj or .off to keep it",
+                       path, (long long)shared);
+    }
     out o;
     memset(&o, 0, sizeof o);
     bvox_status st;

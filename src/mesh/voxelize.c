@@ -357,58 +357,14 @@ static bvox_status run_axis(vox *v, int a)
     return st;
 }
 
-bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
-                               bvox_volume **out, bvox_voxelize_report *report)
+/* Voxelize v.m into a volume of v.n voxels, the grid v.origin + i * v.s,
+ * with geometry geo: parity along z for a closed mesh, a vote of x, y and z
+ * for an open one, or the shell. */
+static bvox_status run(vox *vp, const bvox_geometry *geom, bvox_volume **out,
+                       bvox_voxelize_report *report)
 {
-    bvox__clear_error();
-    if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
-    *out = NULL;
-    if (!m || !opts) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: NULL argument");
-    if ((opts->res > 0) == (opts->voxel_size > 0))
-        return bvox__fail(BVOX_EINVAL, "voxelize needs exactly one of a resolution (voxels along "
-                                       "the longest side) or a voxel size");
-    if (opts->voxel_size > 0 && !isfinite(opts->voxel_size))
-        return bvox__fail(BVOX_EINVAL, "the voxel size must be finite");
-    if (m->ntriangles == 0) return bvox__fail(BVOX_EINVAL, "the mesh has no triangles");
-    for (int64_t i = 0; i < 3 * m->ntriangles; i++)
-        if (m->triangles[i] < 0 || m->triangles[i] >= m->nvertices)
-            return bvox__fail(BVOX_EINVAL, "triangle index out of range");
-    for (int64_t i = 0; i < 3 * m->nvertices; i++)
-        if (!isfinite(m->vertices[i]))
-            return bvox__fail(BVOX_EINVAL, "a vertex coordinate is not finite");
-    double mn[3], mx[3];
-    for (int k = 0; k < 3; k++) mn[k] = mx[k] = m->vertices[k];
-    for (int64_t i = 1; i < m->nvertices; i++)
-        for (int k = 0; k < 3; k++) {
-            mn[k] = fmin(mn[k], m->vertices[3 * i + k]);
-            mx[k] = fmax(mx[k], m->vertices[3 * i + k]);
-        }
-    double ext[3] = {mx[0] - mn[0], mx[1] - mn[1], mx[2] - mn[2]};
-    double longest = fmax(ext[0], fmax(ext[1], ext[2]));
-    vox v;
-    memset(&v, 0, sizeof v);
-    v.m = m;
-    v.shell = opts->shell != 0;
-    if (opts->res > 0) {
-        if (opts->res > BVOX_MAX_DIM)
-            return bvox__fail(BVOX_EINVAL, "resolution %d over the limit %d", opts->res,
-                              BVOX_MAX_DIM);
-        if (!(longest > 0)) return bvox__fail(BVOX_EINVAL, "the mesh has no extent");
-        v.s = longest / opts->res;
-    } else {
-        v.s = opts->voxel_size;
-    }
-    for (int k = 0; k < 3; k++) {
-        double nk = ceil(ext[k] / v.s - 1e-9);
-        if (nk < 1) nk = 1;
-        if (nk > BVOX_MAX_DIM)
-            return bvox__fail(BVOX_ETOOBIG,
-                              "the mesh spans %.0f voxels along %c (at most %d); use a larger "
-                              "voxel size",
-                              nk, "xyz"[k], BVOX_MAX_DIM);
-        v.n[k] = (int32_t)nk;
-        v.origin[k] = mn[k] + 0.5 * (ext[k] - nk * v.s) + 0.5 * v.s;
-    }
+    vox v = *vp;
+    const bvox_mesh *m = v.m;
     int64_t edges, boundary, nonman, incons;
     bvox_status st = bvox__mesh_edge_stats(m, &edges, &boundary, &nonman, &incons);
     if (st) return st;
@@ -417,13 +373,7 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
     bvox_volume *vol;
     st = bvox_volume_create(dims, &vol);
     if (st) return st;
-    bvox_geometry geo = bvox_geometry_default();
-    for (int k = 0; k < 3; k++) {
-        geo.spacing[k] = v.s;
-        geo.origin[k] = v.origin[k];
-    }
-    snprintf(geo.unit, sizeof geo.unit, "%.15s", opts->unit);
-    st = bvox_volume_set_geometry(vol, &geo);
+    st = bvox_volume_set_geometry(vol, geom);
     const char *method = v.shell ? "shell" : closed ? "parity-z" : "vote-xyz";
     if (!st) {
         v.out = vol;
@@ -459,4 +409,135 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
     }
     *out = vol;
     return BVOX_OK;
+}
+
+/* A grid given by its geometry (or anisotropic voxels covering the box): the
+ * mesh is mapped into the grid's index space, p -> D^T (p - origin) / s per
+ * axis, where voxel centres sit on the integers; inside-ness and the surface
+ * crossing a voxel are kept by any affine map, so the unit-voxel voxelizer
+ * answers the question on the given grid exactly. */
+static bvox_status voxelize_on_grid(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                                    const double mn[3], const double ext[3], bvox_volume **out,
+                                    bvox_voxelize_report *report)
+{
+    bvox_geometry geo = bvox_geometry_default();
+    int32_t n[3];
+    if (opts->grid) {
+        geo = *opts->grid;
+        n[0] = opts->grid_dims.nx, n[1] = opts->grid_dims.ny, n[2] = opts->grid_dims.nz;
+        for (int k = 0; k < 3; k++) {
+            if (n[k] < 1 || n[k] > BVOX_MAX_DIM)
+                return bvox__fail(BVOX_EINVAL, "grid dimension %c is %d, not 1..%d", "xyz"[k],
+                                  (int)n[k], BVOX_MAX_DIM);
+            if (!(geo.spacing[k] > 0) || !isfinite(geo.spacing[k]) || !isfinite(geo.origin[k]))
+                return bvox__fail(BVOX_EINVAL, "the grid's voxel size and origin must be finite "
+                                               "and the voxel size > 0");
+        }
+        for (int k = 0; k < 9; k++)
+            if (!isfinite(geo.direction[k]))
+                return bvox__fail(BVOX_EINVAL, "the grid's direction is not finite");
+    } else {
+        for (int k = 0; k < 3; k++) {
+            double sk = opts->spacing[k];
+            if (!(sk > 0) || !isfinite(sk))
+                return bvox__fail(BVOX_EINVAL, "voxel size %c must be finite and > 0 (it is %g)",
+                                  "xyz"[k], sk);
+            double nk = ceil(ext[k] / sk - 1e-9);
+            if (nk < 1) nk = 1;
+            if (nk > BVOX_MAX_DIM)
+                return bvox__fail(BVOX_ETOOBIG,
+                                  "the mesh spans %.3g voxels along %c (at most %d); use a larger "
+                                  "voxel size",
+                                  nk, "xyz"[k], BVOX_MAX_DIM);
+            n[k] = (int32_t)nk;
+            geo.spacing[k] = sk;
+            geo.origin[k] = mn[k] + 0.5 * (ext[k] - nk * sk) + 0.5 * sk;
+        }
+    }
+    if (opts->unit[0] || !opts->grid) snprintf(geo.unit, sizeof geo.unit, "%.15s", opts->unit);
+    bvox_status st;
+    size_t bytes = (size_t)m->nvertices * 3 * sizeof(double);
+    double *iv = bvox__alloc(bytes, false, "voxelizer vertices in grid space", &st);
+    if (!iv) return st;
+    const double *D = geo.direction;
+    for (int64_t i = 0; i < m->nvertices; i++) {
+        const double *p = m->vertices + 3 * i;
+        double d[3] = {p[0] - geo.origin[0], p[1] - geo.origin[1], p[2] - geo.origin[2]};
+        for (int c = 0; c < 3; c++)
+            iv[3 * i + c] = (D[c] * d[0] + D[3 + c] * d[1] + D[6 + c] * d[2]) / geo.spacing[c];
+    }
+    bvox_mesh grid_mesh = *m;
+    grid_mesh.vertices = iv;
+    vox v;
+    memset(&v, 0, sizeof v);
+    v.m = &grid_mesh;
+    v.shell = opts->shell != 0;
+    v.s = 1;
+    for (int k = 0; k < 3; k++) v.n[k] = n[k];
+    st = run(&v, &geo, out, report);
+    bvox__free(iv, bytes);
+    return st;
+}
+
+bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                               bvox_volume **out, bvox_voxelize_report *report)
+{
+    bvox__clear_error();
+    if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
+    *out = NULL;
+    if (!m || !opts) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: NULL argument");
+    int aniso = opts->spacing[0] > 0 || opts->spacing[1] > 0 || opts->spacing[2] > 0;
+    if ((opts->res > 0) + (opts->voxel_size > 0) + aniso + (opts->grid != NULL) != 1)
+        return bvox__fail(BVOX_EINVAL, "voxelize needs exactly one of a resolution (voxels along "
+                                       "the longest side), a voxel size, or a grid");
+    if (opts->voxel_size > 0 && !isfinite(opts->voxel_size))
+        return bvox__fail(BVOX_EINVAL, "the voxel size must be finite");
+    if (m->ntriangles == 0) return bvox__fail(BVOX_EINVAL, "the mesh has no triangles");
+    for (int64_t i = 0; i < 3 * m->ntriangles; i++)
+        if (m->triangles[i] < 0 || m->triangles[i] >= m->nvertices)
+            return bvox__fail(BVOX_EINVAL, "triangle index out of range");
+    for (int64_t i = 0; i < 3 * m->nvertices; i++)
+        if (!isfinite(m->vertices[i]))
+            return bvox__fail(BVOX_EINVAL, "a vertex coordinate is not finite");
+    double mn[3], mx[3];
+    for (int k = 0; k < 3; k++) mn[k] = mx[k] = m->vertices[k];
+    for (int64_t i = 1; i < m->nvertices; i++)
+        for (int k = 0; k < 3; k++) {
+            mn[k] = fmin(mn[k], m->vertices[3 * i + k]);
+            mx[k] = fmax(mx[k], m->vertices[3 * i + k]);
+        }
+    double ext[3] = {mx[0] - mn[0], mx[1] - mn[1], mx[2] - mn[2]};
+    double longest = fmax(ext[0], fmax(ext[1], ext[2]));
+    if (opts->grid || aniso) return voxelize_on_grid(m, opts, mn, ext, out, report);
+    vox v;
+    memset(&v, 0, sizeof v);
+    v.m = m;
+    v.shell = opts->shell != 0;
+    if (opts->res > 0) {
+        if (opts->res > BVOX_MAX_DIM)
+            return bvox__fail(BVOX_EINVAL, "resolution %d over the limit %d", opts->res,
+                              BVOX_MAX_DIM);
+        if (!(longest > 0)) return bvox__fail(BVOX_EINVAL, "the mesh has no extent");
+        v.s = longest / opts->res;
+    } else {
+        v.s = opts->voxel_size;
+    }
+    for (int k = 0; k < 3; k++) {
+        double nk = ceil(ext[k] / v.s - 1e-9);
+        if (nk < 1) nk = 1;
+        if (nk > BVOX_MAX_DIM)
+            return bvox__fail(BVOX_ETOOBIG,
+                              "the mesh spans %.0f voxels along %c (at most %d); use a larger "
+                              "voxel size",
+                              nk, "xyz"[k], BVOX_MAX_DIM);
+        v.n[k] = (int32_t)nk;
+        v.origin[k] = mn[k] + 0.5 * (ext[k] - nk * v.s) + 0.5 * v.s;
+    }
+    bvox_geometry geo = bvox_geometry_default();
+    for (int k = 0; k < 3; k++) {
+        geo.spacing[k] = v.s;
+        geo.origin[k] = v.origin[k];
+    }
+    snprintf(geo.unit, sizeof geo.unit, "%.15s", opts->unit);
+    return run(&v, &geo, out, report);
 }

@@ -123,6 +123,27 @@ const bvox__xml_attr *bvox__xml_attr_get(const bvox__xml *x, const char *name);
  * (*st = BVOX_EFORMAT) or out of memory (*st = BVOX_ENOMEM), message set. */
 char *bvox__xml_attr_dup(const bvox__xml *x, const bvox__xml_attr *a, bvox_status *st);
 
+/* ---- contour_svg.c ---- */
+/* bvox_stack_read_svg_memory / _files with an --svg-select list (NULL: all). */
+bvox_status bvox__svg_read(const char *data, size_t size, const char *name, double z,
+                           const char *select, bvox_contour_stack **stack);
+bvox_status bvox__svg_read_files(const char *const *paths, int32_t n, const char *select,
+                                 bvox_contour_stack **out);
+
+/* ---- contour_repair.c ---- */
+/* Crossing contours of every section: a contour crossing itself is warned
+ * about and kept (even-odd fill) unless strict; contours crossing each
+ * other are refused. Messages start with path. */
+bvox_status bvox__stack_check_crossings(const char *path, const bvox_contour_stack *s, int strict);
+
+/* ---- svg_filter.c: which SVG elements are outlines ---- */
+/* The element hides itself and its children (display/visibility). */
+int bvox__svg_hides(const bvox__xml *x);
+/* The element matches the --svg-select list ("id:a,class:b,layer:c,name"). */
+int bvox__svg_selected(const bvox__xml *x, const char *select);
+/* The transformed rectangle covers the canvas {x, y, w, h} (a background). */
+int bvox__svg_covers_canvas(const bvox_point2 corner[4], const double canvas[4]);
+
 /* ---- contour_reconstruct.c ---- */
 /* A Reconstruct series from its .ser file and the NAME.<n> files beside it. */
 bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_contour_stack **out);

@@ -30,10 +30,45 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Keys bvox does not read in a section (another tool's fields): warned about
+ * once per key after parsing, with how many sections had it, rather than once
+ * per section (a 1000-section file would bury the message). */
+#define UNKNOWN_KEYS 8
+typedef struct unknown_key {
+    char key[32];
+    int32_t first, count;
+} unknown_key;
+
 typedef struct lex {
     const char *start, *p, *end;
     const char *name;
+    unknown_key unknown[UNKNOWN_KEYS];
+    int nunknown;
 } lex;
+
+static void note_section_key(lex *L, const char *key, int32_t index)
+{
+    for (int i = 0; i < L->nunknown; i++)
+        if (!strcmp(L->unknown[i].key, key)) {
+            L->unknown[i].count++;
+            return;
+        }
+    if (L->nunknown == UNKNOWN_KEYS) return;
+    unknown_key *u = &L->unknown[L->nunknown++];
+    snprintf(u->key, sizeof u->key, "%s", key);
+    u->first = index;
+    u->count = 1;
+}
+
+static void warn_section_keys(const lex *L)
+{
+    for (int i = 0; i < L->nunknown; i++) {
+        const unknown_key *u = &L->unknown[i];
+        bvox__warn("%s: section %d%s: unknown key \"%s\" ignored (a section has z, name, "
+                   "contours, markers)",
+                   L->name, (int)u->first + 1, u->count > 1 ? " and others" : "", u->key);
+    }
+}
 
 static bvox_status lex_fail(const lex *L, const char *at, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
@@ -369,8 +404,9 @@ static bvox_status section(lex *L, bvox_contour_stack *s, uint8_t *has_z, ptbuf 
             if ((st = contours(L, sec, index, buf))) return st;
         } else if (!strcmp(key, "markers")) {
             if ((st = markers(L, sec, index))) return st;
-        } else if ((st = skip_value(L, 2))) {
-            return st;
+        } else {
+            note_section_key(L, key, index);
+            if ((st = skip_value(L, 2))) return st;
         }
         if ((st = next_or_close(L, '}', &more))) return st;
     }
@@ -412,11 +448,12 @@ static bvox_status parse(lex *L, bvox_contour_stack *s)
                 goto done;
             }
             strcpy(s->unit, unit);
+            if (unit[0]) s->given |= BVOX_STACK_GIVEN_UNIT;
         } else if (!strcmp(key, "pixel") || !strcmp(key, "spacing")) {
             double v;
             if ((st = number(L, &v)) || (st = positive(L, at, v, key))) goto done;
-            if (key[0] == 'p') s->pixel = v;
-            else s->spacing = v;
+            if (key[0] == 'p') s->pixel = v, s->given |= BVOX_STACK_GIVEN_PIXEL;
+            else s->spacing = v, s->given |= BVOX_STACK_GIVEN_SPACING;
         } else if (!strcmp(key, "origin")) {
             bvox_point2 o;
             if ((st = point(L, &o))) goto done;
@@ -443,8 +480,11 @@ static bvox_status parse(lex *L, bvox_contour_stack *s)
                 if ((st = section(L, s, has_z, &buf)) || (st = next_or_close(L, ']', &smore)))
                     goto done;
             }
-        } else if ((st = skip_value(L, 1))) {
-            goto done;
+        } else {
+            bvox__warn("%s: unknown key \"%s\" ignored (a contour stack has unit, pixel, "
+                       "spacing, width, height, origin, sections)",
+                       L->name, key);
+            if ((st = skip_value(L, 1))) goto done;
         }
         if ((st = next_or_close(L, '}', &more))) goto done;
     }
@@ -457,8 +497,10 @@ static bvox_status parse(lex *L, bvox_contour_stack *s)
         st = lex_fail(L, L->start, "no \"sections\" list");
         goto done;
     }
+    warn_section_keys(L);
     for (int32_t i = 0; i < s->nsections; i++) {
         if (!has_z[i]) s->sections[i].z = i * s->spacing;
+        s->sections[i].z_from_index = !has_z[i];
         bvox__section_nest(&s->sections[i]);
     }
     st = BVOX_OK;
@@ -482,7 +524,8 @@ bvox_status bvox_stack_read_json_memory(const char *data, size_t size, const cha
     bvox_contour_stack *s = NULL;
     bvox_status st = bvox_stack_create(&s);
     if (st) return st;
-    lex L = {data ? data : "", data ? data : "", (data ? data : "") + size, name};
+    const char *text = data ? data : "";
+    lex L = {.start = text, .p = text, .end = text + size, .name = name};
     st = parse(&L, s);
     if (st) {
         bvox_stack_destroy(s);

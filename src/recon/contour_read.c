@@ -30,7 +30,7 @@ static int cmp_natural(const void *a, const void *b)
     return bvox__natural_compare(*(char *const *)a, *(char *const *)b);
 }
 
-static bvox_status read_folder(const char *path, bvox_contour_stack **out)
+static bvox_status read_folder(const char *path, const char *select, bvox_contour_stack **out)
 {
     DIR *d = opendir(path);
     if (!d) return bvox__fail(BVOX_EIO, "%s: cannot list the folder", path);
@@ -82,7 +82,7 @@ static bvox_status read_folder(const char *path, bvox_contour_stack **out)
                         path);
     } else if (!st) {
         qsort(names, n, sizeof *names, cmp_natural);
-        st = bvox_stack_read_svg_files((const char *const *)names, (int32_t)n, out);
+        st = bvox__svg_read_files((const char *const *)names, (int32_t)n, select, out);
     }
     for (size_t i = 0; i < n; i++) free(names[i]);
     free(names);
@@ -92,13 +92,35 @@ static bvox_status read_folder(const char *path, bvox_contour_stack **out)
 
 bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out)
 {
+    return bvox_stack_read_with(path, NULL, out);
+}
+
+/* A selection that names nothing would give an empty model: refused. */
+static bvox_status check_selection(const char *path, const char *select, bvox_contour_stack **out)
+{
+    if (!select || !*select || !*out) return BVOX_OK;
+    for (int32_t i = 0; i < (*out)->nsections; i++)
+        if ((*out)->sections[i].ncontours) return BVOX_OK;
+    bvox_stack_destroy(*out);
+    *out = NULL;
+    return bvox__fail(BVOX_EINVAL, "%s: --svg-select '%s' names no outline in any section", path,
+                      select);
+}
+
+bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *opts,
+                                 bvox_contour_stack **out)
+{
     bvox__clear_error();
+    const char *select = opts ? opts->svg_select : NULL;
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_read: out is NULL");
     *out = NULL;
     if (!path) return bvox__fail(BVOX_EINVAL, "bvox_stack_read: path is NULL");
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file or folder", path);
-    if (S_ISDIR(sb.st_mode)) return read_folder(path, out);
+    if (S_ISDIR(sb.st_mode)) {
+        bvox_status st = read_folder(path, select, out);
+        return st ? st : check_selection(path, select, out);
+    }
     if (ends_with(path, ".ser")) return bvox__stack_read_reconstruct_series(path, out);
     char *text;
     size_t size;
@@ -109,7 +131,8 @@ bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out)
     if (ends_with(path, ".json") || *p == '{') {
         st = bvox_stack_read_json_memory(text, size, path, out);
     } else if (ends_with(path, ".svg") || strstr(text, "<svg") || strstr(text, ":svg")) {
-        st = bvox_stack_read_svg_memory(text, size, path, 0, out);
+        st = bvox__svg_read(text, size, path, 0, select, out);
+        if (!st) st = check_selection(path, select, out);
     } else if (strstr(text, "<Series")) {
         free(text);
         return bvox__stack_read_reconstruct_series(path, out);

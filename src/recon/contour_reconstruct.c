@@ -40,6 +40,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 typedef struct pending {
     bvox_point2 *p;
@@ -401,8 +402,9 @@ bvox_status bvox_stack_read_reconstruct_section_memory(const char *data, size_t 
         return st;
     }
     if (made) {
-        if (mag > 0) s->pixel = mag;
-        if (th > 0) s->spacing = th;
+        s->given |= BVOX_STACK_GIVEN_UNIT; /* Reconstruct's unit is the micron */
+        if (mag > 0) s->pixel = mag, s->given |= BVOX_STACK_GIVEN_PIXEL;
+        if (th > 0) s->spacing = th, s->given |= BVOX_STACK_GIVEN_SPACING;
     }
     bvox_section *sec = &s->sections[s->nsections - 1];
     rescale(sec, 1 / s->pixel);
@@ -425,6 +427,39 @@ static int cmp_secfile(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The series' units= attribute (Reconstruct writes "microns"; users set
+ * nanometers for EM, millimeters for gross anatomy), as the short unit names
+ * the rest of bvox knows. Unknown names are refused rather than guessed: a
+ * unit off by 10^3 makes every volume off by 10^9. */
+static bvox_status series_unit(const bvox__xml *x, const char *path, char unit[16])
+{
+    static const struct {
+        const char *name, *unit;
+    } names[] = {
+        {"microns", "um"},     {"micron", "um"},     {"micrometers", "um"}, {"um", "um"},
+        {"\xc2\xb5m", "um"}, {"nanometers", "nm"}, {"nm", "nm"},          {"millimeters", "mm"},
+        {"mm", "mm"},          {"centimeters", "cm"}, {"cm", "cm"},         {"meters", "m"},
+        {"m", "m"},
+    };
+    const bvox__xml_attr *a = bvox__xml_attr_get(x, "units");
+    if (!a) return BVOX_OK;
+    bvox_status st = BVOX_OK;
+    char *t = bvox__xml_attr_dup(x, a, &st);
+    if (!t) return st;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (!strcasecmp(t, names[i].name)) {
+            strcpy(unit, names[i].unit);
+            free(t);
+            return BVOX_OK;
+        }
+    st = bvox__fail(BVOX_EFORMAT,
+                    "%s: <Series units=\"%.40s\"> is not a unit bvox knows (microns, nanometers, "
+                    "millimeters, centimeters, meters)",
+                    path, t);
+    free(t);
+    return st;
+}
+
 bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_contour_stack **out)
 {
     *out = NULL;
@@ -439,6 +474,8 @@ bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_conto
     } while (!st && x.kind == BVOX__XML_END);
     if (!st && (x.kind != BVOX__XML_START || !bvox__xml_is(&x, "Series")))
         st = bvox__xml_fail(&x, x.at, "not a Reconstruct series (the root element is not <Series>)");
+    char unit[16] = "um"; /* Reconstruct's default unit */
+    if (!st) st = series_unit(&x, ser_path, unit);
     free(text);
     if (st) return st;
 
@@ -493,7 +530,8 @@ bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_conto
     if (!st) st = bvox_stack_create(&s);
     double pixel = 0, first_th = 0;
     if (!st) {
-        strcpy(s->unit, "um");
+        strcpy(s->unit, unit);
+        s->given |= BVOX_STACK_GIVEN_UNIT;
         qsort(files, nf, sizeof *files, cmp_secfile);
         double z = 0;
         for (size_t i = 0; i < nf && !st; i++) {
@@ -526,8 +564,10 @@ bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_conto
         double ext = x1 > x0 ? fmax(x1 - x0, y1 - y0) : 0;
         pixel = ext > 0 ? ext / 512 : 1;
     }
+    s->given |= BVOX_STACK_GIVEN_PIXEL; /* an image's mag, or Reconstruct's own default rule */
     s->pixel = pixel;
     s->spacing = first_th > 0 ? first_th : 1;
+    if (first_th > 0) s->given |= BVOX_STACK_GIVEN_SPACING;
     for (int32_t i = 0; i < s->nsections; i++) {
         rescale(&s->sections[i], 1 / pixel);
         for (int32_t c = 0; c < s->sections[i].ncontours; c++)

@@ -44,6 +44,12 @@ typedef struct svg_reader {
     bvox_point2 *pts;
     size_t npts, cap;
     const char *elem_at;
+    double canvas[4];   /* x, y, w, h of the drawing (viewBox, else width x height) */
+    const char *select; /* --svg-select list, or NULL: every visible outline */
+    int hidden_depth;   /* > 0: inside a hidden element (depth where it started) */
+    int selected_depth; /* > 0: inside an element the selection names */
+    int n_background, n_hidden, n_unselected;
+    int64_t background_line;
 } svg_reader;
 
 static bvox_status sec_fail(svg_reader *r, const char *what)
@@ -376,6 +382,47 @@ static int num_attr(svg_reader *r, const char *name, double *v, bvox_status *st)
     return ok;
 }
 
+/* A length: a number, "Npx", or "N%" of ref (a rect's 100% x 100%). Other
+ * units are an error, as in num_attr. 0 when absent. */
+static int length_attr(svg_reader *r, const char *name, double ref, double *v, bvox_status *st)
+{
+    *v = 0;
+    const bvox__xml_attr *a = bvox__xml_attr_get(&r->x, name);
+    if (!a || a->vlen == 0 || a->value[a->vlen - 1] != '%') return num_attr(r, name, v, st);
+    char *t = bvox__xml_attr_dup(&r->x, a, st);
+    if (!t) return 0;
+    t[strlen(t) - 1] = '\0';
+    scan sc = {t, t + strlen(t)};
+    int ok = scan_number(&sc, v);
+    skip_sep(&sc);
+    ok = ok && sc.p == sc.end;
+    free(t);
+    if (!ok) {
+        char what[120];
+        snprintf(what, sizeof what, "attribute %s is not a number", name);
+        *st = sec_fail(r, what);
+        return 0;
+    }
+    *v *= ref / 100;
+    return 1;
+}
+
+/* The root's width/height as plain numbers (or px), without failing on the
+ * units editors write ("210mm", "100%"): the viewBox then gives the canvas. */
+static int plain_length(const bvox__xml *x, const char *name, double *v)
+{
+    const bvox__xml_attr *a = bvox__xml_attr_get(x, name);
+    if (!a || a->vlen == 0 || a->vlen > 60) return 0;
+    char t[64];
+    memcpy(t, a->value, a->vlen);
+    t[a->vlen] = '\0';
+    scan sc = {t, t + a->vlen};
+    if (!scan_number(&sc, v)) return 0;
+    if (sc.p < sc.end && !strcmp(sc.p, "px")) sc.p = sc.end;
+    skip_sep(&sc);
+    return sc.p == sc.end;
+}
+
 static bvox_status ellipse(svg_reader *r, double cx, double cy, double rx, double ry,
                            const bvox_xform2 *T)
 {
@@ -410,10 +457,12 @@ static bvox_status root_attrs(svg_reader *r, int *has_z)
 {
     bvox_status st = BVOX_OK;
     double v, w = 0, h = 0;
-    int hw = num_attr(r, "width", &w, &st);
-    if (st) return st;
-    int hh = num_attr(r, "height", &h, &st);
-    if (st) return st;
+    int hw = plain_length(&r->x, "width", &w);
+    int hh = plain_length(&r->x, "height", &h);
+    if (hw && hh) {
+        r->canvas[2] = w;
+        r->canvas[3] = h;
+    }
     const bvox__xml_attr *vb = bvox__xml_attr_get(&r->x, "viewBox");
     int vb_ok = 1;
     if (vb) {
@@ -424,6 +473,7 @@ static bvox_status root_attrs(svg_reader *r, int *has_z)
         int n = 0;
         while (n < 4 && scan_number(&s, &b[n])) n++;
         vb_ok = n == 4 && b[0] == 0 && b[1] == 0 && b[2] == w && b[3] == h;
+        if (n == 4 && b[2] > 0 && b[3] > 0) memcpy(r->canvas, b, sizeof b);
         free(t);
     }
     if (hw && hh && vb_ok && w >= 1 && h >= 1 && w <= BVOX_MAX_DIM && h <= BVOX_MAX_DIM &&
@@ -433,18 +483,28 @@ static bvox_status root_attrs(svg_reader *r, int *has_z)
     }
     if (num_attr(r, "data-z", &v, &st)) {
         r->sec->z = v;
+        r->sec->z_from_index = 0;
         *has_z = 1;
     }
     if (st) return st;
-    if (num_attr(r, "data-pixel", &v, &st) && v > 0 && v < 1e12) r->stack->pixel = v;
+    if (num_attr(r, "data-pixel", &v, &st) && v > 0 && v < 1e12) {
+        r->stack->pixel = v;
+        r->stack->given |= BVOX_STACK_GIVEN_PIXEL;
+    }
     if (st) return st;
-    if (num_attr(r, "data-spacing", &v, &st) && v > 0 && v < 1e12) r->stack->spacing = v;
+    if (num_attr(r, "data-spacing", &v, &st) && v > 0 && v < 1e12) {
+        r->stack->spacing = v;
+        r->stack->given |= BVOX_STACK_GIVEN_SPACING;
+    }
     if (st) return st;
     const bvox__xml_attr *a = bvox__xml_attr_get(&r->x, "data-unit");
     if (a) {
         char *t = bvox__xml_attr_dup(&r->x, a, &st);
         if (!t) return st;
-        if (strlen(t) < sizeof r->stack->unit) strcpy(r->stack->unit, t);
+        if (strlen(t) < sizeof r->stack->unit) {
+            strcpy(r->stack->unit, t);
+            if (t[0]) r->stack->given |= BVOX_STACK_GIVEN_UNIT;
+        }
         free(t);
     }
     a = bvox__xml_attr_get(&r->x, "data-name");
@@ -501,8 +561,8 @@ static bvox_status element(svg_reader *r, const bvox_xform2 *T)
     if (bvox__xml_is(x, "rect")) {
         num_attr(r, "x", &cx, &st);
         if (!st) num_attr(r, "y", &cy, &st);
-        if (!st) num_attr(r, "width", &w, &st);
-        if (!st) num_attr(r, "height", &h, &st);
+        if (!st) length_attr(r, "width", r->canvas[2], &w, &st);
+        if (!st) length_attr(r, "height", r->canvas[3], &h, &st);
         if (st) return st;
         if (!(w > 0 && h > 0)) return BVOX_OK;
         bvox_point2 c[4] = {{cx, cy}, {cx + w, cy}, {cx + w, cy + h}, {cx, cy + h}};
@@ -522,6 +582,51 @@ static bool is_container_skipped(const bvox__xml *x)
     return false;
 }
 
+/* A <rect> covering the whole canvas: the editor's page, not a tracing. */
+static int is_background(svg_reader *r, const bvox_xform2 *T, bvox_status *st)
+{
+    double x0, y0, w, h;
+    num_attr(r, "x", &x0, st);
+    if (!*st) num_attr(r, "y", &y0, st);
+    if (!*st) length_attr(r, "width", r->canvas[2], &w, st);
+    if (!*st) length_attr(r, "height", r->canvas[3], &h, st);
+    if (*st || !(w > 0 && h > 0)) return 0;
+    bvox_point2 c[4] = {{x0, y0}, {x0 + w, y0}, {x0 + w, y0 + h}, {x0, y0 + h}};
+    for (int i = 0; i < 4; i++) c[i] = bvox_xform2_apply(T, c[i]);
+    if (!bvox__svg_covers_canvas(c, r->canvas)) return 0;
+    int64_t line, col;
+    bvox__line_col(r->x.start, (size_t)(r->elem_at - r->x.start), &line, &col);
+    if (!r->n_background++) r->background_line = line;
+    return 1;
+}
+
+static bool is_drawn(const bvox__xml *x)
+{
+    static const char *const drawn[] = {"path", "polygon", "polyline", "circle", "ellipse", "rect"};
+    for (size_t i = 0; i < sizeof drawn / sizeof drawn[0]; i++)
+        if (bvox__xml_is(x, drawn[i])) return true;
+    return false;
+}
+
+/* One line per file saying what was not read as an outline, and why. */
+static void warn_skipped(const svg_reader *r)
+{
+    if (!r->n_background && !r->n_hidden && !r->n_unselected) return;
+    char msg[400] = "";
+    size_t n = 0;
+    if (r->n_background)
+        n += (size_t)snprintf(msg + n, sizeof msg - n, ", %d full-canvas background <rect>%s (line %lld)",
+                              r->n_background, r->n_background > 1 ? "s" : "",
+                              (long long)r->background_line);
+    if (r->n_hidden && n < sizeof msg)
+        n += (size_t)snprintf(msg + n, sizeof msg - n, ", %d hidden element%s", r->n_hidden,
+                              r->n_hidden > 1 ? "s" : "");
+    if (r->n_unselected && n < sizeof msg)
+        snprintf(msg + n, sizeof msg - n, ", %d element%s not named by --svg-select", r->n_unselected,
+                 r->n_unselected > 1 ? "s" : "");
+    bvox__warn("%s: skipped%s", r->x.name, msg + 1);
+}
+
 static bvox_status read_svg(svg_reader *r, int *has_z)
 {
     bvox_status st;
@@ -533,6 +638,8 @@ static bvox_status read_svg(svg_reader *r, int *has_z)
         if (x->kind == BVOX__XML_EOF) break;
         if (x->kind == BVOX__XML_END) {
             if (r->skip_depth && x->depth < r->skip_depth) r->skip_depth = 0;
+            if (r->hidden_depth && x->depth < r->hidden_depth) r->hidden_depth = 0;
+            if (r->selected_depth && x->depth < r->selected_depth) r->selected_depth = 0;
             continue;
         }
         r->elem_at = x->at;
@@ -559,9 +666,27 @@ static bvox_status read_svg(svg_reader *r, int *has_z)
             r->skip_depth = depth;
             continue;
         }
+        if (!r->hidden_depth && bvox__svg_hides(x)) r->hidden_depth = depth;
+        if (r->select && !r->selected_depth && bvox__svg_selected(x, r->select))
+            r->selected_depth = depth;
+        if (!is_drawn(x)) continue;
+        if (r->hidden_depth) {
+            r->n_hidden++;
+            continue;
+        }
+        if (bvox__xml_is(x, "rect")) {
+            int bg = is_background(r, &r->ctm[depth], &st);
+            if (st) return st;
+            if (bg) continue;
+        }
+        if (r->select && !r->selected_depth) {
+            r->n_unselected++;
+            continue;
+        }
         if ((st = element(r, &r->ctm[depth]))) return st;
     }
     if (!root_seen) return bvox__xml_fail(x, x->p, "no <svg> element");
+    warn_skipped(r);
     bvox__section_nest(r->sec);
     return BVOX_OK;
 }
@@ -570,6 +695,12 @@ bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char
                                        bvox_contour_stack **stack)
 {
     bvox__clear_error();
+    return bvox__svg_read(data, size, name, z, NULL, stack);
+}
+
+bvox_status bvox__svg_read(const char *data, size_t size, const char *name, double z,
+                           const char *select, bvox_contour_stack **stack)
+{
     if (!stack) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_svg_memory: stack is NULL");
     if (!data && size) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_svg_memory: no data");
     if (!name) name = "<memory>";
@@ -590,9 +721,11 @@ bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char
     }
     int32_t before = s->nsections;
     st = bvox_stack_add_section(s, z, base, &r->sec);
+    if (!st) r->sec->z_from_index = 1; /* until the root's data-z says otherwise */
     if (!st) {
         r->stack = s;
         r->index = before;
+        r->select = select && *select ? select : NULL;
         bvox__xml_init(&r->x, data, size, name);
         int has_z = 0;
         st = read_svg(r, &has_z);
@@ -614,6 +747,12 @@ bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char
 bvox_status bvox_stack_read_svg_files(const char *const *paths, int32_t n, bvox_contour_stack **out)
 {
     bvox__clear_error();
+    return bvox__svg_read_files(paths, n, NULL, out);
+}
+
+bvox_status bvox__svg_read_files(const char *const *paths, int32_t n, const char *select,
+                                 bvox_contour_stack **out)
+{
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_svg_files: out is NULL");
     *out = NULL;
     if (!paths || n < 1) return bvox__fail(BVOX_EINVAL, "no SVG files given");
@@ -625,7 +764,7 @@ bvox_status bvox_stack_read_svg_files(const char *const *paths, int32_t n, bvox_
         size_t size;
         if ((st = bvox__read_text(paths[i], &text, &size))) break;
         /* until a file says otherwise (data-z), sections are `spacing` apart */
-        st = bvox_stack_read_svg_memory(text, size, paths[i], i * s->spacing, &s);
+        st = bvox__svg_read(text, size, paths[i], i * s->spacing, select, &s);
         free(text);
         if (st) break;
     }

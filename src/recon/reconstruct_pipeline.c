@@ -9,8 +9,10 @@
  * interpolation to the output slice spacing).
  */
 #include "section_internal.h"
+#include "contour_internal.h"
 #include "io/io.h"
 
+#include <ctype.h>
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
@@ -257,6 +259,44 @@ done:
     return st;
 }
 
+/* Sections whose markers failed: registered by their contours onto the
+ * adjacent section towards the reference, going outwards so that the
+ * neighbour is final first (align_contours.c). A section too small to
+ * register keeps the old fallback (its neighbour's transform). */
+static bvox_status align_by_contours(bvox_recon_report *rep, const sec_work *w)
+{
+    int32_t n = rep->nsections, ref = rep->reference;
+    for (int dir = -1; dir <= 1; dir += 2)
+        for (int32_t k = ref + dir; k >= 0 && k < n; k += dir) {
+            bvox_recon_section_report *s = &rep->sections[k];
+            const bvox_recon_section_report *nb = &rep->sections[k - dir];
+            if (!s->align.fallback) continue;
+            s->align.neighbour = k - dir;
+            s->align.transform = nb->align.transform;
+            bvox_sim2 step;
+            double rms;
+            bvox_status st = bvox__contours_register(w[k].contours, w[k].ncontours,
+                                                     w[k - dir].contours, w[k - dir].ncontours,
+                                                     &step, &rms);
+            if (st == BVOX_ENOMEM) return st;
+            if (st) continue;
+            s->align.step = step;
+            s->align.residual = rms;
+            s->align.by_contours = 1;
+            s->align.transform = bvox_sim2_compose(&nb->align.transform, &step);
+            size_t len = strlen(s->message);
+            if (len + 80 < sizeof s->message && len > 0) {
+                char *cut = strstr(s->message, ": no alignment");
+                if (cut) len = (size_t)(cut - s->message);
+                snprintf(s->message + len, sizeof s->message - len,
+                         ": aligned by its contours to '%s' instead (residual %.2f px)", nb->name,
+                         rms);
+            }
+        }
+    bvox__clear_error();
+    return BVOX_OK;
+}
+
 static bvox_xform2 to_xform(const bvox_sim2 *t)
 {
     return bvox_xform2_similarity(t->angle, t->scale, t->tx, t->ty);
@@ -405,6 +445,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
     /* alignment */
     double t0 = now_ms();
     if (o->align && (find_markers || mfile) && (st = align_report(rep, o))) goto done;
+    if (rep->aligned && rep->fallbacks && (st = align_by_contours(rep, w))) goto done;
     rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
     progress(o, BVOX_RECON_ALIGN, n, n);
     /* the stack */
@@ -588,6 +629,35 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
     return BVOX_OK;
 }
 
+/* The options' pixel, spacing and unit override the file's. Sections whose
+ * file gave no z sit at index x spacing, so a spacing given now re-places
+ * them (three SVGs with --spacing 5 are 5 apart, not 1). What neither the file
+ * nor the options said is a default the user must hear about: one warning. */
+static void apply_scale(const char *path, const bvox_recon_opts *o, bvox_contour_stack *stack)
+{
+    if (o->pixel > 0) stack->pixel = o->pixel;
+    if (o->spacing > 0) {
+        stack->spacing = o->spacing;
+        for (int32_t i = 0; i < stack->nsections; i++)
+            if (stack->sections[i].z_from_index) stack->sections[i].z = i * o->spacing;
+    }
+    if (o->unit[0]) {
+        memcpy(stack->unit, o->unit, sizeof stack->unit);
+        stack->unit[sizeof stack->unit - 1] = '\0';
+    }
+    int implicit_z = 0;
+    for (int32_t i = 0; i < stack->nsections; i++) implicit_z |= stack->sections[i].z_from_index;
+    char missing[96] = "";
+    if (!(o->pixel > 0) && !(stack->given & BVOX_STACK_GIVEN_PIXEL))
+        strcat(missing, ", pixel size 1 (--pixel)");
+    if (stack->nsections > 1 && implicit_z && !(o->spacing > 0) &&
+        !(stack->given & BVOX_STACK_GIVEN_SPACING))
+        strcat(missing, ", section spacing 1 (--spacing)");
+    if (!o->unit[0] && !stack->unit[0]) strcat(missing, ", no unit (--unit)");
+    if (missing[0])
+        bvox__warn("%s: not stated in the file or the options, assumed:%s", path, missing + 1);
+}
+
 static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_volume **volume,
                              bvox_contour_stack **stack_out, bvox_recon_report **report_out)
 {
@@ -597,25 +667,15 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     if (o->markers_file)
         return bvox__fail(BVOX_EINVAL, "%s: a markers file goes with section images; a contour "
                                        "file carries its own markers", path);
-    bvox_status st = bvox_stack_read(path, &stack);
+    bvox_stack_read_opts ro = {o->svg_select};
+    bvox_status st = bvox_stack_read_with(path, &ro, &stack);
     if (st) return st;
-    /* traced contours that cross each other or themselves are a tracing
-     * mistake: refused, naming the section (the even-odd fill would make a
-     * silent mess of them) */
-    for (int32_t i = 0; i < stack->nsections; i++)
-        if ((st = bvox_section_check_simple(&stack->sections[i], i))) {
-            char msg[512];
-            snprintf(msg, sizeof msg, "%s", bvox_errmsg());
-            st = bvox__fail(st, "%s: %s", path, msg);
-            goto done;
-        }
+    /* contours crossing each other are a tracing mistake: refused, naming the
+     * section; one crossing itself (jitter) is kept and warned about unless
+     * strict (contour_repair.c) */
+    if ((st = bvox__stack_check_crossings(path, stack, o->strict))) goto done;
     double t_read = now_ms() - t0;
-    if (o->pixel > 0) stack->pixel = o->pixel;
-    if (o->spacing > 0) stack->spacing = o->spacing;
-    if (o->unit[0]) {
-        memcpy(stack->unit, o->unit, sizeof stack->unit);
-        stack->unit[sizeof stack->unit - 1] = '\0';
-    }
+    apply_scale(path, o, stack);
     int any_markers = 0;
     for (int32_t i = 0; i < stack->nsections; i++) any_markers |= stack->sections[i].nmarkers > 0;
     if (o->align && any_markers) {
@@ -645,6 +705,37 @@ static const char *base_name(const char *path)
 {
     const char *s = strrchr(path, '/');
     return s ? s + 1 : path;
+}
+
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
+}
+
+/* blank.png, flatfield.tif, background_01.png, Flat-Field.TIF, empty.png */
+static int looks_blank(const char *name)
+{
+    static const char *const words[] = {"blank", "flat", "background", "empty", "dark"};
+    char low[64];
+    size_t n = strlen(name);
+    if (n >= sizeof low) return 0;
+    for (size_t i = 0; i <= n; i++) low[i] = (char)tolower((unsigned char)name[i]);
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; i++)
+        if (!strncmp(low, words[i], strlen(words[i]))) return 1;
+    return 0;
+}
+
+/* Section images carry no spacing between them, and bvox does not read a
+ * pixel size from them: what the options do not give is assumed and said. */
+static void warn_image_scale(const bvox_recon_opts *o)
+{
+    char missing[96] = "";
+    if (!(o->pixel > 0)) strcat(missing, ", pixel size 1 (--pixel)");
+    if (!(o->spacing > 0)) strcat(missing, ", section spacing 1 (--spacing)");
+    if (!o->unit[0]) strcat(missing, ", no unit (--unit)");
+    if (missing[0]) bvox__warn("section images: not given, assumed:%s", missing + 1);
 }
 
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
@@ -685,10 +776,24 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;
     }
+    int32_t nsec = 0;
     for (int32_t i = 0; i < n; i++) {
-        w[i].path = paths[i];
-        w[i].name = base_name(paths[i]);
+        /* the blank given as --background is not also a section */
+        if (o.background && same_file(paths[i], o.background)) continue;
+        if (!o.background && !o.background_image && looks_blank(base_name(paths[i])))
+            bvox__warn("%s: named like a blank (flat-field) image, but used as a section; give "
+                       "it as --background to correct the light with it",
+                       paths[i]);
+        w[nsec].path = paths[i];
+        w[nsec].name = base_name(paths[i]);
+        nsec++;
     }
+    n = nsec;
+    if (n < 1) {
+        st = bvox__fail(BVOX_EINVAL, "reconstruct: no sections besides the background image");
+        goto done;
+    }
+    warn_image_scale(&o);
     if (!o.background_image && o.background) {
         if ((st = bvox_section_read(o.background, &background))) goto done;
         o.background_image = background;

@@ -56,4 +56,10 @@ bvox_status bvox__section_tiff_decode(const uint8_t *data, size_t size, const ch
                                       bvox_image **out);
 bvox_status bvox__section_tiff_read(const char *path, bvox_image **out);
 
+/* align_contours.c: the rigid step taking src's outline onto dst's (ICP on
+ * half-pixel samples of the edges); rms: RMS distance of the kept pairs.
+ * BVOX_ENOTFOUND when an outline is too small to align by. */
+bvox_status bvox__contours_register(const bvox_contour *src, int32_t ns, const bvox_contour *dst,
+                                    int32_t nd, bvox_sim2 *step, double *rms);
+
 #endif

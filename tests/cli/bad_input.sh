@@ -146,7 +146,9 @@ expect 1 "sections of different sizes" -- "$BVOX" reconstruct "$in/s1.png" "$in/
 printf '{"sections":[{"z":0,"contours":[[[0,0],[5,0]]]}]}' >"$in/two.json"
 expect 1 "contour of 2 points" -- "$BVOX" reconstruct "$in/two.json" -o "$out/m.nii" --quiet
 printf '{"sections":[{"z":0,"contours":[[[0,0],[10,10],[10,0],[0,10]]]}]}' >"$in/cross.json"
-expect 1 "self-crossing contour" -- "$BVOX" reconstruct "$in/cross.json" -o "$out/m.nii" --quiet
+expect 1 "self-crossing contour with --strict" -- "$BVOX" reconstruct "$in/cross.json" -o "$out/m.nii" --quiet --strict
+printf '{"sections":[{"z":0,"contours":[[[0,0],[10,0],[10,10],[0,10]],[[5,5],[15,5],[15,15],[5,15]]]}]}' >"$in/cross2.json"
+expect 1 "two contours crossing each other" -- "$BVOX" reconstruct "$in/cross2.json" -o "$out/m.nii" --quiet
 python3 -c 'print("{\"extra\":" + "[" * 100000)' >"$in/deep.json"
 expect 1 "JSON nested 100000 deep" -- "$BVOX" reconstruct "$in/deep.json" -o "$out/m.nii" --quiet
 printf '<svg><path d="M 0 0 A 5 5 0 0 1 10 10 Z"/></svg>' >"$in/arc.svg"

@@ -49,7 +49,7 @@ jcheck "$tmp/j" '(o["components"], o["cavities"], o["tunnels"], o["euler"]) == (
 "$BVOX" measure "$tmp/box.nii" >"$tmp/t" || fail "measure text exited $?"
 grep -q '^count: *24 voxels' "$tmp/t" || fail "text count: $(cat "$tmp/t")"
 grep -q '^centroid: *1.25, 1, 3 mm$' "$tmp/t" || fail "text centroid: $(cat "$tmp/t")"
-grep -q '^surface area: .* mm^2 (voxel faces: 34)$' "$tmp/t" || fail "text area: $(cat "$tmp/t")"
+grep -q '^surface area: .* mm^2 (area of the voxel faces: 34 mm^2)$' "$tmp/t" || fail "text area: $(cat "$tmp/t")"
 grep -q '^axis 1: *(0.0000, 0.0000, 1.0000), sd 1 mm$' "$tmp/t" || fail "text axis 1"
 grep -q '^components: *1 ' "$tmp/t" || fail "text components"
 col=$(sed 's/^\([a-z. 0-9]*: *\).*/\1/' "$tmp/t" | awk '{ print length($0) }' | sort -u)
@@ -70,6 +70,24 @@ jcheck "$tmp/j" 'o["count"] == 110' || fail "set count"
 jcheck "$tmp/j" '(o["components"], o["cavities"], o["tunnels"], o["euler"]) == (4, 1, 1, 4)' ||
     fail "set topology"
 jcheck "$tmp/j" 'o["area_unit"] == "voxel^2"' || fail "area unit without a unit"
+jcheck "$tmp/j" 'o["cavities_6"] == 1 and o["cavities_26"] == 1' || fail "set cavities by connectivity"
+
+# Two hollow voxels that touch only at a corner, inside a 7^3 block: two
+# cavities for a 6-connected background, one for a 26-connected one. 341
+# voxels: too few for a sphericity estimate (null); a ball of radius 10
+# (4224 voxels, whose Crofton estimate reads 1.003) is reported as 1.
+mk diag 9 9 9 '1 <= min(x, y, z) and max(x, y, z) <= 7 and (x, y, z) not in ((3, 3, 3), (4, 4, 4))'
+"$BVOX" measure "$tmp/diag.nii" --json >"$tmp/j" || fail "measure diag exited $?"
+jcheck "$tmp/j" '(o["cavities"], o["cavities_6"], o["cavities_26"]) == (2, 2, 1)' ||
+    fail "diagonal cavities: $(cat "$tmp/j")"
+jcheck "$tmp/j" 'o["sphericity"] is None' || fail "sphericity of 341 voxels is not null"
+"$BVOX" measure "$tmp/diag.nii" >"$tmp/t" || fail "measure diag text"
+grep -q '^cavities:     2 (6-connected background; 26-connected: 1)$' "$tmp/t" ||
+    fail "cavities text: $(cat "$tmp/t")"
+grep -q '^sphericity:   n/a' "$tmp/t" || fail "sphericity text: $(cat "$tmp/t")"
+"$BVOX" shape sphere r=10 --dims 40,40,40 -o "$tmp/ball.nii" || fail "ball"
+"$BVOX" measure "$tmp/ball.nii" --json >"$tmp/j" || fail "measure ball"
+jcheck "$tmp/j" 'o["count"] == 4224 and o["sphericity"] == 1' || fail "ball sphericity: $(cat "$tmp/j")"
 "$BVOX" measure "$tmp/set.nii" --csv >"$tmp/c" || fail "measure --csv exited $?"
 python3 - "$tmp/c" <<'PY' || fail "set CSV: $(cat "$tmp/c")"
 import csv, sys

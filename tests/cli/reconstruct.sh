@@ -211,9 +211,13 @@ grep -q "holds no section images" "$tmp/err" || { cat "$tmp/err"; fail "empty fo
 cat >"$tmp/bow.json" <<'JSON'
 {"unit": "um", "pixel": 1, "spacing": 2, "sections": [{"z": 0, "contours": [[[0,0],[10,10],[10,0],[0,10]]]}, {"z": 2, "contours": [[[0,0],[10,0],[10,10],[0,10]]]}]}
 JSON
-if "$BVOX" reconstruct "$tmp/bow.json" -o "$tmp/bow.nii" 2>"$tmp/err"; then fail "a crossing contour accepted"; fi
+# (a contour crossing itself is filled even-odd with a warning by default,
+# issue 14; --strict refuses it as before)
+if "$BVOX" reconstruct "$tmp/bow.json" -o "$tmp/bow.nii" --strict 2>"$tmp/err"; then fail "a crossing contour accepted with --strict"; fi
 grep -q "section 1 (z = 0): contour 1 crosses itself" "$tmp/err" || { cat "$tmp/err"; fail "crossing message"; }
 [ ! -e "$tmp/bow.nii" ] || fail "output after a failure"
+"$BVOX" reconstruct "$tmp/bow.json" -o "$tmp/bow.nii" 2>"$tmp/err" || fail "a crossing contour refused without --strict"
+grep -q "^bvox: warning: .*section 1 (z = 0): contour 1 crosses itself" "$tmp/err" || { cat "$tmp/err"; fail "crossing warning"; }
 cat >"$tmp/two.json" <<'JSON'
 {"unit": "um", "pixel": 1, "spacing": 2, "sections": [{"z": 0, "contours": [[[0,0],[10,10]]]}]}
 JSON

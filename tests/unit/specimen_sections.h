@@ -113,7 +113,9 @@ static inline void spec_free(specimen *sp)
 }
 
 /* Section k as an 8-bit image. missing: index of a marker left out (-1
- * none); spurious: 1 adds a round dark blob of a marker's size elsewhere. */
+ * none, SPEC_NO_MARKERS all); spurious: 1 adds a round dark blob of a
+ * marker's size elsewhere. */
+#define SPEC_NO_MARKERS 9
 static inline bvox_status spec_render(const specimen *sp, int32_t k, int missing, int spurious,
                                       bvox_image **out)
 {
@@ -137,7 +139,7 @@ static inline bvox_status spec_render(const specimen *sp, int32_t k, int missing
             if (spec_inside(sh, p.x, p.y, z))
                 tr = 0.48 + 0.09 * sin(p.x / (5 * sp->scale)) * cos(p.y / (7 * sp->scale));
             for (int i = 0; i < 4; i++) {
-                if (i == missing || (i == 3 && !spurious)) continue;
+                if (i == missing || missing == SPEC_NO_MARKERS || (i == 3 && !spurious)) continue;
                 if (hypot(p.x - mk[i].x, p.y - mk[i].y) <= r) tr = 0.15;
             }
             double v = light * tr;

@@ -425,3 +425,89 @@ TEST(read_dispatch_and_folders)
     CHECK_EQ(bvox_memory_in_use(), 0);
     return 0;
 }
+
+/* Reconstruct's <Series units=...> sets the stack's unit (microns the
+ * default); a unit bvox cannot name is refused, never taken as microns (an
+ * EM series in nanometers read as um is 10^9 off in volume). */
+static int series_with_units(const char *units, bvox_contour_stack **out)
+{
+    const char *dir = harness_tmpdir();
+    char p[512], ser[600];
+    snprintf(p, sizeof p, "%s/u.ser", dir);
+    snprintf(ser, sizeof ser, "<?xml version=\"1.0\"?>\n<Series index=\"1\"%s%s%s/>\n",
+             units ? " units=\"" : "", units ? units : "", units ? "\"" : "");
+    if (write_text(p, ser)) return -1;
+    char sec[512];
+    snprintf(sec, sizeof sec, "%s/u.1", dir);
+    if (write_text(sec, "<Section index=\"1\" thickness=\"0.05\"><Transform dim=\"0\" "
+                        "xcoef=\" 0 1 0 0 0 0\" ycoef=\" 0 0 1 0 0 0\"><Contour name=\"a\" "
+                        "points=\"1 1, 2 1, 2 2, 1 2\"/></Transform></Section>\n"))
+        return -1;
+    return (int)bvox_stack_read(p, out);
+}
+
+TEST(reconstruct_series_units)
+{
+    static const char *const given[] = {NULL, "microns", "nanometers", "millimeters", "Meters"};
+    static const char *const want[] = {"um", "um", "nm", "mm", "m"};
+    for (int i = 0; i < 5; i++) {
+        bvox_contour_stack *s = NULL;
+        CHECK_EQ(series_with_units(given[i], &s), BVOX_OK);
+        CHECK(strcmp(s->unit, want[i]) == 0);
+        CHECK(s->given & BVOX_STACK_GIVEN_UNIT);
+        CHECK(s->given & BVOX_STACK_GIVEN_SPACING);
+        CHECK_NEAR(s->spacing, 0.05, 0);
+        bvox_stack_destroy(s);
+    }
+    bvox_contour_stack *s = NULL;
+    CHECK_EQ(series_with_units("furlongs", &s), BVOX_EFORMAT);
+    CHECK(s == NULL);
+    CHECK(strstr(bvox_errmsg(), "furlongs") != NULL);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
+typedef struct warnings {
+    int n;
+    char last[512];
+} warnings;
+
+static void collect(const char *msg, void *user)
+{
+    warnings *w = user;
+    w->n++;
+    snprintf(w->last, sizeof w->last, "%s", msg);
+}
+
+/* Keys another tool wrote are ignored, but said: one warning per top-level
+ * key, one per section key (not one per section). Known keys never warn. */
+TEST(json_unknown_keys_warn)
+{
+    warnings w = {0, ""};
+    bvox_set_warning_handler(collect, &w);
+    const char *known = "{\"unit\":\"um\",\"pixel\":2,\"spacing\":3,\"width\":9,\"height\":9,"
+                        "\"origin\":[0,0],\"sections\":[{\"z\":0,\"name\":\"a\",\"markers\":[],"
+                        "\"contours\":[[[1,1],[4,1],[4,4]]]}]}";
+    bvox_contour_stack *s = NULL;
+    CHECK_OK(bvox_stack_read_json_memory(known, strlen(known), "k.json", &s));
+    CHECK_EQ(w.n, 0);
+    CHECK_EQ(s->given, BVOX_STACK_GIVEN_PIXEL | BVOX_STACK_GIVEN_SPACING | BVOX_STACK_GIVEN_UNIT);
+    CHECK_EQ(s->sections[0].z_from_index, 0);
+    bvox_stack_destroy(s);
+    const char *other = "{\"canvas\":[640,480],\"sections\":[{\"layer\":1,\"contours\":[]},"
+                        "{\"layer\":2},{\"layer\":3}]}";
+    uint64_t before = bvox_warning_count();
+    CHECK_OK(bvox_stack_read_json_memory(other, strlen(other), "o.json", &s));
+    CHECK_EQ(w.n, 2);
+    CHECK_EQ(bvox_warning_count() - before, 2);
+    CHECK(strstr(w.last, "\"layer\"") && strstr(w.last, "section 1 and others"));
+    CHECK_EQ(s->given, 0);
+    CHECK_EQ(s->sections[2].z_from_index, 1);
+    CHECK_NEAR(s->sections[2].z, 2, 0);
+    bvox_stack_destroy(s);
+    bvox_set_warning_handler(NULL, NULL);
+    CHECK_OK(bvox_stack_read_json_memory(other, strlen(other), "o.json", &s));
+    CHECK_EQ(w.n, 2); /* no handler: dropped, but still counted */
+    bvox_stack_destroy(s);
+    return 0;
+}

@@ -204,8 +204,13 @@ TEST(section_without_markers_falls_back)
     CHECK_EQ(rep->sections[3].align.neighbour, 4);
     CHECK(strstr(rep->sections[3].message, "cut03"));
     CHECK(strstr(rep->sections[3].message, "cut04"));
-    /* it keeps its neighbour's transform; section 2 skips it and matches 4 */
-    CHECK_NEAR(rep->sections[3].align.transform.angle, rep->sections[4].align.transform.angle, 0);
+    /* it is aligned by its contours onto section 4 (no longer given 4's
+     * transform, which is wrong when sections move independently); section
+     * 2 skips it and matches 4 by markers */
+    CHECK_EQ(rep->sections[3].align.by_contours, 1);
+    CHECK(strstr(rep->sections[3].message, "aligned by its contours"));
+    bvox_sim2 want3 = bvox_sim2_inverse(&sp.moves[3]);
+    CHECK_NEAR(rep->sections[3].align.transform.angle, want3.angle, 0.5 * M_PI / 180);
     CHECK_EQ(rep->sections[2].align.neighbour, 4);
     CHECK_EQ(rep->sections[2].align.fallback, 0);
     for (int k = 0; k < 12; k++) bvox_image_destroy(imgs[k]);
@@ -322,6 +327,77 @@ TEST(bright_objects_same_model)
     }
     bvox_volume_destroy(a);
     bvox_volume_destroy(b);
+    spec_free(&sp);
+    return 0;
+}
+
+/* A specimen whose sections change slowly (as thin serial sections do): an
+ * ellipse that widens and flattens a little along z (about its own centre:
+ * an object that drifts is indistinguishable from a section that moved),
+ * with a disc on its side so that no turn maps it onto itself. No markers. Section k moved by
+ * sp->moves[k] (turns up to 8 degrees, shifts up to 20 pixels), the same
+ * uneven light and noise as the other specimen. */
+static bvox_status render_tube(const specimen *sp, int32_t k, bvox_image **out)
+{
+    bvox_status st = bvox_image_create(sp->size, sp->size, 1, 8, out);
+    if (st) return st;
+    bvox_sim2 inv = bvox_sim2_inverse(&sp->moves[k]);
+    uint64_t s = sp->seed * 2654435761u + (uint64_t)k * 97 + 1;
+    double n = sp->size;
+    for (int32_t y = 0; y < sp->size; y++)
+        for (int32_t x = 0; x < sp->size; x++) {
+            bvox_point2 p = bvox_sim2_apply(&inv, (bvox_point2){x + 0.5, y + 0.5});
+            double u = (p.x - 115) / (48 + 0.15 * k), v = (p.y - 112) / (30 - 0.1 * k);
+            int in = u * u + v * v <= 1 || hypot(p.x - 150, p.y - 146) <= 20;
+            double light = 165 + 35 * x / n - 40 * ((y - n / 2) / n) * ((y - n / 2) / n) * 4;
+            double val = light * (in ? 0.5 : 1) + (spec_urand(&s) - 0.5) * 24;
+            (*out)->pixels[(size_t)y * sp->size + x] = (uint8_t)(val < 0 ? 0 : val > 255 ? 255 : val);
+        }
+    return BVOX_OK;
+}
+
+/* All markers lost (none in any section): each section is aligned by its
+ * traced contours onto its neighbour, outwards from the middle one, and
+ * comes back within 0.5 degree and 1 pixel (at the image centre) of its
+ * true place; the report says which were aligned so, with residuals. */
+TEST(markers_lost_aligned_by_contours)
+{
+    enum { N = 24 };
+    specimen sp;
+    CHECK(spec_init(&sp, SIZE, N, 2.0, 777) == 0);
+    bvox_image *imgs[N];
+    for (int k = 0; k < N; k++) CHECK_OK(render_tube(&sp, k, &imgs[k]));
+    bvox_recon_opts o = bvox_recon_opts_default();
+    o.markers.count = 3;
+    bvox_recon_report *rep = NULL;
+    bvox_volume *vol = NULL;
+    CHECK_OK(bvox_reconstruct_images((const bvox_image *const *)imgs, NULL, N, &o, &vol, NULL,
+                                     &rep));
+    int ref = rep->reference;
+    CHECK_EQ(ref, N / 2);
+    CHECK_EQ(rep->fallbacks, N - 1);
+    double worst_angle = 0, worst_shift = 0;
+    for (int k = 0; k < N; k++) {
+        const bvox_recon_section_report *s = &rep->sections[k];
+        if (k == ref) continue;
+        CHECK_EQ(s->align.by_contours, 1);
+        CHECK(s->align.residual < 1.0);
+        CHECK(strstr(s->message, "aligned by its contours"));
+        /* section k -> the specimen's frame -> the reference section */
+        bvox_sim2 back = bvox_sim2_inverse(&sp.moves[k]);
+        bvox_sim2 want = bvox_sim2_compose(&sp.moves[ref], &back);
+        worst_angle = fmax(worst_angle, fabs(s->align.transform.angle - want.angle));
+        bvox_point2 c = {SIZE / 2.0, SIZE / 2.0};
+        bvox_point2 a = bvox_sim2_apply(&s->align.transform, c), b = bvox_sim2_apply(&want, c);
+        worst_shift = fmax(worst_shift, hypot(a.x - b.x, a.y - b.y));
+    }
+    fprintf(stderr, "by contours: worst angle error %.3f deg, centre error %.3f px\n",
+            worst_angle * 180 / M_PI, worst_shift);
+    CHECK(worst_angle < 0.5 * M_PI / 180);
+    CHECK(worst_shift < 1.0);
+    for (int k = 0; k < N; k++) bvox_image_destroy(imgs[k]);
+    bvox_recon_report_destroy(rep);
+    bvox_volume_destroy(vol);
     spec_free(&sp);
     return 0;
 }
