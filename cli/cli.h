@@ -35,8 +35,8 @@ int cmd_labels(int argc, char **argv);
  * parsing; returns the exit status. */
 struct cli_read_args;
 /* cmd_labels.c: read the lookup table (if lut) and the label volume, apply
- * --voxel-size/--unit, print the table's warnings and the labels it lacks
- * on stderr. 0, or -1 with bvox_errmsg() set. */
+ * --voxel-size/--unit; the table's warnings go to the warning handler, the
+ * labels it lacks are warned about here (not with --quiet). 0, or -1 with bvox_errmsg() set. */
 int cli_labels_load(const char *path, const struct cli_read_args *ra, const char *lut,
                     int64_t max_labels, bvox_labelset **set, bvox_label_table **table);
 int cli_mesh_labels(const char *in, const struct cli_read_args *ra, const char *labels,

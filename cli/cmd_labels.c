@@ -288,12 +288,7 @@ int cli_labels_load(const char *path, const cli_read_args *ra, const char *lut,
             return -1;
         }
     }
-    if (table) {
-        int shown = table->nwarnings < 8 ? table->nwarnings : 8;
-        for (int k = 0; k < shown; k++) fprintf(stderr, "bvox: warning: %s\n", table->warnings[k]);
-        if (table->nwarnings > shown)
-            fprintf(stderr, "bvox: warning: %s: %d more warnings\n", lut,
-                    table->nwarnings - shown);
+    if (table && !cli_quiet) { /* the table's own warnings went to the handler */
         int64_t missing = 0;
         for (int64_t i = 0; i < set->n; i++)
             if (!bvox_label_table_find(table, set->objects[i].label) && missing++ < 8)

@@ -593,8 +593,8 @@ typedef struct bvox_label_table {
     int64_t n;
     bvox_label_entry *entries;  /* by ascending label; a duplicate keeps the first */
     int sorted;                 /* internal: entries are sorted */
-    int nwarnings;              /* duplicates, unreadable lines: not failures */
-    char warnings[8][160];      /* the first 8 */
+    int nwarnings;              /* duplicates, unreadable lines: not failures; each
+                                   also goes to the warning handler */
 } bvox_label_table;
 
 /* Read a table. BVOX_ENOTFOUND, BVOX_EFORMAT (no line could be read).
