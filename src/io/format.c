@@ -11,11 +11,11 @@
 
 static const bvox__format *const formats[] = {
     &bvox__format_nifti, &bvox__format_binvox, &bvox__format_tiff,
-    &bvox__format_png,   &bvox__format_raw,
+    &bvox__format_png,   &bvox__format_raw,    &bvox__format_nrrd,
 };
 #define NFORMATS (sizeof formats / sizeof formats[0])
 
-const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw"; }
+const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd"; }
 
 static const bvox__format *by_name(const char *name)
 {

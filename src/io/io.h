@@ -116,6 +116,7 @@ extern const bvox__format bvox__format_binvox;
 extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
+extern const bvox__format bvox__format_nrrd; /* read only (nrrd.c) */
 
 /* The typed samples of a file or buffer, for readers of label volumes: the
  * format resolved as bvox_read does (forced, extension, content). On success
