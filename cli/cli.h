@@ -31,6 +31,7 @@ int cmd_morph(int argc, char **argv);
 int cmd_components(int argc, char **argv);
 int cmd_measure(int argc, char **argv);
 int cmd_labels(int argc, char **argv);
+int cmd_interpolate(int argc, char **argv);
 /* cli/mesh_labels.c: `bvox mesh IN --labels LIST -o DIR` after cmd_mesh's
  * parsing; returns the exit status. */
 struct cli_read_args;

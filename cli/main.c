@@ -16,6 +16,7 @@ static const cli_command commands[] = {
     {"components", cmd_components, "list connected components; keep the largest; label map"},
     {"measure", cmd_measure, "surface area, centroid, principal axes, topology, per component"},
     {"labels", cmd_labels, "label volume: per-label measures, names, neighbours (one pass)"},
+    {"interpolate", cmd_interpolate, "fill unannotated slices of a mask (shape-based, per label)"},
     {"edit", cmd_edit, "set or clear voxels and boxes, keep a box or one side of a plane"},
     {"cut", cmd_cut, "cut by a plane ax+by+cz+d=0 (world coordinates), keep one side"},
     {"csg", cmd_csg, "set operations on files and shapes: \"a.nii - sphere(r=2)\""},
