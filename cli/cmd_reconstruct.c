@@ -42,7 +42,10 @@ static void help(FILE *f)
           "  --smooth R             median filter radius in pixels (default 1; 0: none)\n"
           "  --min-area A           remove specks and fill holes below A pixels (default 16)\n"
           "  --markers N            find N reference markers (small dark round blobs) per\n"
-          "                         section and align by them\n"
+          "                         section and align by them; N = auto: count them\n"
+          "  --marker-coords F      put the model in a known frame: F (contour JSON) gives in\n"
+          "                         its first section where the reference section's markers\n"
+          "                         belong (pixels)\n"
           "  --markers-file F       take the markers from a contour stack file (JSON):\n"
           "                         its section i holds the markers of section i\n"
           "  --marker-radius MIN,MAX  marker radius range in pixels (default 1.5 to\n"
@@ -293,9 +296,14 @@ int cmd_reconstruct(int argc, char **argv)
             o.min_area = k;
         } else if (VALUE("--markers")) {
             if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_int64(v, 2, 16, &k)) USAGE("--markers: '%s' is not a count 2..16", v);
+            if (!strcmp(v, "auto")) k = BVOX_MARKERS_AUTO;
+            else if (cli_parse_int64(v, 2, 16, &k))
+                USAGE("--markers: '%s' is not a count 2..16 or auto", v);
             o.markers.count = (int32_t)k;
             markers_given++;
+        } else if (VALUE("--marker-coords")) {
+            if (r == CLI_ARG_BAD) goto bad_value;
+            o.marker_coords = v;
         } else if (VALUE("--markers-file")) {
             if (r == CLI_ARG_BAD) goto bad_value;
             o.markers_file = v;

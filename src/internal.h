@@ -40,14 +40,9 @@ void bvox__warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Prefix the current message with "prefix: " (adds a file name to a codec error). */
 void bvox__error_prefix(const char *prefix);
 
-/* ---- alloc.c: the one allocation seam for large buffers ---- */
-/* Budget-checked, 64-byte aligned, zero-filled if zero != 0. On failure sets
- * the message (what names the buffer) and returns NULL with *status set. */
-void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status);
-void bvox__free(void *ptr, size_t bytes);
-/* Test hook: make the n-th following bvox__alloc fail with BVOX_ENOMEM
- * (n = 1: the next one); 0 disables. */
-void bvox__alloc_fail_after(long n);
+/* ---- alloc.c: the one allocation seam (both kinds: see core/alloc.h) ---- */
+#include "core/alloc.h"
+#include "core/check.h" /* BVOX_ASSERT, BVOX_CHECK_VOLUME...: debug-build invariants */
 /* Overflow-safe a*b; returns false on overflow. */
 static inline bool bvox__mul_size(size_t a, size_t b, size_t *out)
 {

@@ -16,6 +16,7 @@
  * plus the pan, so the cast is made larger by twice the offset and cropped.
  */
 #include "view.h"
+#include "core/alloc.h" /* the allocation seam: the one header of src/ the viewer uses */
 
 #include <assert.h>
 #include <math.h>
@@ -88,9 +89,9 @@ static bvox_status cast_pane(vw_state *s, int w, int h)
     if (v->w != w || v->h != h || !v->depth) {
         free(v->depth), free(v->ncode), free(v->code);
         size_t n = (size_t)w * (size_t)h;
-        v->depth = malloc(n * sizeof *v->depth);
-        v->ncode = malloc(n);
-        v->code = malloc(n * sizeof *v->code);
+        v->depth = bvox__mem_alloc(n * sizeof *v->depth);
+        v->ncode = bvox__mem_alloc(n);
+        v->code = bvox__mem_alloc(n * sizeof *v->code);
         v->w = w, v->h = h;
         if (!v->depth || !v->ncode || !v->code) {
             free(v->depth), free(v->ncode), free(v->code);

@@ -5,6 +5,7 @@
  * read back for screenshots.
  */
 #include "view.h"
+#include "core/alloc.h" /* the allocation seam: the one header of src/ the viewer uses */
 
 #include <SDL.h>
 #include <stdlib.h>
@@ -48,7 +49,7 @@ int vw_window_open(vw_window **out, int width, int height, const char *title, ch
         SDL_Quit();
         return 0;
     }
-    vw_window *w = calloc(1, sizeof *w);
+    vw_window *w = bvox__mem_zalloc(1, sizeof *w);
     if (!w) {
         snprintf(err, errlen, "out of memory");
         SDL_Quit();

@@ -5,6 +5,7 @@
  * benchmark (a full turn rendered off screen, times per phase).
  */
 #include "view.h"
+#include "core/alloc.h" /* the allocation seam: the one header of src/ the viewer uses */
 
 #include <math.h>
 #include <stdlib.h>
@@ -48,7 +49,7 @@ static int run_bench(vw_state *s, int frames)
     double t = vw_now();
     if (vw_render(s)) return fail_status("rendering");
     double first = (vw_now() - t) * 1e3, surface = s->times.surface;
-    double *ph = calloc((size_t)frames * 5, sizeof *ph);
+    double *ph = bvox__mem_zalloc((size_t)frames * 5, sizeof *ph);
     if (!ph) return fail_status("memory");
     double *tot = ph, *cast = ph + frames, *code = ph + 2 * frames, *lut = ph + 3 * frames,
            *comp = ph + 4 * frames;
@@ -84,7 +85,7 @@ static int run_bench(vw_state *s, int frames)
     s->need_cast = 1;
     /* a light change: a new table applied to the codes, nothing cast */
     int nl = 36;
-    double *lt = calloc((size_t)nl, sizeof *lt);
+    double *lt = bvox__mem_zalloc((size_t)nl, sizeof *lt);
     if (!lt) {
         free(ph);
         return fail_status("memory");
@@ -98,7 +99,7 @@ static int run_bench(vw_state *s, int frames)
     /* an edit: a brush ball removed under the centre of the +z view, the
      * surface rebuilt, the frame drawn (what a click in the window costs) */
     int ne = 10;
-    double *et = calloc((size_t)ne, sizeof *et);
+    double *et = bvox__mem_zalloc((size_t)ne, sizeof *et);
     if (!et) {
         free(lt);
         free(ph);

@@ -18,6 +18,7 @@
  *   quit                        stop here (the end of the file does too)
  */
 #include "view.h"
+#include "core/alloc.h" /* the allocation seam: the one header of src/ the viewer uses */
 
 #include <ctype.h>
 #include <errno.h>
@@ -145,7 +146,7 @@ static bvox_status push(vw_script *sc, int *cap, const vw_cmd *c)
 {
     if (sc->n == *cap) {
         int ncap = *cap ? *cap * 2 : 32;
-        vw_cmd *n = realloc(sc->cmds, (size_t)ncap * sizeof *n);
+        vw_cmd *n = bvox__mem_resize(sc->cmds, (size_t)ncap * sizeof *n);
         if (!n) return BVOX_ENOMEM;
         sc->cmds = n;
         *cap = ncap;
@@ -216,7 +217,7 @@ static bvox_status parse_line(char *line, int lineno, vw_script *sc, int *cap)
     } else if (!strcmp(cmd, "screenshot") || !strcmp(cmd, "save")) {
         c.type = cmd[1] == 'c' ? VW_CMD_SCREENSHOT : VW_CMD_SAVE;
         if (n != 2) return fail(lineno, "%s PATH (one word)", cmd);
-        c.path = strdup(tok[1]);
+        c.path = bvox__mem_strdup(tok[1]);
         if (!c.path) return fail(lineno, "out of memory"), BVOX_ENOMEM;
     } else if (!strcmp(cmd, "quit")) {
         if (n != 1) return fail(lineno, "quit takes nothing");
@@ -270,7 +271,7 @@ bvox_status vw_script_load(const char *path, vw_script *out)
         return BVOX_ENOTFOUND;
     }
     size_t cap = 4096, n = 0;
-    char *buf = malloc(cap);
+    char *buf = bvox__mem_alloc(cap);
     for (;;) {
         if (!buf) break;
         if (n + 1 >= cap) {
@@ -279,7 +280,7 @@ bvox_status vw_script_load(const char *path, vw_script *out)
                 buf = NULL;
                 break;
             }
-            char *nb = realloc(buf, cap * 2);
+            char *nb = bvox__mem_resize(buf, cap * 2);
             if (!nb) {
                 free(buf);
                 buf = NULL;

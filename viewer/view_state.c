@@ -7,6 +7,7 @@
  * so the files form layers, not a circle.
  */
 #include "view.h"
+#include "core/alloc.h" /* the allocation seam: the one header of src/ the viewer uses */
 
 #include <math.h>
 #include <stdlib.h>
@@ -269,7 +270,7 @@ bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
         bvox_volume_destroy(model);
         return BVOX_EINVAL;
     }
-    vw_state *s = calloc(1, sizeof *s);
+    vw_state *s = bvox__mem_zalloc(1, sizeof *s);
     if (!s) {
         bvox_volume_destroy(model);
         return BVOX_ENOMEM;
@@ -293,7 +294,7 @@ bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
     bvox_status st = bvox_journal_create(s->dims, bvox_memory_budget() / 4, &s->journal);
     s->width = width;
     s->height = height;
-    s->rgb = calloc((size_t)width * (size_t)height, 3);
+    s->rgb = bvox__mem_zalloc((size_t)width * (size_t)height, 3);
     if (st || !s->rgb) {
         vw_close(s);
         return st ? st : BVOX_ENOMEM;

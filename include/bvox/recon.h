@@ -136,8 +136,11 @@ bvox_sim2 bvox_sim2_inverse(const bvox_sim2 *t);
 bvox_status bvox_sim2_fit(const bvox_point2 *src, const bvox_point2 *dst, int32_t n,
                           int allow_scale, bvox_sim2 *t, double *rms);
 
+#define BVOX_MARKERS_AUTO (-1) /* bvox_recon_opts.markers.count: find the count */
 typedef struct bvox_marker_opts {
-    int32_t count;      /* expected markers per section (N >= 1) */
+    int32_t count;      /* expected markers per section (N >= 1); in bvox_recon_opts also
+                           BVOX_MARKERS_AUTO: the median count found in up to 9 sections
+                           spread over the stack (a warning says it) */
     double min_radius;  /* pixels; 0: 1.5 */
     double max_radius;  /* pixels; 0: min(width, height) / 16 */
     double threshold;   /* gray level at or below which a pixel is marker-dark;
@@ -250,6 +253,12 @@ typedef struct bvox_recon_opts {
     bvox_marker_opts markers;     /* markers.count 0: no detection (default) */
     const char *markers_file;     /* a contour stack file (bvox_stack_read) whose section i
                                      holds the markers of section i; NULL */
+    const char *marker_coords;    /* a contour stack file whose first section's markers are
+                                     where the reference section's markers belong (pixels of
+                                     the section images, in a frame of the user's: an atlas,
+                                     a block face): the aligned stack is moved into that
+                                     frame (markers matched as between sections, any turn);
+                                     NULL: the reference section's own frame */
     int align;                    /* 1 (default): align by markers when there are any */
     int32_t reference;            /* reference section; -1 (default): the middle one */
     /* geometry */

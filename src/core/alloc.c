@@ -1,8 +1,11 @@
 /*
- * alloc.c — the one allocation seam for large buffers (voxel words, decoded
- * images). It enforces the process-wide memory budget, so that a file header
- * claiming 2^40 voxels gets a clear BVOX_ETOOBIG instead of an abort or the
- * OOM killer, and it is where tests inject allocation failures.
+ * alloc.c — the one allocation seam. Large buffers (voxel words, decoded
+ * images) go through bvox__alloc, which enforces the process-wide memory
+ * budget, so that a file header claiming 2^40 voxels gets a clear
+ * BVOX_ETOOBIG instead of an abort or the OOM killer. Small things go through
+ * the unbudgeted bvox__mem_* wrappers. Both kinds share one fault countdown,
+ * so tests can fail any allocation of the library (see core/alloc.h).
+ * This is the only file of src/ and viewer/ that calls libc's allocators.
  */
 #include "internal.h"
 
@@ -44,6 +47,17 @@ size_t bvox_memory_in_use(void) { return atomic_load(&in_use_bytes); }
 
 void bvox__alloc_fail_after(long n) { atomic_store(&fail_countdown, n); }
 
+long bvox__alloc_fail_pending(void) { return atomic_load(&fail_countdown); }
+
+/* True when the fault hook says this allocation must fail. The load first
+ * keeps the common case (hook off) to one read: no shared write, so threads
+ * allocating at once do not fight over a cache line. */
+static bool injected_failure(void)
+{
+    long c = atomic_load(&fail_countdown);
+    return c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1;
+}
+
 static void format_bytes(char *buf, size_t len, size_t bytes)
 {
     const char *units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
@@ -56,8 +70,7 @@ static void format_bytes(char *buf, size_t len, size_t bytes)
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
 {
     if (!what) what = "buffer";
-    long c = atomic_load(&fail_countdown);
-    if (c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1) {
+    if (injected_failure()) {
         *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating the %s (injected)", what);
         return NULL;
     }
@@ -95,3 +108,35 @@ void bvox__free(void *ptr, size_t bytes)
 }
 
 void bvox_free(void *ptr) { free(ptr); }
+
+/* ---- small, unbudgeted allocations: libc semantics plus the fault hook ---- */
+
+void *bvox__mem_alloc(size_t bytes)
+{
+    if (injected_failure()) return NULL;
+    return malloc(bytes);
+}
+
+void *bvox__mem_zalloc(size_t count, size_t size)
+{
+    if (injected_failure()) return NULL;
+    return calloc(count, size);
+}
+
+void *bvox__mem_resize(void *ptr, size_t bytes)
+{
+    if (injected_failure()) return NULL;
+    return realloc(ptr, bytes);
+}
+
+char *bvox__mem_strndup(const char *s, size_t n)
+{
+    size_t len = strnlen(s, n);
+    char *d = bvox__mem_alloc(len + 1);
+    if (!d) return NULL;
+    memcpy(d, s, len);
+    d[len] = 0;
+    return d;
+}
+
+char *bvox__mem_strdup(const char *s) { return bvox__mem_strndup(s, strlen(s)); }

@@ -50,7 +50,7 @@ bvox_status bvox_journal_create(bvox_dims dims, size_t max_bytes, bvox_journal *
     if (dims.nx < 1 || dims.ny < 1 || dims.nz < 1)
         return bvox__fail(BVOX_EINVAL, "journal: bad dimensions");
     bvox__clear_error();
-    bvox_journal *j = calloc(1, sizeof *j);
+    bvox_journal *j = bvox__mem_zalloc(1, sizeof *j);
     if (!j) return bvox__fail(BVOX_ENOMEM, "out of memory");
     j->dims = dims;
     j->wpc = ((size_t)dims.nz + 63) / 64;
@@ -101,7 +101,7 @@ void bvox_journal_begin(bvox_journal *j)
     drop_redo(j);
     if (j->n == j->cap) {
         int cap = j->cap ? 2 * j->cap : 16;
-        step *s = realloc(j->steps, (size_t)cap * sizeof *s);
+        step *s = bvox__mem_resize(j->steps, (size_t)cap * sizeof *s);
         if (!s) return; /* record will fail cleanly: no open step */
         j->steps = s;
         j->cap = cap;
@@ -142,7 +142,7 @@ bvox_status bvox_journal_record(bvox_journal *j, const bvox_volume *vol, bvox_bo
     step *s = &j->steps[j->done - 1];
     if (s->n == s->cap) {
         int cap = s->cap ? 2 * s->cap : 8;
-        patch *np = realloc(s->p, (size_t)cap * sizeof *np);
+        patch *np = bvox__mem_resize(s->p, (size_t)cap * sizeof *np);
         if (!np) return bvox__fail(BVOX_ENOMEM, "out of memory");
         s->p = np;
         s->cap = cap;

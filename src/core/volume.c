@@ -47,7 +47,7 @@ static bvox_status create(bvox_dims dims, bool zero, bvox_volume **out)
     size_t bytes = 0;
     bvox_status st = bvox__check_dims(dims, NULL, &bytes);
     if (st) return st;
-    bvox_volume *v = calloc(1, sizeof *v);
+    bvox_volume *v = bvox__mem_zalloc(1, sizeof *v);
     if (!v) return bvox__fail(BVOX_ENOMEM, "out of memory allocating a volume");
     v->nx = dims.nx;
     v->ny = dims.ny;
@@ -85,11 +85,13 @@ void bvox_volume_destroy(bvox_volume *vol)
 
 bvox_status bvox_volume_copy(const bvox_volume *vol, bvox_volume **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox_dims d = {vol->nx, vol->ny, vol->nz};
     bvox_status st = create(d, false, out);
     if (st) return st;
     memcpy((*out)->words, vol->words, vol->nwords * sizeof(uint64_t));
     (*out)->geom = vol->geom;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 }
 

@@ -75,6 +75,7 @@ void bvox__geometry_shift(bvox_geometry *g, double di, double dj, double dk)
 
 bvox_status bvox_volume_crop(const bvox_volume *vol, bvox_box box, bvox_volume **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     box = clip(vol, box);
     if (box_empty(box))
@@ -91,12 +92,14 @@ bvox_status bvox_volume_crop(const bvox_volume *vol, bvox_box box, bvox_volume *
     c->geom = vol->geom;
     bvox__geometry_shift(&c->geom, box.x0, box.y0, box.z0);
     *out = c;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 }
 
 bvox_status bvox_volume_pad(const bvox_volume *vol, const int32_t before[3],
                             const int32_t after[3], bvox_volume **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     for (int i = 0; i < 3; i++)
         if (before[i] < 0 || after[i] < 0 || before[i] > BVOX_MAX_DIM || after[i] > BVOX_MAX_DIM)
@@ -113,5 +116,6 @@ bvox_status bvox_volume_pad(const bvox_volume *vol, const int32_t before[3],
     p->geom = vol->geom;
     bvox__geometry_shift(&p->geom, -before[0], -before[1], -before[2]);
     *out = p;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 }

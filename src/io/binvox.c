@@ -245,7 +245,7 @@ static bvox_status decode_runs(const uint8_t *data, size_t size, const char *nam
                                bvox_volume *v)
 {
     band b = {NULL, ((size_t)v->ny + 63) / 64, -1, -1, false};
-    b.rows = calloc(64 * b.nyw, sizeof(uint64_t));
+    b.rows = bvox__mem_zalloc(64 * b.nyw, sizeof(uint64_t));
     if (!b.rows) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
     cursor c = {UINT64_MAX, 0, 0};
     const uint64_t total = (uint64_t)v->nx * (uint64_t)v->ny * (uint64_t)v->nz;
@@ -410,8 +410,8 @@ static bvox_status binvox_write_path(const char *path, const bvox_volume *vol,
         return bvox__fail(BVOX_EINVAL, "%s: cannot format the binvox header", path);
 
     size_t nyw = ((size_t)vol->ny + 63) / 64;
-    uint64_t *rows = malloc(64 * nyw * sizeof(uint64_t));
-    encoder *e = malloc(sizeof *e);
+    uint64_t *rows = bvox__mem_alloc(64 * nyw * sizeof(uint64_t));
+    encoder *e = bvox__mem_alloc(sizeof *e);
     if (!rows || !e) {
         free(rows);
         free(e);

@@ -138,6 +138,7 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
 
 bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
     if (!opts) opts = &defaults;

@@ -86,7 +86,8 @@ void bvox__sink_abort(bvox__sink *s);
 void bvox__sink_fail_after(long n);
 
 /* Directory outputs (PNG slices): a temporary folder next to path, renamed
- * over path on commit (an existing folder is replaced only then). */
+ * over path on commit (an existing folder is replaced only then). A failed
+ * commit removes the temporary folder, as abort does. */
 bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir);
 bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path);
 void bvox__dir_sink_abort(const char *tmp_dir);

@@ -202,7 +202,7 @@ static void free_names(char **names, size_t n)
 static char *join(const char *dir, const char *file)
 {
     size_t ld = strlen(dir), lf = strlen(file);
-    char *p = malloc(ld + lf + 2);
+    char *p = bvox__mem_alloc(ld + lf + 2);
     if (!p) return NULL;
     memcpy(p, dir, ld);
     p[ld] = '/';
@@ -235,14 +235,14 @@ static bvox_status list_pngs(const char *dir, char ***out, size_t *count)
         }
         if (n == cap) {
             cap = cap ? cap * 2 : 64;
-            char **grown = realloc(names, cap * sizeof *names);
+            char **grown = bvox__mem_resize(names, cap * sizeof *names);
             if (!grown) {
                 st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
                 break;
             }
             names = grown;
         }
-        if (!(names[n] = strdup(e->d_name)))
+        if (!(names[n] = bvox__mem_strdup(e->d_name)))
             st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
         else
             n++;
@@ -391,7 +391,7 @@ static bvox_status png_write_path(const char *path, const bvox_volume *v,
     char *tmp = NULL;
     st = bvox__dir_sink_open(path, &tmp);
     size_t flen = tmp ? strlen(tmp) + 32 : 0;
-    char *file = tmp ? malloc(flen) : NULL;
+    char *file = tmp ? bvox__mem_alloc(flen) : NULL;
     if (!st && !file) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     for (int32_t z0 = 0; z0 < v->nz && !st; z0 += 64) {
         int32_t n = v->nz - z0 < 64 ? v->nz - z0 : 64;

@@ -177,7 +177,7 @@ static char *temp_name_for(const char *path)
     size_t dirlen = slash ? (size_t)(slash - path + 1) : 0;
     const char *base = slash ? slash + 1 : path;
     size_t n = strlen(path) + 16;
-    char *t = malloc(n);
+    char *t = bvox__mem_alloc(n);
     if (t) snprintf(t, n, "%.*s.%s.XXXXXX", (int)dirlen, path, base);
     return t;
 }
@@ -200,7 +200,7 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     if (!*base) return bvox__fail(BVOX_EINVAL, "%s: output path names a folder, not a file", path);
-    s->final_path = strdup(path);
+    s->final_path = bvox__mem_strdup(path);
     s->tmp_path = temp_name_for(path);
     if (!s->final_path || !s->tmp_path) {
         sink_release(s);
@@ -225,7 +225,7 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
         return bvox__fail(BVOX_EIO, "%s: cannot open for writing", path);
     }
     if (gzip) {
-        z_stream *z = calloc(1, sizeof *z);
+        z_stream *z = bvox__mem_zalloc(1, sizeof *z);
         if (!z || deflateInit2(z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
             free(z);
             bvox__sink_abort(s);
@@ -333,7 +333,7 @@ bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
     *tmp_dir = NULL;
     size_t len = strlen(path);
     while (len > 1 && path[len - 1] == '/') len--;
-    char *trimmed = strndup(path, len);
+    char *trimmed = bvox__mem_strndup(path, len);
     if (!trimmed) return bvox__fail(BVOX_ENOMEM, "out of memory");
     struct stat sb;
     if (stat(trimmed, &sb) == 0 && !S_ISDIR(sb.st_mode)) {
@@ -357,7 +357,16 @@ bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
 static void remove_dir_tree(const char *dir);
 static bool sync_dir_files(const char *dir);
 
+static bvox_status dir_commit(const char *tmp_dir, const char *path);
+
 bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
+{
+    bvox_status st = dir_commit(tmp_dir, path);
+    if (st) remove_dir_tree(tmp_dir); /* a failed commit leaves no partial folder */
+    return st;
+}
+
+static bvox_status dir_commit(const char *tmp_dir, const char *path)
 {
     /* the files must be on disk before the folder is renamed into place */
     if (!sync_dir_files(tmp_dir))
@@ -365,7 +374,7 @@ bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
                           strerror(errno));
     size_t len = strlen(path);
     while (len > 1 && path[len - 1] == '/') len--;
-    char *target = strndup(path, len);
+    char *target = bvox__mem_strndup(path, len);
     if (!target) return bvox__fail(BVOX_ENOMEM, "out of memory");
     /* rename(2) replaces an empty folder only: move an existing one aside first,
      * and remove it once the new one is in place. */
@@ -373,12 +382,16 @@ bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
     struct stat sb;
     if (stat(target, &sb) == 0) {
         size_t n = len + 16;
-        old = malloc(n);
-        if (old) snprintf(old, n, "%s.old.XXXXXX", target);
-        if (!old || !mkdtemp(old) || rename(target, old) != 0) {
+        old = bvox__mem_alloc(n);
+        if (!old) {
+            free(target);
+            return bvox__fail(BVOX_ENOMEM, "out of memory");
+        }
+        snprintf(old, n, "%s.old.XXXXXX", target);
+        if (!mkdtemp(old) || rename(target, old) != 0) {
             bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot replace the existing folder: %s",
                                         path, strerror(errno));
-            if (old) rmdir(old);
+            rmdir(old);
             free(old);
             free(target);
             return st;
@@ -417,24 +430,35 @@ static bool sync_dir_files(const char *dir)
     return ok;
 }
 
+/* Remove what the folder open as dfd holds, then close dfd. Works on names
+ * relative to the folder, so cleaning up after a failed write never needs
+ * an allocation that could itself fail. */
+static void remove_dir_contents(int dfd)
+{
+    DIR *d = fdopendir(dfd);
+    if (!d) {
+        close(dfd);
+        return;
+    }
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        struct stat sb;
+        if (fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(sb.st_mode)) {
+            int sub = openat(dirfd(d), e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+            if (sub >= 0) remove_dir_contents(sub);
+            unlinkat(dirfd(d), e->d_name, AT_REMOVEDIR);
+        } else {
+            unlinkat(dirfd(d), e->d_name, 0);
+        }
+    }
+    closedir(d);
+}
+
 static void remove_dir_tree(const char *dir)
 {
-    DIR *d = opendir(dir);
-    if (d) {
-        struct dirent *e;
-        while ((e = readdir(d))) {
-            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-            size_t n = strlen(dir) + strlen(e->d_name) + 2;
-            char *p = malloc(n);
-            if (!p) continue;
-            snprintf(p, n, "%s/%s", dir, e->d_name);
-            struct stat sb;
-            if (lstat(p, &sb) == 0 && S_ISDIR(sb.st_mode)) remove_dir_tree(p);
-            else unlink(p);
-            free(p);
-        }
-        closedir(d);
-    }
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd >= 0) remove_dir_contents(fd);
     rmdir(dir);
 }
 

@@ -10,7 +10,6 @@
  */
 #include "binarize_kernels.h"
 
-#include <assert.h>
 #include <string.h>
 
 /* spread[b]: byte k is bit k of b */
@@ -70,7 +69,7 @@ static void unpack_rows(void *ctx, int64_t begin, int64_t end)
 void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t one,
                          uint8_t *dst)
 {
-    assert(z0 >= 0 && z0 % 64 == 0 && n >= 1 && n <= 64 && z0 + n <= vol->nz);
+    BVOX_ASSERT(z0 >= 0 && z0 % 64 == 0 && n >= 1 && n <= 64 && z0 + n <= vol->nz);
     unpack_ctx c = {vol, (size_t)z0 / 64, (size_t)n, one, dst};
     /* a thread is worth starting for about a million voxels */
     int64_t per_row = (int64_t)vol->nx * n;

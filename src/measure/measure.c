@@ -118,6 +118,7 @@ static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures
 bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
                                const int32_t bbox_shift[3], bvox_measures *out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox_measures m;
     memset(&m, 0, sizeof m);
     m.principal_axes[0] = m.principal_axes[4] = m.principal_axes[8] = 1;

@@ -89,7 +89,7 @@ bvox_status bvox_measure_components(const bvox_volume *vol, int conn,
         bvox_components_destroy(comps);
         return BVOX_OK;
     }
-    bvox_measures *all = calloc((size_t)k, sizeof *all);
+    bvox_measures *all = bvox__mem_zalloc((size_t)k, sizeof *all);
     if (!all) {
         bvox_components_destroy(comps);
         return bvox__fail(BVOX_ENOMEM, "out of memory for the measures of %lld components",

@@ -192,8 +192,8 @@ bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out)
     memset(out, 0, sizeof *out);
     int64_t rows = (int64_t)vol->ny + 1;
     int64_t nblocks = rows < 256 ? rows : 256;
-    uint64_t *zero = calloc(vol->wpc, sizeof *zero);
-    bvox__scan *parts = calloc((size_t)nblocks, sizeof *parts);
+    uint64_t *zero = bvox__mem_zalloc(vol->wpc, sizeof *zero);
+    bvox__scan *parts = bvox__mem_zalloc((size_t)nblocks, sizeof *parts);
     if (!zero || !parts) {
         free(zero);
         free(parts);

@@ -380,12 +380,12 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
         !bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), g->wpc * sizeof(uint32_t),
                         &ncols))
         return bvox__fail(BVOX_ETOOBIG, "volume too large to mesh");
-    c.zero = calloc(g->wpc + 1, sizeof(uint64_t));
-    c.rows = calloc((size_t)g->ny + 2, sizeof(rowinfo));
+    c.zero = bvox__mem_zalloc(g->wpc + 1, sizeof(uint64_t));
+    c.rows = bvox__mem_zalloc((size_t)g->ny + 2, sizeof(rowinfo));
     int nch = bvox_threads() * 4;
     if (nch > g->ny + 1) nch = g->ny + 1;
     c.nchunks = nch;
-    c.chunks = calloc((size_t)nch, sizeof(cchunk));
+    c.chunks = bvox__mem_zalloc((size_t)nch, sizeof(cchunk));
     if (!c.zero || !c.rows || !c.chunks) st = bvox__fail(BVOX_ENOMEM, "out of memory (cuberille)");
     if (!st) {
         c.pre_bytes = ncells;
@@ -420,7 +420,7 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
         c.nmulti += (int64_t)(c.chunks[i].multis.size / sizeof(multi));
     }
     if (!st && c.nmulti) {
-        c.multis = malloc((size_t)c.nmulti * sizeof(multi));
+        c.multis = bvox__mem_alloc((size_t)c.nmulti * sizeof(multi));
         if (!c.multis) st = bvox__fail(BVOX_ENOMEM, "out of memory (cuberille)");
     }
     int64_t total = 0;

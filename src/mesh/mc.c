@@ -23,7 +23,6 @@
  */
 #include "mesh_private.h"
 
-#include <assert.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -463,7 +462,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
                                           {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
         int c0, c1;
         bvox__mc_edge_corners(e, &c0, &c1);
-        assert(c0 == ec[e][0] && c1 == ec[e][1]);
+        BVOX_ASSERT(c0 == ec[e][0] && c1 == ec[e][1]);
     }
 #endif
     for (int k = 0; k < 256; k++) {
@@ -481,8 +480,8 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
     }
     const bvox__grid *g = &c.g;
     bvox_status st = BVOX_OK;
-    c.zero = calloc(g->cw + 1, sizeof(uint64_t));
-    c.zrow = calloc((size_t)g->nx + 4, sizeof(uint32_t));
+    c.zero = bvox__mem_zalloc(g->cw + 1, sizeof(uint64_t));
+    c.zrow = bvox__mem_zalloc((size_t)g->nx + 4, sizeof(uint32_t));
     size_t rows[3] = {(size_t)g->ny, (size_t)g->ny + 1, (size_t)g->ny};
     c.row_cols[0] = (size_t)g->nx + 1;
     c.row_cols[1] = (size_t)g->nx;
@@ -498,7 +497,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         }
         c.pre_bytes[k] = n ? n : 1;
         c.pre[k] = bvox__alloc(c.pre_bytes[k], false, "marching cubes edge index", &st);
-        c.rowcount[k] = calloc(rows[k] + 1, sizeof(int64_t));
+        c.rowcount[k] = bvox__mem_zalloc(rows[k] + 1, sizeof(int64_t));
         if (!c.pre[k]) break;
         if (!c.rowcount[k]) st = bvox__fail(BVOX_ENOMEM, "out of memory (marching cubes)");
     }
@@ -529,7 +528,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
     int nch = threads * 16; /* blocks for dyn_for: small enough to balance */
     if (nch > g->ny + 1) nch = g->ny + 1;
     c.nchunks = nch;
-    c.chunks = calloc((size_t)nch, sizeof(chunk));
+    c.chunks = bvox__mem_zalloc((size_t)nch, sizeof(chunk));
     if (!c.chunks) {
         mc_release(&c);
         return bvox__fail(BVOX_ENOMEM, "out of memory (marching cubes)");

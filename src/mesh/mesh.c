@@ -65,7 +65,7 @@ bvox_status bvox_mesh_create(bvox_mesh **out)
 {
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_create: out is NULL");
     *out = NULL;
-    bvox_mesh *m = calloc(1, sizeof *m);
+    bvox_mesh *m = bvox__mem_zalloc(1, sizeof *m);
     if (!m) return bvox__fail(BVOX_ENOMEM, "out of memory (mesh)");
     *out = m;
     return BVOX_OK;
@@ -378,6 +378,7 @@ bvox_status bvox_mesh_measure(const bvox_mesh *m, bvox_mesh_info *info)
 bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *opts,
                                   bvox_mesh **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_from_volume: out is NULL");
     *out = NULL;
@@ -399,5 +400,6 @@ bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *
         return st;
     }
     *out = m;
+    BVOX_CHECK_MESH(*out);
     return BVOX_OK;
 }

@@ -180,5 +180,6 @@ bvox_status bvox_mesh_read(const char *path, const char *format, bvox_mesh **out
         }
     }
     bvox__bytes_release(&b);
+    if (!st) BVOX_CHECK_MESH(*out);
     return st;
 }

@@ -200,7 +200,7 @@ static int cmp_position(const void *a, const void *b)
 static int64_t shared_positions(const bvox_mesh *m)
 {
     if (m->nvertices < 2) return 0;
-    position *v = malloc((size_t)m->nvertices * sizeof *v);
+    position *v = bvox__mem_alloc((size_t)m->nvertices * sizeof *v);
     if (!v) return -1;
     memcpy(v, m->vertices, (size_t)m->nvertices * sizeof *v);
     qsort(v, (size_t)m->nvertices, sizeof *v, cmp_position);
@@ -212,6 +212,7 @@ static int64_t shared_positions(const bvox_mesh *m)
 
 bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *format, int ascii)
 {
+    BVOX_CHECK_MESH(m);
     bvox__clear_error();
     if (!path || !m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_write: NULL argument");
     const char *f = format ? format : bvox_mesh_format_for_path(path);

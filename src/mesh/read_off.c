@@ -50,7 +50,7 @@ bvox_status bvox__mesh_read_off(const uint8_t *d, size_t n, const char *name, bv
         int64_t line = t.line;
         if (k > cap) {
             if (idx != small) free(idx);
-            idx = malloc((size_t)k * sizeof *idx);
+            idx = bvox__mem_alloc((size_t)k * sizeof *idx);
             cap = k;
             if (!idx) {
                 idx = small;

@@ -246,7 +246,7 @@ bvox_status bvox__mesh_read_ply(const uint8_t *d, size_t n, const char *name, bv
                 int64_t c = (int64_t)cnt;
                 if (pr->role == 4 && c > cap) {
                     if (idx != idx_small) free(idx);
-                    idx = malloc((size_t)c * sizeof *idx);
+                    idx = bvox__mem_alloc((size_t)c * sizeof *idx);
                     cap = c;
                     if (!idx) {
                         idx = idx_small;

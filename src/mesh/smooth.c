@@ -48,6 +48,7 @@ static void step(void *ctx, int64_t begin, int64_t end)
 
 bvox_status bvox_mesh_smooth(bvox_mesh *m, int iterations, double lambda, double mu)
 {
+    BVOX_CHECK_MESH(m);
     bvox__clear_error();
     if (!m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_smooth: mesh is NULL");
     if (iterations < 0 || !isfinite(lambda) || !isfinite(mu) || lambda <= 0 || lambda >= 1 ||
@@ -77,5 +78,6 @@ bvox_status bvox_mesh_smooth(bvox_mesh *m, int iterations, double lambda, double
     }
     bvox__free(tmp, bytes);
     bvox__adjacency_release(&a);
+    BVOX_CHECK_MESH(m);
     return BVOX_OK;
 }

@@ -126,7 +126,7 @@ static void ray_rows(void *ctx, int64_t begin, int64_t end)
     vox *v = ctx;
     const bvox_mesh *m = v->m;
     size_t cap = 1024, nc = 0;
-    cross *cs = malloc(cap * sizeof *cs);
+    cross *cs = bvox__mem_alloc(cap * sizeof *cs);
     if (!cs) {
         __atomic_store_n(&v->failed, 1, __ATOMIC_RELAXED);
         return;
@@ -159,7 +159,7 @@ static void ray_rows(void *ctx, int64_t begin, int64_t end)
                 double tt = (b0 * v->ga[t[0]] + b1 * v->ga[t[1]] + b2 * v->ga[t[2]]) /
                             (b0 + b1 + b2);
                 if (nc == cap) {
-                    cross *g = realloc(cs, 2 * cap * sizeof *cs);
+                    cross *g = bvox__mem_resize(cs, 2 * cap * sizeof *cs);
                     if (!g) {
                         __atomic_store_n(&v->failed, 1, __ATOMIC_RELAXED);
                         free(cs);
@@ -263,7 +263,7 @@ static bvox_status bucket(vox *v)
 {
     const bvox_mesh *m = v->m;
     int32_t nrow = v->n[v->r];
-    v->bstart = calloc((size_t)nrow + 2, sizeof(int64_t));
+    v->bstart = bvox__mem_zalloc((size_t)nrow + 2, sizeof(int64_t));
     if (!v->bstart) return bvox__fail(BVOX_ENOMEM, "out of memory (voxelize)");
     for (int pass = 0; pass < 2; pass++) {
         for (int64_t t = 0; t < m->ntriangles; t++) {
@@ -408,6 +408,7 @@ static bvox_status run(vox *vp, const bvox_geometry *geom, bvox_volume **out,
         report->method = method;
     }
     *out = vol;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 }
 
@@ -482,6 +483,7 @@ static bvox_status voxelize_on_grid(const bvox_mesh *m, const bvox_voxelize_opts
 bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
                                bvox_volume **out, bvox_voxelize_report *report)
 {
+    BVOX_CHECK_MESH(m);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
     *out = NULL;

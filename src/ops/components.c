@@ -264,8 +264,8 @@ void bvox_components_destroy(bvox_components *c)
 static bvox_status sum_statistics_range(const bvox_components *c, const uint32_t *labels,
                                         size_t col0, size_t col1, bvox_component *items)
 {
-    int32_t *z0 = malloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z0);
-    int32_t *z1 = malloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z1);
+    int32_t *z0 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z0);
+    int32_t *z1 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z1);
     if (!z0 || !z1) {
         free(z0);
         free(z1);
@@ -341,7 +341,7 @@ static bvox_status sum_statistics(bvox_components *c, const uint32_t *labels)
     if (nchunks > 64) nchunks = 64;
     bvox_status st = BVOX_OK;
     for (int64_t s = 1; s < nchunks && !st; s++) {
-        partial[s] = calloc((size_t)c->count ? (size_t)c->count : 1, sizeof **partial);
+        partial[s] = bvox__mem_zalloc((size_t)c->count ? (size_t)c->count : 1, sizeof **partial);
         if (!partial[s]) st = bvox__fail(BVOX_ENOMEM, "out of memory summing components");
     }
     stats_job j = {c, labels, nchunks, partial, 0};
@@ -361,8 +361,8 @@ static bvox_status sum_statistics(bvox_components *c, const uint32_t *labels)
  * longer than labelling them). */
 static bvox_status sort_by_size(const bvox_component *items, size_t n, uint32_t *order)
 {
-    uint32_t *tmp = malloc((n ? n : 1) * sizeof *tmp);
-    size_t *bucket = malloc(65537 * sizeof *bucket);
+    uint32_t *tmp = bvox__mem_alloc((n ? n : 1) * sizeof *tmp);
+    size_t *bucket = bvox__mem_alloc(65537 * sizeof *bucket);
     if (!tmp || !bucket) {
         free(tmp);
         free(bucket);
@@ -404,9 +404,9 @@ static void relabel_range(void *ctx, int64_t begin, int64_t end)
 static bvox_status rank_items(bvox_components *c, uint32_t *labels)
 {
     size_t n = (size_t)c->count;
-    uint32_t *order = malloc((n ? n : 1) * sizeof *order);
-    uint32_t *inv = malloc((n ? n : 1) * sizeof *inv);
-    bvox_component *sorted = malloc((n ? n : 1) * sizeof *sorted);
+    uint32_t *order = bvox__mem_alloc((n ? n : 1) * sizeof *order);
+    uint32_t *inv = bvox__mem_alloc((n ? n : 1) * sizeof *inv);
+    bvox_component *sorted = bvox__mem_alloc((n ? n : 1) * sizeof *sorted);
     bvox_status st = order && inv && sorted
                          ? sort_by_size(c->items, n, order)
                          : bvox__fail(BVOX_ENOMEM, "out of memory ranking components");
@@ -440,7 +440,7 @@ static bvox_status label_runs(const uint64_t *words, size_t wpc, size_t nx, size
     *col_start_out = NULL;
     *parent_out = NULL;
     size_t ncol = nx * ny;
-    uint32_t *col_start = malloc((ncol + 1) * sizeof *col_start);
+    uint32_t *col_start = bvox__mem_alloc((ncol + 1) * sizeof *col_start);
     if (!col_start) return bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
 
     /* Run counts per column (in parallel), then their prefix sum. Counts go
@@ -490,10 +490,11 @@ static bvox_status check_conn(int conn)
 
 bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_components **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     bvox_status st = check_conn(conn);
     if (st) return st;
-    bvox_components *c = calloc(1, sizeof *c);
+    bvox_components *c = bvox__mem_zalloc(1, sizeof *c);
     if (!c) return bvox__fail(BVOX_ENOMEM, "out of memory");
     c->dims = bvox_volume_dims(vol);
     c->geom = vol->geom;
@@ -514,7 +515,7 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
     for (size_t i = 0; i < c->nruns; i++)
         parent[i] = parent[i] == i ? ncomp++ : parent[parent[i]];
     c->count = ncomp;
-    c->items = calloc(ncomp ? ncomp : 1, sizeof *c->items);
+    c->items = bvox__mem_zalloc(ncomp ? ncomp : 1, sizeof *c->items);
     if (!c->items) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
         goto fail;
@@ -589,8 +590,8 @@ bvox_status bvox_components_keep(const bvox_components *c, int64_t n, bvox_volum
 /* Scratch arrays for the runs of one column (at most ceil(nz / 2)). */
 static bvox_status run_scratch(const bvox_components *c, int32_t **z0, int32_t **z1)
 {
-    *z0 = malloc(((size_t)c->dims.nz / 2 + 1) * sizeof **z0);
-    *z1 = malloc(((size_t)c->dims.nz / 2 + 1) * sizeof **z1);
+    *z0 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof **z0);
+    *z1 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof **z1);
     if (*z0 && *z1) return BVOX_OK;
     free(*z0);
     free(*z1);
@@ -645,7 +646,7 @@ bvox_status bvox_components_keep_if(const bvox_components *c,
                                     void *ctx, bvox_volume **out)
 {
     *out = NULL;
-    uint8_t *flags = malloc(c->count ? (size_t)c->count : 1);
+    uint8_t *flags = bvox__mem_alloc(c->count ? (size_t)c->count : 1);
     if (!flags) return bvox__fail(BVOX_ENOMEM, "out of memory");
     int32_t *z0 = NULL, *z1 = NULL;
     bvox_status st = run_scratch(c, &z0, &z1);
@@ -669,5 +670,6 @@ bvox_status bvox_components_keep_if(const bvox_components *c,
     free(z0);
     free(z1);
     free(flags);
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }

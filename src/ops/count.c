@@ -58,7 +58,7 @@ int bvox_volume_bbox(const bvox_volume *vol, bvox_box *box)
     size_t wpc = vol->wpc;
     uint64_t *heap = NULL;
     if (wpc > 64) {
-        heap = calloc(wpc, sizeof *heap);
+        heap = bvox__mem_zalloc(wpc, sizeof *heap);
         if (!heap) return -1;
         profile = heap;
     } else {

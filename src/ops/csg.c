@@ -169,6 +169,8 @@ static void shifted_rows(void *ctx, int64_t begin, int64_t end)
 bvox_status bvox_csg_apply(bvox_volume *dst, bvox_csg_op op, const bvox_volume *src,
                            const int32_t offset[3])
 {
+    BVOX_CHECK_VOLUME(dst);
+    BVOX_CHECK_VOLUME(src);
     if ((unsigned)op > BVOX_CSG_REPLACE) return bvox__fail(BVOX_EINVAL, "unknown set operation");
     int32_t o[3] = {0, 0, 0};
     if (offset) memcpy(o, offset, sizeof o);
@@ -203,6 +205,7 @@ bvox_status bvox_csg_apply(bvox_volume *dst, bvox_csg_op op, const bvox_volume *
         bvox__parallel_for(dst->ny, 16, shifted_rows, &j);
     }
     bvox_volume_destroy(tmp);
+    BVOX_CHECK_VOLUME(dst);
     return BVOX_OK;
 }
 
@@ -223,4 +226,5 @@ void bvox_volume_complement(bvox_volume *vol)
 {
     int64_t chunks = (int64_t)((vol->nwords + CSG_CHUNK - 1) / CSG_CHUNK);
     bvox__parallel_for(chunks, 4, complement_range, vol);
+    BVOX_CHECK_VOLUME(vol); /* the tail bits beyond nz stayed zero */
 }

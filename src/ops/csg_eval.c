@@ -186,7 +186,7 @@ bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts, bvox
             nfile++;
             if (first < 0 || t.nodes[i].col < t.nodes[first].col) first = i;
         }
-    if (nfile && !(c.files = calloc((size_t)nfile, sizeof *c.files)))
+    if (nfile && !(c.files = bvox__mem_zalloc((size_t)nfile, sizeof *c.files)))
         st = bvox__fail(BVOX_ENOMEM, "csg: out of memory");
     if (!st && first >= 0) {
         const bvox_volume *g;
@@ -202,5 +202,6 @@ bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *opts, bvox
     for (int32_t i = 0; i < c.nfiles; i++) bvox_volume_destroy(c.files[i].vol);
     free(c.files);
     bvox__csg_tree_free(&t);
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }

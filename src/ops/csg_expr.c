@@ -69,7 +69,7 @@ static bvox_status new_node(parser *p, bvox__csg_kind kind, int col, int32_t *ou
     bvox__csg_tree *t = p->t;
     if (t->n == t->cap) {
         int32_t cap = t->cap ? t->cap * 2 : 16;
-        bvox__csg_node *nodes = realloc(t->nodes, (size_t)cap * sizeof *nodes);
+        bvox__csg_node *nodes = bvox__mem_resize(t->nodes, (size_t)cap * sizeof *nodes);
         if (!nodes) return bvox__fail(BVOX_ENOMEM, "csg: out of memory");
         t->nodes = nodes;
         t->cap = cap;
@@ -88,7 +88,7 @@ static bvox_status add_name(parser *p, const char *s, size_t n, size_t *out)
     bvox__csg_tree *t = p->t;
     if (t->pool_used + n + 1 > t->pool_cap) {
         size_t cap = (t->pool_cap ? t->pool_cap * 2 : 256) + n + 1;
-        char *pool = realloc(t->pool, cap);
+        char *pool = bvox__mem_resize(t->pool, cap);
         if (!pool) return bvox__fail(BVOX_ENOMEM, "csg: out of memory");
         t->pool = pool;
         t->pool_cap = cap;

@@ -129,6 +129,7 @@ static bvox_status check_index_plane(const char *what, const double p[4])
 bvox_status bvox_cut_plane(bvox_volume *vol, double a, double b, double c, double d,
                            int keep_above, bvox_box *changed)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (changed) memset(changed, 0, sizeof *changed);
     if (!vol) return bvox__fail(BVOX_EINVAL, "cut: no volume");
@@ -148,6 +149,7 @@ bvox_status bvox_cut_plane(bvox_volume *vol, double a, double b, double c, doubl
     if ((st = check_index_plane("cut", p))) return st;
     bvox__halfspace_index(vol, p, keep_above ? BVOX_CSG_INTERSECTION : BVOX_CSG_DIFFERENCE,
                           changed);
+    BVOX_CHECK_VOLUME(vol);
     return BVOX_OK;
 }
 

@@ -232,9 +232,9 @@ static bvox_status general(const bvox_volume *in, const offset *offs, int noffs,
     /* one z-processed volume per distinct reach */
     int maxh = 0;
     for (int i = 0; i < noffs; i++) maxh = offs[i].h > maxh ? offs[i].h : maxh;
-    bvox_volume **zv = calloc((size_t)maxh + 1, sizeof *zv);
-    const uint64_t **zs = calloc((size_t)maxh + 1, sizeof *zs);
-    int *zindex = malloc((size_t)noffs * sizeof *zindex);
+    bvox_volume **zv = bvox__mem_zalloc((size_t)maxh + 1, sizeof *zv);
+    const uint64_t **zs = bvox__mem_zalloc((size_t)maxh + 1, sizeof *zs);
+    int *zindex = bvox__mem_alloc((size_t)noffs * sizeof *zindex);
     bvox_status st = BVOX_OK;
     if (!zv || !zs || !zindex) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     for (int i = 0; !st && i < noffs; i++) {
@@ -288,7 +288,7 @@ static bvox_status ball(const bvox_volume *in, double radius, bool erode, bvox_v
     if ((2.0 * rx + 1) * (2.0 * ry + 1) > MAX_OFFSETS)
         return bvox__fail(BVOX_EINVAL, "ball radius %g is %d x %d voxels across: too large",
                           radius, 2 * rx + 1, 2 * ry + 1);
-    offset *offs = malloc(MAX_OFFSETS * sizeof *offs);
+    offset *offs = bvox__mem_alloc(MAX_OFFSETS * sizeof *offs);
     if (!offs) return bvox__fail(BVOX_ENOMEM, "out of memory");
     int n = 0;
     double r2 = radius * radius;
@@ -307,17 +307,21 @@ static bvox_status ball(const bvox_volume *in, double radius, bool erode, bvox_v
 
 bvox_status bvox_morph_dilate(const bvox_volume *in, int conn, bvox_volume **out)
 {
-    return neighbourhood(in, conn, false, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(neighbourhood(in, conn, false, out), BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_erode(const bvox_volume *in, int conn, bvox_volume **out)
 {
-    return neighbourhood(in, conn, true, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(neighbourhood(in, conn, true, out), BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius, bvox_volume **out)
 {
-    return ball(in, radius, false, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(ball(in, radius, false, out), BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_erode_ball(const bvox_volume *in, double radius, bvox_volume **out)
 {
-    return ball(in, radius, true, out);
+    BVOX_CHECK_VOLUME(in);
+    BVOX_RETURN_CHECKED(ball(in, radius, true, out), BVOX_CHECK_VOLUME, *out);
 }

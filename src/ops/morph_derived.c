@@ -27,7 +27,7 @@ static bvox_status two_steps(const bvox_volume *in, int conn, double radius, boo
 
 bvox_status bvox_morph_open(const bvox_volume *in, int conn, double radius, bvox_volume **out)
 {
-    return two_steps(in, conn, radius, true, out);
+    BVOX_RETURN_CHECKED(two_steps(in, conn, radius, true, out), BVOX_CHECK_VOLUME, *out);
 }
 
 bvox_status bvox_morph_close(const bvox_volume *in, int conn, double radius, bvox_volume **out)
@@ -51,6 +51,7 @@ bvox_status bvox_morph_close(const bvox_volume *in, int conn, double radius, bvo
     st = bvox_volume_crop(closed, (bvox_box){r[0], r[1], r[2], r[0] + in->nx, r[1] + in->ny,
                                              r[2] + in->nz}, out);
     bvox_volume_destroy(closed);
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }
 
@@ -81,6 +82,7 @@ bvox_status bvox_morph_fill_holes(const bvox_volume *in, bvox_volume **out)
     st = bvox_volume_crop(outside, (bvox_box){1, 1, 1, 1 + in->nx, 1 + in->ny, 1 + in->nz}, out);
     bvox_volume_destroy(outside);
     if (!st) (*out)->geom = in->geom;
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }
 
@@ -95,6 +97,11 @@ bvox_status bvox_morph_hollow(const bvox_volume *in, double thickness, bvox_volu
     st = bvox_volume_copy(in, out);
     if (!st) st = bvox_csg_apply(*out, BVOX_CSG_DIFFERENCE, inner, NULL);
     bvox_volume_destroy(inner);
+    if (st) {
+        bvox_volume_destroy(*out); /* a failed call hands nothing out */
+        *out = NULL;
+    }
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }
 
@@ -112,5 +119,6 @@ bvox_status bvox_morph_remove_islands(const bvox_volume *in, int conn, int64_t m
     if (st) return st;
     st = bvox_components_keep_if(comps, big_enough, &min_voxels, out);
     bvox_components_destroy(comps);
+    if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }

@@ -217,6 +217,7 @@ static void draw_rows(void *ctx, int64_t begin, int64_t end)
 
 bvox_status bvox_shape_draw(bvox_volume *vol, const bvox_shape *shape, bvox_csg_op op)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (!vol) return bvox__fail(BVOX_EINVAL, "no volume to draw into");
     if ((unsigned)op > BVOX_CSG_REPLACE)
@@ -244,5 +245,6 @@ bvox_status bvox_shape_draw(bvox_volume *vol, const bvox_shape *shape, bvox_csg_
     }
     int64_t rows = op == BVOX_CSG_INTERSECTION ? vol->ny : (int64_t)j.y1 - j.y0;
     bvox__parallel_for(rows, 8, draw_rows, &j);
+    BVOX_CHECK_VOLUME(vol);
     return BVOX_OK;
 }

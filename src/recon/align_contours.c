@@ -56,8 +56,8 @@ static bvox_status sample(const bvox_contour *c, int32_t nc, cloud *out)
     double len = perimeter(c, nc), step = 0.5;
     if (len / step > MAX_SAMPLES) step = len / MAX_SAMPLES;
     size_t cap = (size_t)(len / step) + 2 * (size_t)nc + 8;
-    out->p = malloc(cap * sizeof *out->p);
-    out->normal = malloc(cap * sizeof *out->normal);
+    out->p = bvox__mem_alloc(cap * sizeof *out->p);
+    out->normal = bvox__mem_alloc(cap * sizeof *out->normal);
     out->n = 0;
     if (!out->p || !out->normal) return bvox__fail(BVOX_ENOMEM, "out of memory aligning by contours");
     for (int32_t k = 0; k < nc; k++) {
@@ -109,15 +109,15 @@ static bvox_status grid_build(const cloud *c, grid *g)
     g->nx = (int32_t)((x1 - x0) / g->cell) + 1;
     g->ny = (int32_t)((y1 - y0) / g->cell) + 1;
     size_t cells = (size_t)g->nx * (size_t)g->ny;
-    g->start = calloc(cells + 1, sizeof *g->start);
-    g->idx = malloc((size_t)c->n * sizeof *g->idx);
+    g->start = bvox__mem_zalloc(cells + 1, sizeof *g->start);
+    g->idx = bvox__mem_alloc((size_t)c->n * sizeof *g->idx);
     if (!g->start || !g->idx) return bvox__fail(BVOX_ENOMEM, "out of memory aligning by contours");
     for (int32_t i = 0; i < c->n; i++) {
         int32_t cx = (int32_t)((c->p[i].x - x0) / g->cell), cy = (int32_t)((c->p[i].y - y0) / g->cell);
         g->start[(size_t)cy * g->nx + cx + 1]++;
     }
     for (size_t k = 0; k < cells; k++) g->start[k + 1] += g->start[k];
-    int32_t *fill = malloc(cells * sizeof *fill);
+    int32_t *fill = bvox__mem_alloc(cells * sizeof *fill);
     if (!fill) return bvox__fail(BVOX_ENOMEM, "out of memory aligning by contours");
     memcpy(fill, g->start, cells * sizeof *fill);
     for (int32_t i = 0; i < c->n; i++) {
@@ -205,9 +205,9 @@ bvox_status bvox__contours_register(const bvox_contour *src, int32_t ns, const b
                         (int)a.n, (int)b.n);
     if (!st) st = grid_build(&b, &g);
     if (!st) {
-        pair = malloc((size_t)a.n * sizeof *pair);
-        dist = malloc((size_t)a.n * sizeof *dist);
-        sorted = malloc((size_t)a.n * sizeof *sorted);
+        pair = bvox__mem_alloc((size_t)a.n * sizeof *pair);
+        dist = bvox__mem_alloc((size_t)a.n * sizeof *dist);
+        sorted = bvox__mem_alloc((size_t)a.n * sizeof *sorted);
         if (!pair || !dist || !sorted)
             st = bvox__fail(BVOX_ENOMEM, "out of memory aligning by contours");
     }

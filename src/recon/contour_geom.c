@@ -103,7 +103,7 @@ bvox_status bvox_contour_smooth(bvox_contour *c, int32_t radius, int32_t iterati
     int32_t n = c->npoints;
     if (radius > (n - 1) / 2) radius = (n - 1) / 2;
     if (radius < 1) return BVOX_OK;
-    bvox_point2 *tmp = malloc((size_t)n * sizeof *tmp);
+    bvox_point2 *tmp = bvox__mem_alloc((size_t)n * sizeof *tmp);
     if (!tmp) return bvox__fail(BVOX_ENOMEM, "out of memory smoothing a contour");
     double a0 = bvox_polygon_signed_area(c->points, n);
     for (int32_t it = 0; it < iterations; it++) {
@@ -154,8 +154,8 @@ bvox_status bvox_contour_simplify(bvox_contour *c, double tolerance)
         return bvox__fail(BVOX_EINVAL, "simplification tolerance %g must be >= 0", tolerance);
     int32_t n = c->npoints;
     bvox_point2 *p = c->points;
-    uint8_t *keep = calloc((size_t)n + 1, 1);
-    int32_t *stack = malloc(2 * ((size_t)n + 2) * sizeof *stack);
+    uint8_t *keep = bvox__mem_zalloc((size_t)n + 1, 1);
+    int32_t *stack = bvox__mem_alloc(2 * ((size_t)n + 2) * sizeof *stack);
     if (!keep || !stack) {
         free(keep);
         free(stack);
@@ -264,7 +264,7 @@ bvox_status bvox_section_check_simple(const bvox_section *sec, int32_t section_i
     size_t ne = 0;
     for (int32_t c = 0; c < sec->ncontours; c++) ne += (size_t)sec->contours[c].npoints;
     if (ne == 0) return BVOX_OK;
-    edge *e = malloc(ne * sizeof *e);
+    edge *e = bvox__mem_alloc(ne * sizeof *e);
     if (!e) return bvox__fail(BVOX_ENOMEM, "out of memory checking contours");
     size_t k = 0;
     for (int32_t c = 0; c < sec->ncontours; c++) {
@@ -370,25 +370,36 @@ static int inside_of(const bvox_contour *a, const bvox_contour *b)
     return 2 * votes > n;
 }
 
+static double contour_area(const bvox_contour *c)
+{
+    return fabs(bvox_polygon_signed_area(c->points, c->npoints));
+}
+
 void bvox__section_nest(bvox_section *sec)
 {
     int32_t n = sec->ncontours;
     if (n > 4096) return;
-    double *area = malloc((size_t)n * sizeof *area + 1);
-    if (!area) return;
-    for (int32_t i = 0; i < n; i++)
-        area[i] = fabs(bvox_polygon_signed_area(sec->contours[i].points, sec->contours[i].npoints));
+    /* the areas once each; without memory for them, each is computed where
+     * it is needed: slower, the same answer, so nesting cannot fail */
+    double *area = bvox__mem_alloc((size_t)n * sizeof *area + 1);
+    if (area)
+        for (int32_t i = 0; i < n; i++) area[i] = contour_area(&sec->contours[i]);
+#define AREA(k) (area ? area[k] : contour_area(&sec->contours[k]))
     for (int32_t i = 0; i < n; i++) {
         int depth = 0;
         int32_t parent = -1;
+        double ai = AREA(i);
         for (int32_t j = 0; j < n; j++) {
-            if (j == i || area[j] < area[i] || (area[j] == area[i] && j > i)) continue;
+            if (j == i) continue;
+            double aj = AREA(j);
+            if (aj < ai || (aj == ai && j > i)) continue;
             if (!inside_of(&sec->contours[i], &sec->contours[j])) continue;
             depth++;
-            if (parent < 0 || area[j] < area[parent]) parent = j;
+            if (parent < 0 || aj < AREA(parent)) parent = j;
         }
         sec->contours[i].hole = depth % 2;
         sec->contours[i].parent = parent;
     }
+#undef AREA
     free(area);
 }

@@ -344,6 +344,7 @@ static bvox_status contours(lex *L, bvox_section *sec, int32_t index, ptbuf *buf
             return section_label_fail(L, at, sec, index, what);
         }
         if ((st = bvox_section_add_contour(sec, buf->p, (int32_t)m, 0, -1))) {
+            if (st == BVOX_ENOMEM) return st; /* not a format error */
             char what[300];
             snprintf(what, sizeof what, "%s", bvox_errmsg());
             return section_label_fail(L, at, sec, index, what);
@@ -365,6 +366,7 @@ static bvox_status markers(lex *L, bvox_section *sec, int32_t index)
         bvox_point2 m;
         if ((st = point(L, &m))) return st;
         if ((st = bvox_section_add_marker(sec, m))) {
+            if (st == BVOX_ENOMEM) return st; /* not a format error */
             char what[300];
             snprintf(what, sizeof what, "%s", bvox_errmsg());
             return section_label_fail(L, at, sec, index, what);
@@ -398,7 +400,7 @@ static bvox_status section(lex *L, bvox_contour_stack *s, uint8_t *has_z, ptbuf 
             char name[256];
             if ((st = string(L, name, sizeof name))) return st;
             free(sec->name);
-            sec->name = strdup(name);
+            sec->name = bvox__mem_strdup(name);
             if (!sec->name) return bvox__fail(BVOX_ENOMEM, "out of memory");
         } else if (!strcmp(key, "contours")) {
             if ((st = contours(L, sec, index, buf))) return st;
@@ -422,7 +424,7 @@ static bvox_status positive(lex *L, const char *at, double v, const char *what)
 static bvox_status parse(lex *L, bvox_contour_stack *s)
 {
     bvox_status st;
-    uint8_t *has_z = malloc(BVOX__MAX_SECTIONS);
+    uint8_t *has_z = bvox__mem_alloc(BVOX__MAX_SECTIONS);
     ptbuf buf = {NULL, 0, 0};
     if (!has_z) return bvox__fail(BVOX_ENOMEM, "out of memory");
     int got_sections = 0, more = 1;

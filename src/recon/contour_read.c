@@ -44,7 +44,7 @@ static bvox_status read_folder(const char *path, const char *select, bvox_contou
         if (ends_with(e->d_name, ".ser")) {
             nser++;
             free(ser);
-            ser = strdup(e->d_name);
+            ser = bvox__mem_strdup(e->d_name);
             continue;
         }
         if (!ends_with(e->d_name, ".svg")) continue;
@@ -57,7 +57,7 @@ static bvox_status read_folder(const char *path, const char *select, bvox_contou
             break;
         }
         size_t len = strlen(path) + strlen(e->d_name) + 2;
-        names[n] = malloc(len);
+        names[n] = bvox__mem_alloc(len);
         if (!names[n]) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
             break;
@@ -68,7 +68,7 @@ static bvox_status read_folder(const char *path, const char *select, bvox_contou
     closedir(d);
     if (!st && n == 0 && nser == 1) {
         size_t len = strlen(path) + strlen(ser) + 2;
-        char *full = malloc(len);
+        char *full = bvox__mem_alloc(len);
         if (!full) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
         } else {

@@ -278,7 +278,7 @@ static bvox_status commit(rsec *r)
             } else {
                 st = bvox_section_add_contour(r->sec, pd->p, pd->n, 0, -1);
             }
-            if (st) {
+            if (st && st != BVOX_ENOMEM) { /* out of memory is not a format error */
                 char what[300];
                 snprintf(what, sizeof what, "%s", bvox_errmsg());
                 st = rfail(r, r->at, what);
@@ -347,7 +347,7 @@ static bvox_status read_one(const char *data, size_t size, const char *name, bvo
 {
     const char *base = strrchr(name, '/');
     base = base ? base + 1 : name;
-    rsec *r = calloc(1, sizeof *r);
+    rsec *r = bvox__mem_zalloc(1, sizeof *r);
     if (!r) return bvox__fail(BVOX_ENOMEM, "out of memory");
     int32_t before = s->nsections;
     bvox_status st = bvox_stack_add_section(s, 0, base, &r->sec);
@@ -482,7 +482,7 @@ bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_conto
     /* the folder and NAME */
     const char *slash = strrchr(ser_path, '/');
     size_t dlen = slash ? (size_t)(slash - ser_path) : 0;
-    char *dir = slash ? strndup(ser_path, dlen ? dlen : 1) : strdup(".");
+    char *dir = slash ? bvox__mem_strndup(ser_path, dlen ? dlen : 1) : bvox__mem_strdup(".");
     const char *base = slash ? slash + 1 : ser_path;
     const char *dot = strrchr(base, '.');
     size_t blen = dot ? (size_t)(dot - base) : strlen(base);
@@ -513,7 +513,7 @@ bvox_status bvox__stack_read_reconstruct_series(const char *ser_path, bvox_conto
             break;
         }
         size_t plen = strlen(dir) + strlen(n) + 2;
-        files[nf].path = malloc(plen);
+        files[nf].path = bvox__mem_alloc(plen);
         if (!files[nf].path) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
             break;

@@ -32,8 +32,8 @@ static bvox_status check_section(const char *path, const bvox_section *sec, int3
 {
     bvox_status st = bvox_section_check_simple(sec, index);
     if (st != BVOX_EFORMAT || strict) return st;
-    bvox_contour *buf = malloc((size_t)sec->ncontours * sizeof *buf);
-    uint8_t *keep = malloc((size_t)sec->ncontours);
+    bvox_contour *buf = bvox__mem_alloc((size_t)sec->ncontours * sizeof *buf);
+    uint8_t *keep = bvox__mem_alloc((size_t)sec->ncontours);
     if (!buf || !keep) {
         free(buf);
         free(keep);

@@ -22,7 +22,7 @@ bool bvox__grow(void **ptr, size_t elem, size_t need, size_t *cap, const char *w
     }
     size_t bytes;
     if (!bvox__mul_size(n, elem, &bytes)) goto too_big;
-    void *p = realloc(*ptr, bytes);
+    void *p = bvox__mem_resize(*ptr, bytes);
     if (!p) {
         bvox__fail(BVOX_ENOMEM, "out of memory for the %s (%zu bytes)", what, bytes);
         return false;
@@ -68,7 +68,7 @@ bvox_status bvox_stack_create(bvox_contour_stack **out)
 {
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_create: out is NULL");
     *out = NULL;
-    bvox_contour_stack *s = calloc(1, sizeof *s);
+    bvox_contour_stack *s = bvox__mem_zalloc(1, sizeof *s);
     if (!s) return bvox__fail(BVOX_ENOMEM, "out of memory for a contour stack");
     s->pixel = 1.0;
     s->spacing = 1.0;
@@ -104,7 +104,7 @@ bvox_status bvox_stack_add_section(bvox_contour_stack *stack, double z, const ch
         return bvox__fail(BVOX_ETOOBIG, "more than %d sections", BVOX__MAX_SECTIONS);
     char *copy = NULL;
     if (name) {
-        copy = strdup(name);
+        copy = bvox__mem_strdup(name);
         if (!copy) return bvox__fail(BVOX_ENOMEM, "out of memory for a section name");
     }
     if (!append((void **)&stack->sections, sizeof *stack->sections, (size_t)stack->nsections,
@@ -139,7 +139,7 @@ bvox_status bvox_section_add_contour(bvox_section *sec, const bvox_point2 *point
             return bvox__fail(BVOX_EINVAL,
                               "contour point %d is not finite or beyond +-%g pixels", (int)i + 1,
                               BVOX__MAX_COORD);
-    bvox_point2 *copy = malloc((size_t)n * sizeof *copy);
+    bvox_point2 *copy = bvox__mem_alloc((size_t)n * sizeof *copy);
     if (!copy) return bvox__fail(BVOX_ENOMEM, "out of memory for a contour of %d points", (int)n);
     memcpy(copy, points, (size_t)n * sizeof *copy);
     if (!append((void **)&sec->contours, sizeof *sec->contours, (size_t)sec->ncontours,

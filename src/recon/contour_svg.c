@@ -192,6 +192,7 @@ static bvox_status flush(svg_reader *r)
     }
     bvox_status st = bvox_section_add_contour(r->sec, r->pts, (int32_t)m, 0, -1);
     if (st) {
+        if (st == BVOX_ENOMEM) return st; /* not a format error */
         char what[300];
         snprintf(what, sizeof what, "%s", bvox_errmsg());
         return sec_fail(r, what);
@@ -542,6 +543,7 @@ static bvox_status element(svg_reader *r, const bvox_xform2 *T)
         if (attr_contains(x, "class", "marker") || attr_contains(x, "id", "marker")) {
             st = bvox_section_add_marker(r->sec, bvox_xform2_apply(T, (bvox_point2){cx, cy}));
             if (st) {
+                if (st == BVOX_ENOMEM) return st; /* not a format error */
                 char what[300];
                 snprintf(what, sizeof what, "%s", bvox_errmsg());
                 return sec_fail(r, what);
@@ -714,7 +716,7 @@ bvox_status bvox__svg_read(const char *data, size_t size, const char *name, doub
     }
     const char *base = strrchr(name, '/');
     base = base ? base + 1 : name;
-    svg_reader *r = calloc(1, sizeof *r);
+    svg_reader *r = bvox__mem_zalloc(1, sizeof *r);
     if (!r) {
         bvox_stack_destroy(made);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -874,7 +876,7 @@ bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *
     bvox_status st = bvox__dir_sink_open(dir, &tmp);
     if (st) return st;
     size_t flen = strlen(tmp) + 40;
-    char *file = malloc(flen);
+    char *file = bvox__mem_alloc(flen);
     if (!file) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     int digits = stack->nsections >= 10000 ? 5 : 4;
     for (int32_t i = 0; i < stack->nsections && !st; i++) {

@@ -26,7 +26,7 @@ void bvox__sb_append(bvox__strbuf *b, const char *s, size_t n)
             }
             cap *= 2;
         }
-        char *p = realloc(b->data, cap);
+        char *p = bvox__mem_resize(b->data, cap);
         if (!p) {
             b->failed = true;
             return;
@@ -56,7 +56,7 @@ void bvox__sb_printf(bvox__strbuf *b, const char *fmt, ...)
         bvox__sb_append(b, tmp, (size_t)n);
         return;
     }
-    char *big = malloc((size_t)n + 1);
+    char *big = bvox__mem_alloc((size_t)n + 1);
     if (!big) {
         b->failed = true;
         return;
@@ -191,7 +191,7 @@ bvox_status bvox__read_text(const char *path, char **data, size_t *size)
         return bvox__fail(BVOX_ETOOBIG, "%s: %zu bytes, over the %zu MiB limit of a contour file",
                           path, bytes.size, BVOX__MAX_TEXT_BYTES >> 20);
     }
-    char *text = malloc(bytes.size + 1);
+    char *text = bvox__mem_alloc(bytes.size + 1);
     if (!text) {
         bvox__bytes_release(&bytes);
         return bvox__fail(BVOX_ENOMEM, "%s: out of memory", path);

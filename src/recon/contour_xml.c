@@ -232,7 +232,7 @@ char *bvox__xml_attr_dup(const bvox__xml *x, const bvox__xml_attr *a, bvox_statu
     /* a character reference (>= 3 bytes) decodes to at most 4: +2 per & */
     size_t amps = 0;
     for (size_t i = 0; i < a->vlen; i++) amps += a->value[i] == '&';
-    char *out = malloc(a->vlen + 2 * amps + 1);
+    char *out = bvox__mem_alloc(a->vlen + 2 * amps + 1);
     if (!out) {
         *st = bvox__fail(BVOX_ENOMEM, "%s: out of memory for an attribute", x->name);
         return NULL;

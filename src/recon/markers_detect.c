@@ -44,7 +44,7 @@ static int by_area(const void *a, const void *b)
 static bvox_status auto_threshold(const bvox_image *img, double *t, double *median)
 {
     size_t nb = img->bits == 8 ? 256 : 65536, n = (size_t)img->width * (size_t)img->height;
-    uint32_t *hist = calloc(nb, sizeof *hist);
+    uint32_t *hist = bvox__mem_zalloc(nb, sizeof *hist);
     if (!hist) return bvox__fail(BVOX_ENOMEM, "out of memory");
     for (size_t i = 0; i < n; i++) hist[bvox__gray_at(img, i)]++;
     size_t acc = 0, low = 0, med = 0, want_low = n / 2000, want_med = n / 2;
@@ -90,10 +90,10 @@ bvox_status bvox_section_find_markers(const bvox_image *img, const bvox_marker_o
     st = bvox__runs_label(mask, 8, 0, &r);
     bvox_bitmap_destroy(mask);
     if (st) return st;
-    double *sx = calloc((size_t)r.ncomp + 1, sizeof *sx), *sy = calloc((size_t)r.ncomp + 1, sizeof *sy);
-    double *far = calloc((size_t)r.ncomp + 1, sizeof *far);
-    double *gsum = calloc((size_t)r.ncomp + 1, sizeof *gsum);
-    cand *c = calloc((size_t)r.ncomp + 1, sizeof *c);
+    double *sx = bvox__mem_zalloc((size_t)r.ncomp + 1, sizeof *sx), *sy = bvox__mem_zalloc((size_t)r.ncomp + 1, sizeof *sy);
+    double *far = bvox__mem_zalloc((size_t)r.ncomp + 1, sizeof *far);
+    double *gsum = bvox__mem_zalloc((size_t)r.ncomp + 1, sizeof *gsum);
+    cand *c = bvox__mem_zalloc((size_t)r.ncomp + 1, sizeof *c);
     if (!sx || !sy || !far || !gsum || !c) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;
@@ -150,7 +150,7 @@ bvox_status bvox_section_find_markers(const bvox_image *img, const bvox_marker_o
     for (int32_t i = 0; i < keep; i++) markers[i] = (bvox_point2){c[i].cx, c[i].cy};
     *found = keep;
     if (erase && keep > 0) {
-        uint8_t *kept = calloc((size_t)r.ncomp + 1, 1);
+        uint8_t *kept = bvox__mem_zalloc((size_t)r.ncomp + 1, 1);
         if (!kept) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
             *found = 0;

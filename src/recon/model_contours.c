@@ -179,8 +179,8 @@ static bool slice_alloc(slice_img *si, int32_t w, int32_t h)
     si->h = h;
     si->stride = (size_t)w + 2;
     size_t n = (size_t)(h + 2) * si->stride;
-    si->px = calloc(n, 1);
-    si->top = calloc(n, 1);
+    si->px = bvox__mem_zalloc(n, 1);
+    si->top = bvox__mem_zalloc(n, 1);
     return si->px && si->top;
 }
 
@@ -229,7 +229,7 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
         size_t wpr = ((size_t)c->w + 63) / 64;
         if (!slice_alloc(&si, c->w, c->h)) st = BVOX_ENOMEM;
         if (!st && c->axis == 2) {
-            rows = malloc((size_t)64 * (size_t)c->h * wpr * sizeof *rows);
+            rows = bvox__mem_alloc((size_t)64 * (size_t)c->h * wpr * sizeof *rows);
             if (!rows) st = BVOX_ENOMEM;
         }
         if (c->axis == 2) {
@@ -294,6 +294,7 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
 
 bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_contour_stack **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_volume_to_contours: out is NULL");
     *out = NULL;
@@ -330,8 +331,8 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
     /* a thread is worth it for about a million pixels */
     if ((int64_t)w * h * nslices < ((int64_t)1 << 20)) c.ntasks = 1;
     if (!st) {
-        c.task_status = calloc((size_t)c.ntasks, sizeof *c.task_status);
-        c.task_slice = calloc((size_t)c.ntasks, sizeof *c.task_slice);
+        c.task_status = bvox__mem_zalloc((size_t)c.ntasks, sizeof *c.task_status);
+        c.task_slice = bvox__mem_zalloc((size_t)c.ntasks, sizeof *c.task_slice);
         if (!c.task_status || !c.task_slice) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     }
     if (!st) {
@@ -351,5 +352,6 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
         return st;
     }
     *out = s;
+    BVOX_CHECK_STACK(*out);
     return BVOX_OK;
 }

@@ -72,7 +72,7 @@ static double now_ms(void)
 static char *dup_str(const char *s)
 {
     size_t n = strlen(s) + 1;
-    char *d = malloc(n);
+    char *d = bvox__mem_alloc(n);
     if (d) memcpy(d, s, n);
     return d;
 }
@@ -227,9 +227,9 @@ static void fallback_message(bvox_recon_section_report *s, int32_t nmarkers, int
 static bvox_status align_report(bvox_recon_report *rep, const bvox_recon_opts *o)
 {
     int32_t n = rep->nsections;
-    const bvox_point2 **pts = calloc((size_t)n, sizeof *pts);
-    int32_t *counts = calloc((size_t)n, sizeof *counts);
-    bvox_align_result *res = calloc((size_t)n, sizeof *res);
+    const bvox_point2 **pts = bvox__mem_zalloc((size_t)n, sizeof *pts);
+    int32_t *counts = bvox__mem_zalloc((size_t)n, sizeof *counts);
+    bvox_align_result *res = bvox__mem_zalloc((size_t)n, sizeof *res);
     bvox_status st = BVOX_OK;
     if (!pts || !counts || !res) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -297,6 +297,38 @@ static bvox_status align_by_contours(bvox_recon_report *rep, const sec_work *w)
     return BVOX_OK;
 }
 
+/* --marker-coords: the reference section's markers matched with the given
+ * positions (any turn; the shift, turn and scale limits of the options
+ * otherwise), and every section's transform carried into that frame. */
+static bvox_status align_to_frame(bvox_recon_report *rep, const bvox_recon_opts *o)
+{
+    bvox_contour_stack *f = NULL;
+    bvox_status st = bvox_stack_read(o->marker_coords, &f);
+    if (st) return st;
+    const bvox_recon_section_report *ref = &rep->sections[rep->reference];
+    if (f->nsections < 1 || f->sections[0].nmarkers < 2) {
+        bvox_stack_destroy(f);
+        return bvox__fail(BVOX_EINVAL, "%s: needs at least 2 marker positions in its first section",
+                          o->marker_coords);
+    }
+    bvox_marker_opts mo = o->markers;
+    mo.max_angle = M_PI;
+    bvox_sim2 g;
+    int32_t matched = 0;
+    double rms = 0;
+    st = bvox_markers_match(ref->markers, ref->nmarkers > MAX_MARKERS ? MAX_MARKERS : ref->nmarkers,
+                            f->sections[0].markers, f->sections[0].nmarkers, &mo, &g, NULL,
+                            &matched, &rms);
+    bvox_stack_destroy(f);
+    if (st)
+        return bvox__fail(st, "%s: the reference section '%s' has no 2 markers that match the "
+                              "given positions",
+                          o->marker_coords, ref->name);
+    for (int32_t i = 0; i < rep->nsections; i++)
+        rep->sections[i].align.transform = bvox_sim2_compose(&g, &rep->sections[i].align.transform);
+    return BVOX_OK;
+}
+
 static bvox_xform2 to_xform(const bvox_sim2 *t)
 {
     return bvox_xform2_similarity(t->angle, t->scale, t->tx, t->ty);
@@ -305,9 +337,9 @@ static bvox_xform2 to_xform(const bvox_sim2 *t)
 static bvox_status report_alloc(int32_t n, bvox_recon_report **out)
 {
     *out = NULL;
-    bvox_recon_report *r = calloc(1, sizeof *r);
+    bvox_recon_report *r = bvox__mem_zalloc(1, sizeof *r);
     if (!r) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    r->sections = calloc((size_t)n, sizeof *r->sections);
+    r->sections = bvox__mem_zalloc((size_t)n, sizeof *r->sections);
     if (!r->sections) {
         free(r);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -330,7 +362,7 @@ static bvox_status set_markers(bvox_recon_section_report *s, const bvox_point2 *
     s->markers = NULL;
     s->nmarkers = 0;
     if (n <= 0) return BVOX_OK;
-    s->markers = malloc((size_t)n * sizeof *m);
+    s->markers = bvox__mem_alloc((size_t)n * sizeof *m);
     if (!s->markers) return bvox__fail(BVOX_ENOMEM, "out of memory");
     memcpy(s->markers, m, (size_t)n * sizeof *m);
     s->nmarkers = n;
@@ -378,11 +410,60 @@ static bvox_status finish(const bvox_recon_opts *o, bvox_status st, double t_sta
     return BVOX_OK;
 }
 
-static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
+/* --markers auto (markers.count BVOX_MARKERS_AUTO): up to 9 sections spread
+ * over the stack go through the same steps with every marker candidate
+ * kept; the count is the median of what they found (one section that lost a
+ * marker or has a spurious blob does not move it). Under 2: no markers, and
+ * a warning (the sections are not aligned). */
+static bvox_status auto_marker_count(const sec_work *w, int32_t n, bvox_recon_opts *o,
+                                     const bvox_image *background)
+{
+    int32_t found[9], samples = n < 9 ? n : 9;
+    bvox_recon_opts probe = *o;
+    probe.markers.count = MAX_MARKERS;
+    probe.save_steps = NULL;
+    for (int32_t s = 0; s < samples; s++) {
+        int32_t i = samples == 1 ? 0 : (int32_t)((int64_t)s * (n - 1) / (samples - 1));
+        sec_work tmp;
+        memset(&tmp, 0, sizeof tmp);
+        tmp.path = w[i].path;
+        tmp.image = w[i].image;
+        tmp.name = w[i].name;
+        bvox_status st = process(&tmp, &probe, background, 1);
+        bvox_contours_free(tmp.contours, tmp.ncontours);
+        if (st) return st;
+        found[s] = tmp.nmarkers > MAX_MARKERS ? MAX_MARKERS : tmp.nmarkers;
+    }
+    for (int32_t a = 1; a < samples; a++) /* insertion sort: at most 9 */
+        for (int32_t b = a; b > 0 && found[b - 1] > found[b]; b--) {
+            int32_t t = found[b];
+            found[b] = found[b - 1];
+            found[b - 1] = t;
+        }
+    int32_t count = found[samples / 2];
+    if (count < 2) {
+        bvox__warn("--markers auto: fewer than 2 markers in the sampled sections: not aligned");
+        o->markers.count = 0;
+    } else {
+        bvox__warn("--markers auto: %d markers per section (the median of %d sections)",
+                   (int)count, (int)samples);
+        o->markers.count = count;
+    }
+    return BVOX_OK;
+}
+
+static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opts,
                               const bvox_image *background, bvox_volume **volume,
                               bvox_contour_stack **stack_out, bvox_recon_report **report_out)
 {
     double t_start = now_ms();
+    bvox_recon_opts auto_opts = *opts;
+    const bvox_recon_opts *o = opts;
+    if (opts->markers.count == BVOX_MARKERS_AUTO && !opts->markers_file) {
+        bvox_status st = auto_marker_count(w, n, &auto_opts, background);
+        if (st) return st;
+        o = &auto_opts;
+    }
     bvox_status st = BVOX_OK;
     bvox_recon_report *rep = NULL;
     bvox_contour_stack *stack = NULL;
@@ -446,6 +527,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *o,
     double t0 = now_ms();
     if (o->align && (find_markers || mfile) && (st = align_report(rep, o))) goto done;
     if (rep->aligned && rep->fallbacks && (st = align_by_contours(rep, w))) goto done;
+    if (rep->aligned && o->marker_coords && (st = align_to_frame(rep, o))) goto done;
     rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
     progress(o, BVOX_RECON_ALIGN, n, n);
     /* the stack */
@@ -505,8 +587,8 @@ bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char 
     if (st) return st;
     bvox_recon_opts o = opts ? *opts : bvox_recon_opts_default();
     if (n < 1 || !images) return bvox__fail(BVOX_EINVAL, "reconstruct: no sections");
-    sec_work *w = calloc((size_t)n, sizeof *w);
-    char (*auto_names)[32] = calloc((size_t)n, sizeof *auto_names);
+    sec_work *w = bvox__mem_zalloc((size_t)n, sizeof *w);
+    char (*auto_names)[32] = bvox__mem_zalloc((size_t)n, sizeof *auto_names);
     if (!w || !auto_names) {
         free(w);
         free(auto_names);
@@ -524,6 +606,10 @@ bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char 
     if (!st) st = run_images(w, n, &o, o.background_image, volume, stack, report);
     free_work(w, n);
     free(auto_names);
+    if (!st) {
+        if (volume) BVOX_CHECK_VOLUME(*volume);
+        if (stack) BVOX_CHECK_STACK(*stack);
+    }
     return st;
 }
 
@@ -602,7 +688,7 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
         if (!is_image_name(e->d_name)) continue;
         if (m == cap) {
             cap = cap ? cap * 2 : 64;
-            char **nn = realloc(names, (size_t)cap * sizeof *names);
+            char **nn = bvox__mem_resize(names, (size_t)cap * sizeof *names);
             if (!nn) {
                 st = bvox__fail(BVOX_ENOMEM, "out of memory");
                 break;
@@ -610,7 +696,7 @@ static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
             names = nn;
         }
         size_t len = strlen(dir) + strlen(e->d_name) + 2;
-        if (!(names[m] = malloc(len))) {
+        if (!(names[m] = bvox__mem_alloc(len))) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
             break;
         }
@@ -771,7 +857,7 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
                                                "file must be the only input", inputs[i]);
     }
     bvox_image *background = NULL;
-    sec_work *w = calloc((size_t)n, sizeof *w);
+    sec_work *w = bvox__mem_zalloc((size_t)n, sizeof *w);
     if (!w) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;

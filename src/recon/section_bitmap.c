@@ -22,7 +22,7 @@ bvox_status bvox_bitmap_create(int32_t width, int32_t height, bvox_bitmap **out)
     if (width < 1 || height < 1 || width > BVOX_IMAGE_MAX_DIM || height > BVOX_IMAGE_MAX_DIM)
         return bvox__fail(BVOX_EINVAL, "bitmap size %d x %d is outside 1..%d", (int)width,
                           (int)height, BVOX_IMAGE_MAX_DIM);
-    bvox_bitmap *bm = calloc(1, sizeof *bm);
+    bvox_bitmap *bm = bvox__mem_zalloc(1, sizeof *bm);
     if (!bm) return bvox__fail(BVOX_ENOMEM, "out of memory");
     bm->width = width;
     bm->height = height;
@@ -124,7 +124,7 @@ static bvox_status dilate_square(const bvox_bitmap *in, int32_t r, bvox_bitmap *
     }
     int32_t nw = in->words_per_row;
     uint64_t tail = bvox__bm_tail(in);
-    uint64_t *tmp = malloc((size_t)nw * sizeof *tmp);
+    uint64_t *tmp = bvox__mem_alloc((size_t)nw * sizeof *tmp);
     if (!tmp) {
         bvox_bitmap_destroy(h);
         bvox_bitmap_destroy(o);
@@ -241,8 +241,8 @@ bvox_status bvox_bitmap_median(const bvox_bitmap *in, int32_t radius, bvox_bitma
     bvox_status st = bvox_bitmap_create(in->width, in->height, &o);
     if (st) return st;
     int32_t w = in->width, h = in->height, r = radius, nw = in->words_per_row;
-    int32_t *colsum = calloc((size_t)nw * 64, sizeof *colsum);
-    int32_t *prefix = malloc(((size_t)w + 1) * sizeof *prefix);
+    int32_t *colsum = bvox__mem_zalloc((size_t)nw * 64, sizeof *colsum);
+    int32_t *prefix = bvox__mem_alloc(((size_t)w + 1) * sizeof *prefix);
     if (!colsum || !prefix) {
         free(colsum);
         free(prefix);
@@ -307,8 +307,8 @@ bvox_status bvox__runs_label(const bvox_bitmap *bm, int conn, int invert, bvox__
     int32_t nw = bm->words_per_row;
     uint64_t tail = bvox__bm_tail(bm);
     int64_t cap = 1024, n = 0;
-    bvox__run *runs = malloc((size_t)cap * sizeof *runs);
-    int64_t *row_start = malloc(((size_t)bm->height + 1) * sizeof *row_start);
+    bvox__run *runs = bvox__mem_alloc((size_t)cap * sizeof *runs);
+    int64_t *row_start = bvox__mem_alloc(((size_t)bm->height + 1) * sizeof *row_start);
     if (!runs || !row_start) goto nomem;
     /* runs, a word at a time: a run starts at a 0->1 step and ends at 1->0 */
     for (int32_t y = 0; y < bm->height; y++) {
@@ -331,7 +331,7 @@ bvox_status bvox__runs_label(const bvox_bitmap *bm, int conn, int invert, bvox__
                 } else {
                     if (n == cap) {
                         cap *= 2;
-                        bvox__run *nr = realloc(runs, (size_t)cap * sizeof *runs);
+                        bvox__run *nr = bvox__mem_resize(runs, (size_t)cap * sizeof *runs);
                         if (!nr) goto nomem;
                         runs = nr;
                     }
@@ -343,7 +343,7 @@ bvox_status bvox__runs_label(const bvox_bitmap *bm, int conn, int invert, bvox__
         if (x0 >= 0) {
             if (n == cap) {
                 cap *= 2;
-                bvox__run *nr = realloc(runs, (size_t)cap * sizeof *runs);
+                bvox__run *nr = bvox__mem_resize(runs, (size_t)cap * sizeof *runs);
                 if (!nr) goto nomem;
                 runs = nr;
             }
@@ -356,7 +356,7 @@ bvox_status bvox__runs_label(const bvox_bitmap *bm, int conn, int invert, bvox__
         free(row_start);
         return bvox__fail(BVOX_ETOOBIG, "too many runs in a bitmap");
     }
-    int32_t *parent = malloc((size_t)(n ? n : 1) * sizeof *parent);
+    int32_t *parent = bvox__mem_alloc((size_t)(n ? n : 1) * sizeof *parent);
     if (!parent) goto nomem;
     for (int64_t i = 0; i < n; i++) parent[i] = (int32_t)i;
     int32_t d = conn == 8 ? 1 : 0;
@@ -372,7 +372,7 @@ bvox_status bvox__runs_label(const bvox_bitmap *bm, int conn, int invert, bvox__
     free(row_start);
     row_start = NULL;
     int32_t ncomp = 0;
-    int32_t *compof = malloc((size_t)(n ? n : 1) * sizeof *compof);
+    int32_t *compof = bvox__mem_alloc((size_t)(n ? n : 1) * sizeof *compof);
     if (!compof) {
         free(parent);
         goto nomem;
@@ -384,8 +384,8 @@ bvox_status bvox__runs_label(const bvox_bitmap *bm, int conn, int invert, bvox__
     }
     free(compof);
     free(parent);
-    out->area = calloc((size_t)(ncomp ? ncomp : 1), sizeof *out->area);
-    out->edge = calloc((size_t)(ncomp ? ncomp : 1), 1);
+    out->area = bvox__mem_zalloc((size_t)(ncomp ? ncomp : 1), sizeof *out->area);
+    out->edge = bvox__mem_zalloc((size_t)(ncomp ? ncomp : 1), 1);
     if (!out->area || !out->edge) {
         free(out->area);
         free(out->edge);
@@ -416,7 +416,7 @@ bvox_status bvox_bitmap_label(const bvox_bitmap *bm, int conn, int32_t **labels,
     bvox__runs r;
     bvox_status st = bvox__runs_label(bm, conn, 0, &r);
     if (st) return st;
-    int32_t *lab = calloc((size_t)bm->width * (size_t)bm->height, sizeof *lab);
+    int32_t *lab = bvox__mem_zalloc((size_t)bm->width * (size_t)bm->height, sizeof *lab);
     if (!lab) {
         bvox__runs_free(&r);
         return bvox__fail(BVOX_ENOMEM, "out of memory");

@@ -136,9 +136,9 @@ bvox_status bvox_section_background_estimate(const bvox_image *img, int dark, bv
     if (step < 1) step = 1;
     int32_t sx = (w + step - 1) / step, sy = (h + step - 1) / step;
     size_t ns = (size_t)sx * (size_t)sy;
-    double *u = malloc(ns * sizeof *u), *v = malloc(ns * sizeof *v), *g = malloc(ns * sizeof *g);
-    double *res = malloc(ns * sizeof *res), *tmp = malloc(ns * sizeof *tmp);
-    uint8_t *keep = malloc(ns);
+    double *u = bvox__mem_alloc(ns * sizeof *u), *v = bvox__mem_alloc(ns * sizeof *v), *g = bvox__mem_alloc(ns * sizeof *g);
+    double *res = bvox__mem_alloc(ns * sizeof *res), *tmp = bvox__mem_alloc(ns * sizeof *tmp);
+    uint8_t *keep = bvox__mem_alloc(ns);
     if (!u || !v || !g || !res || !tmp || !keep) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
         goto done;
@@ -272,7 +272,7 @@ bvox_status bvox_section_otsu(const bvox_image *img, double *threshold)
     bvox_status st = check_gray(img, "the section");
     if (st) return st;
     size_t nb = img->bits == 8 ? 256 : 65536, n = (size_t)img->width * (size_t)img->height;
-    uint32_t *hist = calloc(nb, sizeof *hist);
+    uint32_t *hist = bvox__mem_zalloc(nb, sizeof *hist);
     if (!hist) return bvox__fail(BVOX_ENOMEM, "out of memory");
     for (size_t i = 0; i < n; i++) hist[bvox__gray_at(img, i)]++;
     double total = (double)n, sum_all = 0;

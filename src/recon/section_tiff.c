@@ -32,7 +32,7 @@ static bvox_status read_plain(TIFF *tif, const char *name, const bvox__tiff_src 
         *out = NULL;
         return bvox__fail(BVOX_EFORMAT, "%s: bad scanline size", name);
     }
-    uint8_t *buf = malloc((size_t)line);
+    uint8_t *buf = bvox__mem_alloc((size_t)line);
     if (!buf) {
         bvox_image_destroy(*out);
         *out = NULL;

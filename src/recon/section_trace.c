@@ -44,7 +44,7 @@ static int push(poly *p, int32_t x, int32_t y)
 {
     if (p->n == p->cap) {
         int32_t cap = p->cap ? p->cap * 2 : 16;
-        int32_t *nxy = realloc(p->xy, (size_t)cap * 2 * sizeof *nxy);
+        int32_t *nxy = bvox__mem_resize(p->xy, (size_t)cap * 2 * sizeof *nxy);
         if (!nxy) return -1;
         p->xy = nxy;
         p->cap = cap;
@@ -111,8 +111,8 @@ bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours, in
     *contours = NULL;
     *count = 0;
     int32_t w = bm->width, h = bm->height, nw = bm->words_per_row;
-    uint64_t *visited = calloc((size_t)(h + 1) * (size_t)nw, sizeof *visited);
-    int32_t *owner = malloc((size_t)h * ((size_t)w + 1) * sizeof *owner);
+    uint64_t *visited = bvox__mem_zalloc((size_t)(h + 1) * (size_t)nw, sizeof *visited);
+    int32_t *owner = bvox__mem_alloc((size_t)h * ((size_t)w + 1) * sizeof *owner);
     poly *polys = NULL;
     int32_t np = 0, cap = 0;
     bvox_status st = BVOX_OK;
@@ -135,7 +135,7 @@ bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours, in
                 if ((visited[(size_t)y * (size_t)nw + (size_t)k] >> bit) & 1) continue;
                 if (np == cap) {
                     int32_t ncap = cap ? cap * 2 : 16;
-                    poly *n2 = realloc(polys, (size_t)ncap * sizeof *polys);
+                    poly *n2 = bvox__mem_resize(polys, (size_t)ncap * sizeof *polys);
                     if (!n2) {
                         st = bvox__fail(BVOX_ENOMEM, "out of memory");
                         break;
@@ -160,13 +160,13 @@ bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours, in
     uint8_t *parity = NULL;
     int32_t *touched = NULL;
     if (!st && np > 0) {
-        out = calloc((size_t)np, sizeof *out);
-        parity = calloc((size_t)np, 1);
-        touched = malloc(((size_t)w + 1) * sizeof *touched);
+        out = bvox__mem_zalloc((size_t)np, sizeof *out);
+        parity = bvox__mem_zalloc((size_t)np, 1);
+        touched = bvox__mem_alloc(((size_t)w + 1) * sizeof *touched);
         if (!out || !parity || !touched) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     }
     for (int32_t i = 0; i < np && !st; i++) {
-        out[i].points = malloc((size_t)polys[i].n * sizeof *out[i].points);
+        out[i].points = bvox__mem_alloc((size_t)polys[i].n * sizeof *out[i].points);
         if (!out[i].points) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
             break;

@@ -272,6 +272,7 @@ static bvox_status extent(const bvox_contour_stack *st, int32_t margin, sv *s)
 bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_stack_volume_opts *opts,
                                  bvox_volume **out)
 {
+    BVOX_CHECK_STACK(stack);
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_to_volume: out is NULL");
     *out = NULL;
@@ -299,15 +300,15 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
     s.plane = s.wpr * (size_t)s.ny;
 
     /* sort the sections by z; equal z is an error */
-    s.order = malloc((size_t)s.nsec * sizeof *s.order);
-    s.zs = malloc((size_t)s.nsec * sizeof *s.zs);
-    s.map_of = malloc((size_t)s.nsec * sizeof *s.map_of);
-    s.mapped = malloc((size_t)s.nsec * sizeof *s.mapped);
+    s.order = bvox__mem_alloc((size_t)s.nsec * sizeof *s.order);
+    s.zs = bvox__mem_alloc((size_t)s.nsec * sizeof *s.zs);
+    s.map_of = bvox__mem_alloc((size_t)s.nsec * sizeof *s.map_of);
+    s.mapped = bvox__mem_alloc((size_t)s.nsec * sizeof *s.mapped);
     if (!s.order || !s.zs || !s.map_of || !s.mapped) {
         sv_release(&s);
         return bvox__fail(BVOX_ENOMEM, "out of memory for the section order");
     }
-    zkey *keys = malloc((size_t)s.nsec * sizeof *keys);
+    zkey *keys = bvox__mem_alloc((size_t)s.nsec * sizeof *keys);
     if (!keys) {
         sv_release(&s);
         return bvox__fail(BVOX_ENOMEM, "out of memory for the section order");
@@ -435,6 +436,7 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
     if (st) goto fail;
     sv_release(&s);
     *out = s.vol;
+    BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
 fail:
     sv_release(&s);

@@ -56,8 +56,8 @@ bvox_status bvox__gif_open(const char *path, int32_t width, int32_t height, int 
                           path, (int)width, (int)height);
     if (delay_cs < 0 || delay_cs > 65535)
         return bvox__fail(BVOX_EINVAL, "%s: frame delay %d out of range", path, delay_cs);
-    bvox__gif *g = calloc(1, sizeof *g);
-    char *p = g ? strdup(path) : NULL;
+    bvox__gif *g = bvox__mem_zalloc(1, sizeof *g);
+    char *p = g ? bvox__mem_strdup(path) : NULL;
     if (!p) {
         free(g);
         return bvox__fail(BVOX_ENOMEM, "out of memory");

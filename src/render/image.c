@@ -40,7 +40,7 @@ bvox_status bvox_image_create(int32_t width, int32_t height, int32_t channels, i
     if (!bvox__mul_size((size_t)width * (size_t)height, (size_t)channels * (size_t)(bits / 8),
                         &bytes))
         return bvox__fail(BVOX_ETOOBIG, "image %d x %d overflows", (int)width, (int)height);
-    image_block *b = calloc(1, sizeof *b);
+    image_block *b = bvox__mem_zalloc(1, sizeof *b);
     if (!b) return bvox__fail(BVOX_ENOMEM, "out of memory");
     bvox_status st;
     void *px = bvox__alloc(bytes, true, "image", &st);

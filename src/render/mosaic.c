@@ -77,6 +77,7 @@ static void mosaic_rows(void *arg, int64_t y0, int64_t y1)
 
 bvox_status bvox_mosaic(const bvox_volume *vol, const bvox_mosaic_opts *opts, bvox_image **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     if (!vol) return bvox__fail(BVOX_EINVAL, "mosaic: no volume");
     const bvox_mosaic_opts def = BVOX_MOSAIC_OPTS_INIT;
@@ -103,5 +104,6 @@ bvox_status bvox_mosaic(const bvox_volume *vol, const bvox_mosaic_opts *opts, bv
     if (st) return st;
     mosaic_ctx m = {vol, lut.value, sections, columns, (size_t)width, (*out)->pixels};
     bvox__parallel_for(vol->ny, 16, mosaic_rows, &m);
+    BVOX_CHECK_IMAGE(*out);
     return BVOX_OK;
 }

@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define PICTURE_SIZE 512
 
@@ -89,16 +90,24 @@ bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
 {
     if (!dir) return bvox__fail(BVOX_EINVAL, "pictures: no folder");
     size_t size = strlen(dir) + 16;
-    char *path = malloc(size);
+    char *path = bvox__mem_alloc(size);
     if (!path) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    /* all four made before any is written, and the ones written removed if
+     * a later one fails: a failed call leaves no partial set behind */
+    bvox_image *img[4] = {NULL, NULL, NULL, NULL};
     bvox_status st = BVOX_OK;
-    for (int k = 1; k <= 4 && !st; k++) {
-        bvox_image *img = NULL;
-        st = bvox_demo_picture(vol, k, &img);
-        snprintf(path, size, "%s/picture%d.png", dir, k);
-        if (!st) st = bvox_image_write_png(img, path);
-        bvox_image_destroy(img);
+    for (int k = 0; k < 4 && !st; k++) st = bvox_demo_picture(vol, k + 1, &img[k]);
+    int written = 0;
+    for (; written < 4 && !st; written++) {
+        snprintf(path, size, "%s/picture%d.png", dir, written + 1);
+        st = bvox_image_write_png(img[written], path);
+        if (st) break;
     }
+    for (int k = 0; st && k < written; k++) {
+        snprintf(path, size, "%s/picture%d.png", dir, k + 1);
+        unlink(path);
+    }
+    for (int k = 0; k < 4; k++) bvox_image_destroy(img[k]);
     free(path);
     return st;
 }

@@ -52,7 +52,7 @@ bvox_status bvox__preimage_alloc(int32_t width, int32_t height, bvox_preimage **
     size_t n = (size_t)width * (size_t)height, dbytes;
     if (!bvox__mul_size(n, sizeof(int32_t), &dbytes))
         return bvox__fail(BVOX_ETOOBIG, "pre-image too large");
-    pre_block *b = calloc(1, sizeof *b);
+    pre_block *b = bvox__mem_zalloc(1, sizeof *b);
     if (!b) return bvox__fail(BVOX_ENOMEM, "out of memory");
     bvox_status st;
     b->pub.depth = bvox__alloc(dbytes, false, "pre-image depths", &st);

@@ -279,6 +279,7 @@ bvox_status bvox__scene_render(bvox__scene *sc, const bvox_render_opts *o, bvox_
 bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts, bvox_image **out,
                         bvox_preimage **pre)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     if (pre) *pre = NULL;
     bvox__scene sc;
@@ -287,6 +288,7 @@ bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts, bv
     bvox__clear_error();
     st = bvox__scene_render(&sc, opts, out, pre);
     bvox__scene_close(&sc);
+    if (!st) BVOX_CHECK_IMAGE(*out);
     return st;
 }
 

@@ -14,7 +14,6 @@
  */
 #include "render.h"
 
-#include <assert.h>
 #include <math.h>
 #include <string.h>
 
@@ -111,7 +110,7 @@ bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *op
         return bvox__fail(BVOX_EINVAL, "shade: missing pre-image or codes");
     bvox_status st = opts_check(opts);
     if (st) return st;
-    assert(bvox__preimage_ok(pre));
+    BVOX_ASSERT(bvox__preimage_ok(pre));
     const int32_t range = pre->depth_range > 1 ? pre->depth_range : 2;
     bvox__cut_test cut = {{0, 0, 0}, 0, 0};
     if (opts->cut) bvox__cut_test_init(&cut, opts->plane, opts->plane[3], pre);
@@ -138,7 +137,7 @@ bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *op
                 break;
             }
             }
-            assert(c < BVOX_SCODE_CUT);
+            BVOX_ASSERT(c < BVOX_SCODE_CUT);
             codes[i] = (uint16_t)c;
         }
     return BVOX_OK;
@@ -228,8 +227,8 @@ bvox_status bvox_shade_table_build(const bvox_preimage *pre, const bvox_shade_op
 void bvox_shade_table_apply(const bvox_shade_table *table, const uint16_t *codes, int32_t width,
                             int32_t height, size_t code_stride, uint8_t *rgb, size_t rgb_stride)
 {
-    assert(table && (width <= 0 || height <= 0 || (codes && rgb)));
-    assert(code_stride >= (size_t)(width > 0 ? width : 0) && rgb_stride >= 3 * (size_t)(width > 0 ? width : 0));
+    BVOX_ASSERT(table && (width <= 0 || height <= 0 || (codes && rgb)));
+    BVOX_ASSERT(code_stride >= (size_t)(width > 0 ? width : 0) && rgb_stride >= 3 * (size_t)(width > 0 ? width : 0));
     for (int32_t y = 0; y < height; y++) {
         const uint16_t *c = codes + (size_t)y * code_stride;
         uint8_t *dst = rgb + (size_t)y * rgb_stride;

@@ -12,6 +12,7 @@
 bvox_status bvox_render_sheet(const bvox_volume *vol, const bvox_render_opts *opts,
                               bvox_image **out)
 {
+    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     bvox__scene sc;
     bvox_status st = bvox__scene_open(vol, opts, &sc);

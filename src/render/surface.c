@@ -63,7 +63,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     *out = NULL;
     if (!vol) return bvox__fail(BVOX_EINVAL, "surface: no volume");
     bvox__clear_error();
-    bvox_surface *s = calloc(1, sizeof *s);
+    bvox_surface *s = bvox__mem_zalloc(1, sizeof *s);
     if (!s) return bvox__fail(BVOX_ENOMEM, "out of memory");
     bvox_status st;
     size_t at_bytes = (size_t)vol->ny * 64 * sizeof(int64_t);

@@ -27,7 +27,7 @@ static char *frame_name(const char *path, int i, int n)
     char num[16];
     snprintf(num, sizeof num, n > 1000 ? "%04d" : "%03d", i % 10000);
     size_t size = stem + strlen(num) + 8;
-    char *s = malloc(size);
+    char *s = bvox__mem_alloc(size);
     if (s) snprintf(s, size, "%.*s_%s.png", (int)stem, path, num);
     return s;
 }

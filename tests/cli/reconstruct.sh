@@ -239,4 +239,27 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] || fail "no sections exited $rc"
+# --markers auto counts the 3 markers itself (said in a warning) and gives
+# the same alignment and model as --markers 3
+"$BVOX" reconstruct "$tmp/sec" --markers auto --spacing 2 --unit um -o "$tmp/auto.nii" \
+    --report "$tmp/ra.json" 2>"$tmp/err" || { cat "$tmp/err"; fail "--markers auto exited $?"; }
+grep -q '^bvox: warning: --markers auto: 3 markers per section' "$tmp/err" || { cat "$tmp/err"; fail "auto count not said"; }
+jcheck "$tmp/ra.json" 'o["fallbacks"] == 0 and all(s["markers_found"] == 3 for s in o["per_section"])' ||
+    fail "--markers auto report"
+cmp "$tmp/auto.nii" "$tmp/m.nii" || fail "--markers auto gives another model than --markers 3"
+# --marker-coords: the reference section's markers (8.5,8.5), (71.5,12.5),
+# (10.5,70.5) belong at those points turned by 90 degrees and moved by
+# (100, 10), listed in another order: the reference's transform is exactly
+# that, and every other section is carried along
+printf '{"sections":[{"markers":[[87.5,81.5],[91.5,18.5],[29.5,20.5]]}]}' >"$tmp/frame.json"
+"$BVOX" reconstruct "$tmp/sec" --markers 3 --marker-coords "$tmp/frame.json" --spacing 2 --quiet \
+    -o "$tmp/fr.nii" --report "$tmp/rf.json" || fail "--marker-coords exited $?"
+jcheck "$tmp/rf.json" 'all(abs(o["per_section"][6]["transform"][k] - v) < 1e-3 for k, v in (("angle_deg", 90), ("tx", 100), ("ty", 10)))' ||
+    fail "reference section not put into the given frame"
+jcheck "$tmp/rf.json" 'all(abs(s["transform"]["angle_deg"] - 90) < 10 for s in o["per_section"])' ||
+    fail "other sections not carried into the frame"
+printf '{"sections":[{"markers":[[1,1]]}]}' >"$tmp/one.json"
+"$BVOX" reconstruct "$tmp/sec" --markers 3 --marker-coords "$tmp/one.json" -o "$tmp/x.nii" 2>"$tmp/err" &&
+    fail "marker coords without markers accepted"
+grep -q "needs at least 2 marker positions" "$tmp/err" || { cat "$tmp/err"; fail "marker coords message"; }
 exit 0
