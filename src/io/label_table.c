@@ -123,7 +123,7 @@ static bool parse_line(char *line, bvox_label_entry *e)
 
 static size_t *realloc_lines(size_t *lines, size_t n)
 {
-    size_t *l = realloc(lines, n * sizeof *l);
+    size_t *l = bvox__mem_resize(lines, n * sizeof *l);
     if (!l) free(lines);
     return l;
 }
@@ -143,7 +143,7 @@ static int by_label_line(const void *pa, const void *pb)
 /* Sort by label (binary search in find) and keep the first of duplicates. */
 static void dedupe(bvox_label_table *t, const size_t *lines, const char *name)
 {
-    keyed *k = malloc((size_t)t->n * sizeof *k);
+    keyed *k = bvox__mem_alloc((size_t)t->n * sizeof *k);
     if (!k) return; /* left unsorted: find falls back to a scan */
     for (int64_t i = 0; i < t->n; i++) k[i] = (keyed){t->entries[i], lines[i]};
     qsort(k, (size_t)t->n, sizeof *k, by_label_line);
@@ -192,8 +192,8 @@ bvox_status bvox_label_table_parse(const char *text, size_t size, const char *na
     if (!out || (!text && size)) return bvox__fail(BVOX_EINVAL, "bvox_label_table_parse: NULL");
     *out = NULL;
     if (!name) name = "table";
-    bvox_label_table *t = calloc(1, sizeof *t);
-    char *line = malloc(size + 1);
+    bvox_label_table *t = bvox__mem_zalloc(1, sizeof *t);
+    char *line = bvox__mem_alloc(size + 1);
     if (!t || !line) {
         free(t);
         free(line);
@@ -224,7 +224,7 @@ bvox_status bvox_label_table_parse(const char *text, size_t size, const char *na
         }
         if ((size_t)t->n == cap) {
             cap = cap ? cap * 2 : 64;
-            bvox_label_entry *ne = realloc(t->entries, cap * sizeof *ne);
+            bvox_label_entry *ne = bvox__mem_resize(t->entries, cap * sizeof *ne);
             if (!ne) {
                 free(line);
                 bvox_label_table_destroy(t);

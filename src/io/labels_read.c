@@ -170,7 +170,7 @@ static bvox_status add_object(splitter *s, int64_t label, uint32_t *index)
                           s->name, (long long)s->max_labels);
     if (s->nobj == s->capobj) {
         size_t cap = s->capobj ? s->capobj * 2 : 64;
-        acc *o = realloc(s->objs, cap * sizeof *o);
+        acc *o = bvox__mem_resize(s->objs, cap * sizeof *o);
         if (!o) return bvox__fail(BVOX_ENOMEM, "%s: out of memory for the label list", s->name);
         s->objs = o;
         s->capobj = cap;
@@ -255,7 +255,7 @@ static bvox_status map_slice(splitter *s, int32_t z, bool discover, uint32_t *id
 static bvox_status contacts_grow(splitter *s)
 {
     size_t cap = s->ccap ? s->ccap * 2 : 256;
-    contact_acc *c = calloc(cap, sizeof *c);
+    contact_acc *c = bvox__mem_zalloc(cap, sizeof *c);
     if (!c) return bvox__fail(BVOX_ENOMEM, "%s: out of memory for label contacts", s->name);
     for (size_t i = 0; i < s->ccap; i++) {
         contact_acc *o = &s->cts[i];
@@ -353,12 +353,12 @@ void bvox_labelset_destroy(bvox_labelset *set)
 static bvox_status make_set(splitter *s, uint32_t *remap, bvox_labelset **out)
 {
     const bvox__gray *g = s->g;
-    bvox_labelset *set = calloc(1, sizeof *set);
+    bvox_labelset *set = bvox__mem_zalloc(1, sizeof *set);
     if (!set) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", s->name);
     set->dims = g->dims;
     set->geometry = g->geom;
-    set->objects = calloc(s->nobj ? s->nobj : 1, sizeof *set->objects);
-    set->contacts = calloc(s->ncts ? s->ncts : 1, sizeof *set->contacts);
+    set->objects = bvox__mem_zalloc(s->nobj ? s->nobj : 1, sizeof *set->objects);
+    set->contacts = bvox__mem_zalloc(s->ncts ? s->ncts : 1, sizeof *set->contacts);
     if (!set->objects || !set->contacts) {
         bvox_labelset_destroy(set);
         return bvox__fail(BVOX_ENOMEM, "%s: out of memory", s->name);
@@ -474,7 +474,7 @@ static bvox_status split(const bvox__gray *g, const char *name, int64_t max_labe
         prev = t;
     }
     if (st) goto done;
-    remap = malloc((s.nobj ? s.nobj : 1) * sizeof *remap);
+    remap = bvox__mem_alloc((s.nobj ? s.nobj : 1) * sizeof *remap);
     if (!remap) {
         st = bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
         goto done;

@@ -91,7 +91,7 @@ bvox_status bvox_labelset_write_meshes(const bvox_labelset *set, const int64_t *
     bvox_status st = bvox__dir_sink_open(dir, &tmp);
     if (st) return st;
     size_t cap = strlen(tmp) + 128;
-    char *path = malloc(cap);
+    char *path = bvox__mem_alloc(cap);
     if (!path) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     for (int64_t i = 0; i < n && !st; i++) {
         int64_t k = indices[i];

@@ -42,7 +42,7 @@ bvox_status bvox_interpolate_slices(const bvox_volume *in, const uint8_t *annota
     st = bvox_volume_copy(in, &o);
     if (st) return st;
     /* which slices are annotated */
-    uint8_t *ann = malloc((size_t)nz);
+    uint8_t *ann = bvox__mem_alloc((size_t)nz);
     if (!ann) {
         bvox_volume_destroy(o);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
