@@ -1,10 +1,12 @@
 /*
- * args.c — the option parsing shared by every subcommand (see args.h), and
+ * args.c — the options shared by the subcommands (see args.h): the read and
+ * process option groups, strict number parsing, and
  * the two ways a command reports a problem: cli_fail for a failed library
  * call (exit 1), cli_usage_error for a wrong command line (exit 2).
  */
 #include "args.h"
 #include "cli.h"
+#include "opts.h"
 
 #include <errno.h>
 #include <math.h>
@@ -31,9 +33,6 @@ int cli_usage_error(const char *cmd, const char *fmt, ...)
     va_end(ap);
     return CLI_USAGE;
 }
-
-/* A usage error inside an option parser: print it, answer CLI_ARG_BAD. */
-#define BAD(...) (cli_usage_error(cmd, __VA_ARGS__), CLI_ARG_BAD)
 
 /* ------------------------------------------------------------ numbers */
 
@@ -127,69 +126,7 @@ int cli_parse_triple(const char *s, double out[3])
 
 int cli_is_option(const char *arg) { return arg[0] == '-' && arg[1] != '\0'; }
 
-int cli_parse_input_arg(const char *cmd, const char *arg, int *options_done, const char **in,
-                        void (*help)(FILE *))
-{
-    if (*options_done || !cli_is_option(arg)) {
-        if (*in) return BAD("unexpected argument '%s'", arg);
-        *in = arg;
-    } else if (!strcmp(arg, "--")) {
-        *options_done = 1;
-    } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-        help(stdout);
-        return CLI_ARG_HELP;
-    } else {
-        return CLI_ARG_NOT_MINE;
-    }
-    return CLI_ARG_USED;
-}
-
-int cli_match_value(const char *cmd, int argc, char **argv, int *i, const char *name,
-                    const char **value)
-{
-    const char *arg = argv[*i];
-    size_t n = strlen(name);
-    if (strncmp(arg, name, n) != 0) return CLI_ARG_NOT_MINE;
-    if (arg[n] == '=') {
-        *value = arg + n + 1;
-        return CLI_ARG_USED;
-    }
-    if (arg[n] != '\0') return CLI_ARG_NOT_MINE;
-    if (*i + 1 >= argc) {
-        cli_usage_error(cmd, "option %s needs a value", name);
-        return CLI_ARG_BAD;
-    }
-    *value = argv[++*i];
-    return CLI_ARG_USED;
-}
-
 /* ------------------------------------------------------------ read options */
-
-static const char read_options_help[] =
-    "\nRead options (how a gray or label image becomes binary; pick one):\n"
-    "  --nonzero             voxel is 1 where value != 0 (default)\n"
-    "  --threshold T         voxel is 1 where value >= T\n"
-    "  --range LO:HI         voxel is 1 where LO <= value <= HI\n"
-    "  --otsu                threshold chosen by Otsu's method\n"
-    "  --label N             voxel is 1 where value == N (label maps, atlases)\n"
-    "  --format NAME         force the input format (%s)\n"
-    "\nRaw input (needs --dims and --type):\n"
-    "  --dims NX,NY,NZ       dimensions in voxels\n"
-    "  --type T              u8 i8 u16 i16 u32 i32 u64 i64 f32 f64\n"
-    "  --endian little|big   byte order (default little)\n"
-    "  --offset BYTES        bytes to skip before the data (a header)\n"
-    "\nGeometry (raw input, or to override what a file says):\n"
-    "  --voxel-size SX,SY,SZ voxel size in physical units\n"
-    "  --unit U              length unit, e.g. mm or um\n";
-
-static const char process_options_help[] =
-    "\nProcess options:\n"
-    "  --max-memory SIZE     memory budget for voxel data, e.g. 512M, 8G\n"
-    "  --threads N           worker threads (default: all cores)\n";
-
-void cli_print_read_options_help(FILE *f) { fprintf(f, read_options_help, bvox_format_list()); }
-
-void cli_print_process_options_help(FILE *f) { fputs(process_options_help, f); }
 
 void cli_read_args_init(cli_read_args *a)
 {
@@ -198,120 +135,181 @@ void cli_read_args_init(cli_read_args *a)
     a->opts = init;
 }
 
-int cli_parse_read_option(const char *cmd, int argc, char **argv, int *i, cli_read_args *a)
+_Static_assert(BVOX_MAX_DIM == 65535, "CLI_BAD_DIMS names BVOX_MAX_DIM");
+
+/* One binarisation chosen: mode set, and only one of them on a command line. */
+static int binarize_chosen(const char *cmd, cli_read_args *a, bvox_binarize_mode mode)
 {
-    const char *arg = argv[*i], *v = NULL;
+    a->opts.binarize.mode = mode;
+    if (++a->binarize_given > 1) {
+        cli_usage_error(cmd, "give only one of --nonzero, --threshold, --range, --otsu, --label");
+        return CLI_OPT_FAILED;
+    }
+    return CLI_OPT_OK;
+}
+
+static int take_nonzero(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    return binarize_chosen(cmd, t, BVOX_BIN_NONZERO);
+}
+
+static int take_otsu(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    return binarize_chosen(cmd, t, BVOX_BIN_OTSU);
+}
+
+static int take_threshold(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    cli_read_args *a = t;
+    if (cli_parse_double(v, &a->opts.binarize.threshold)) return CLI_OPT_BAD;
+    return binarize_chosen(cmd, a, BVOX_BIN_THRESHOLD);
+}
+
+static int take_range(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    cli_read_args *a = t;
     bvox_binarize *b = &a->opts.binarize;
-    int r;
-    if (!strcmp(arg, "--nonzero")) {
-        b->mode = BVOX_BIN_NONZERO;
-        a->binarize_given++;
-    } else if (!strcmp(arg, "--otsu")) {
-        b->mode = BVOX_BIN_OTSU;
-        a->binarize_given++;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--threshold", &v))) {
-        if (r < 0) return r;
-        if (cli_parse_double(v, &b->threshold))
-            return BAD("--threshold: '%s' is not a finite number", v);
-        b->mode = BVOX_BIN_THRESHOLD;
-        a->binarize_given++;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--range", &v))) {
-        if (r < 0) return r;
-        const char *colon = strchr(v, ':');
-        char lo[64];
-        size_t n = colon ? (size_t)(colon - v) : 0;
-        if (!colon || n == 0 || n >= sizeof lo)
-            return BAD("--range: '%s' is not LO:HI", v);
-        memcpy(lo, v, n);
-        lo[n] = '\0';
-        if (cli_parse_double(lo, &b->lo) || cli_parse_double(colon + 1, &b->hi) || b->lo > b->hi)
-            return BAD("--range: '%s' is not LO:HI with LO <= HI", v);
-        b->mode = BVOX_BIN_RANGE;
-        a->binarize_given++;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--label", &v))) {
-        if (r < 0) return r;
-        if (cli_parse_double(v, &b->label))
-            return BAD("--label: '%s' is not a number", v);
-        b->mode = BVOX_BIN_LABEL;
-        a->binarize_given++;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--format", &v))) {
-        if (r < 0) return r;
-        a->opts.format = v; /* the library names the known formats if it is wrong */
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--dims", &v))) {
-        if (r < 0) return r;
-        if (cli_parse_dims(v, &a->opts.raw_dims))
-            return BAD("--dims: '%s' is not NX,NY,NZ with each in 1..%d", v,
-                                   BVOX_MAX_DIM);
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--type", &v))) {
-        if (r < 0) return r;
-        int t = bvox_dtype_parse(v);
-        if (t < 0)
-            return BAD("--type: unknown sample type '%s'", v);
-        a->opts.raw_dtype = (bvox_dtype)t;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--endian", &v))) {
-        if (r < 0) return r;
-        if (!strcmp(v, "little")) a->opts.raw_big_endian = 0;
-        else if (!strcmp(v, "big")) a->opts.raw_big_endian = 1;
-        else return BAD("--endian: '%s' is not little or big", v);
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--offset", &v))) {
-        if (r < 0) return r;
-        int64_t off;
-        if (cli_parse_int64(v, 0, INT64_MAX, &off))
-            return BAD("--offset: '%s' is not a byte count", v);
-        a->opts.raw_offset = (uint64_t)off;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--voxel-size", &v))) {
-        if (r < 0) return r;
-        double s[3];
-        if (cli_parse_triple(v, s) || !(s[0] > 0 && s[1] > 0 && s[2] > 0))
-            return BAD("--voxel-size: '%s' is not SX,SY,SZ (each > 0)", v);
-        memcpy(a->spacing, s, sizeof s);
-        memcpy(a->opts.raw_spacing, s, sizeof s);
-        a->spacing_given = 1;
-    } else if ((r = cli_match_value(cmd, argc, argv, i, "--unit", &v))) {
-        if (r < 0) return r;
-        if (strlen(v) >= sizeof(((bvox_geometry *)0)->unit))
-            return BAD("--unit: '%s' is too long", v);
-        a->unit = v;
-        a->opts.raw_unit = v;
-    } else {
-        return CLI_ARG_NOT_MINE;
+    const char *colon = strchr(v, ':');
+    char lo[64];
+    size_t n = colon ? (size_t)(colon - v) : 0;
+    if (!colon || n == 0 || n >= sizeof lo) {
+        cli_usage_error(cmd, "--range: '%s' is not LO:HI", v);
+        return CLI_OPT_FAILED;
     }
-    if (a->binarize_given > 1)
-        return BAD("give only one of --nonzero, --threshold, --range, "
-                                    "--otsu, --label");
-    return CLI_ARG_USED;
+    memcpy(lo, v, n);
+    lo[n] = '\0';
+    if (cli_parse_double(lo, &b->lo) || cli_parse_double(colon + 1, &b->hi) || b->lo > b->hi)
+        return CLI_OPT_BAD;
+    return binarize_chosen(cmd, a, BVOX_BIN_RANGE);
 }
 
-int cli_parse_process_option(const char *cmd, int argc, char **argv, int *i)
+static int take_label(const char *cmd, const cli_opt *o, const char *v, void *t)
 {
-    const char *v = NULL;
-    int r;
-    if ((r = cli_match_value(cmd, argc, argv, i, "--max-memory", &v))) {
-        if (r < 0) return r;
-        size_t bytes;
-        if (cli_parse_size(v, &bytes) || bytes == 0)
-            return BAD("--max-memory: '%s' is not a size like 512M or 8G", v);
-        bvox_set_memory_budget(bytes);
-        return CLI_ARG_USED;
-    }
-    if ((r = cli_match_value(cmd, argc, argv, i, "--threads", &v))) {
-        if (r < 0) return r;
-        int64_t n;
-        if (cli_parse_int64(v, 1, 1024, &n))
-            return BAD("--threads: '%s' is not a count in 1..1024", v);
-        bvox_set_threads((int)n);
-        return CLI_ARG_USED;
-    }
-    return CLI_ARG_NOT_MINE;
+    cli_read_args *a = t;
+    if (cli_parse_double(v, &a->opts.binarize.label)) return CLI_OPT_BAD;
+    return binarize_chosen(cmd, a, BVOX_BIN_LABEL);
 }
 
-int cli_parse_shared_option(const char *cmd, int argc, char **argv, int *i, cli_read_args *a)
+int cli_take_dims(const char *cmd, const cli_opt *o, const char *v, void *t)
 {
-    int r = a ? cli_parse_read_option(cmd, argc, argv, i, a) : CLI_ARG_NOT_MINE;
-    if (r == CLI_ARG_NOT_MINE) r = cli_parse_process_option(cmd, argc, argv, i);
-    if (r == CLI_ARG_NOT_MINE) r = BAD("unknown option '%s'", argv[*i]);
-    return r;
+    return cli_parse_dims(v, &((cli_read_args *)t)->opts.raw_dims) ? CLI_OPT_BAD : CLI_OPT_OK;
 }
+
+static int take_type(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    int type = bvox_dtype_parse(v);
+    if (type < 0) return CLI_OPT_BAD;
+    ((cli_read_args *)t)->opts.raw_dtype = (bvox_dtype)type;
+    return CLI_OPT_OK;
+}
+
+int cli_take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    cli_read_args *a = t;
+    double s[3];
+    if (cli_parse_triple(v, s) || !(s[0] > 0 && s[1] > 0 && s[2] > 0)) return CLI_OPT_BAD;
+    memcpy(a->spacing, s, sizeof s);
+    memcpy(a->opts.raw_spacing, s, sizeof s);
+    a->spacing_given = 1;
+    return CLI_OPT_OK;
+}
+
+int cli_take_unit(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    cli_read_args *a = t;
+    if (strlen(v) >= sizeof(((bvox_geometry *)0)->unit)) return CLI_OPT_BAD;
+    a->unit = v;
+    a->opts.raw_unit = v;
+    return CLI_OPT_OK;
+}
+
+#define R(member) CLI_AT(cli_read_args, member)
+#define WHOLE .offset = 0, .size = sizeof(cli_read_args)
+
+static const cli_opt binarize_opts[] = {
+    {"--nonzero", 0, CLI_FLAG, NULL, "voxel is 1 where value != 0 (default)", WHOLE,
+     .fn = take_nonzero},
+    {"--threshold", 0, CLI_DOUBLE, "T", "voxel is 1 where value >= T", WHOLE,
+     .fn = take_threshold, .bad = "--threshold: '%s' is not a finite number"},
+    {"--range", 0, CLI_STR, "LO:HI", "voxel is 1 where LO <= value <= HI", WHOLE,
+     .fn = take_range, .bad = "--range: '%s' is not LO:HI with LO <= HI"},
+    {"--otsu", 0, CLI_FLAG, NULL, "threshold chosen by Otsu's method", WHOLE, .fn = take_otsu},
+    {"--label", 0, CLI_DOUBLE, "N", "voxel is 1 where value == N (label maps, atlases)", WHOLE,
+     .fn = take_label, .bad = "--label: '%s' is not a number"},
+    /* the library names the known formats if it is wrong */
+    {"--format", 0, CLI_STR, "NAME", "force the input format ({formats})", R(opts.format)},
+    {NULL},
+};
+
+static const char *const endians[] = {"little", "big", NULL};
+
+static const cli_opt raw_opts[] = {
+    {"--dims", 0, CLI_STR, "NX,NY,NZ", "dimensions in voxels", WHOLE, .fn = cli_take_dims,
+     .bad = CLI_BAD_DIMS},
+    {"--type", 0, CLI_STR, "T", "u8 i8 u16 i16 u32 i32 u64 i64 f32 f64", WHOLE, .fn = take_type,
+     .bad = "--type: unknown sample type '%s'"},
+    {"--endian", 0, CLI_CHOICE, NULL, "byte order", R(opts.raw_big_endian), .def = "little",
+     .choices = endians},
+    {"--offset", 0, CLI_INT, "BYTES", "bytes to skip before the data (a header)",
+     R(opts.raw_offset), .lo = 0, .hi = INT64_MAX, .bad = "--offset: '%s' is not a byte count"},
+    {NULL},
+};
+
+static const cli_opt geometry_opts[] = {
+    {"--voxel-size", 0, CLI_TRIPLE, "SX,SY,SZ", "voxel size in physical units", WHOLE,
+     .fn = cli_take_voxel_size, .bad = CLI_BAD_VOXEL_SIZE},
+    {"--unit", 0, CLI_STR, "U", "length unit, e.g. mm or um", WHOLE, .fn = cli_take_unit,
+     .bad = CLI_BAD_UNIT},
+    {NULL},
+};
+
+const cli_group cli_read_groups[3] = {
+    {"Read options (how a gray or label image becomes binary; pick one)", binarize_opts, NULL},
+    {"Raw input (needs --dims and --type)", raw_opts, NULL},
+    {"Geometry (raw input, or to override what a file says)", geometry_opts, NULL},
+};
+
+const char *const cli_conn_choices[] = {"6", "18", "26", NULL};
+const char *const cli_mesh_formats[] = {"stl", "ply", "obj", "off", NULL};
+
+const char *const cli_filter_choices[] = {"highpass", "smooth", "laplace", "sobel", NULL};
+
+/* The filter names of the CLI: the library's, and "laplace". */
+int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    int f = !strcmp(v, "laplace") ? BVOX_FILTER_LAPLACIAN : bvox_filter_parse(v);
+    if (f < 0) return CLI_OPT_BAD;
+    *(int *)target = f;
+    return CLI_OPT_OK;
+}
+
+/* ------------------------------------------------------------ process options */
+
+static int take_max_memory(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    size_t bytes;
+    if (cli_parse_size(v, &bytes) || bytes == 0) return CLI_OPT_BAD;
+    bvox_set_memory_budget(bytes);
+    return CLI_OPT_OK;
+}
+
+static int take_threads(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    int64_t n;
+    if (cli_parse_int64(v, 1, 1024, &n)) return CLI_OPT_BAD;
+    bvox_set_threads((int)n);
+    return CLI_OPT_OK;
+}
+
+static const cli_opt process_opts[] = {
+    {"--max-memory", 0, CLI_STR, "SIZE", "memory budget for voxel data, e.g. 512M, 8G",
+     .fn = take_max_memory, .bad = "--max-memory: '%s' is not a size like 512M or 8G"},
+    {"--threads", 0, CLI_INT, "N", "worker threads (default: all cores)", .fn = take_threads,
+     .bad = "--threads: '%s' is not a count in 1..1024"},
+    {NULL},
+};
+
+const cli_group cli_process_group = {"Process options", process_opts, NULL};
 
 /* ------------------------------------------------------------ reading */
 
@@ -335,21 +333,6 @@ bvox_status cli_read_volume(const char *path, const cli_read_args *a, bvox_volum
 const char *cli_input_format(const char *path, const cli_read_args *a)
 {
     return a->opts.format ? a->opts.format : bvox_format_for_path(path);
-}
-
-int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, const char **out,
-                            bvox_write_opts *wo)
-{
-    const char *v = NULL;
-    int r;
-    if ((r = cli_match_value(cmd, argc, argv, i, "-o", &v)) ||
-        (r = cli_match_value(cmd, argc, argv, i, "--output", &v))) {
-        if (r == CLI_ARG_USED) *out = v;
-        return r;
-    }
-    if ((r = cli_match_value(cmd, argc, argv, i, "--output-format", &v)) == CLI_ARG_USED)
-        wo->format = v;
-    return r;
 }
 
 /* mkdir -p: create dir and its missing parents. 0 on success, else errno. */

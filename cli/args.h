@@ -1,22 +1,20 @@
 /*
- * args.h — command-line parsing shared by the subcommands: option matching
- * ("--name VALUE" and "--name=VALUE"), strict number parsing, and the read
- * options every command that reads a file accepts (binarisation, forced
- * format, raw layout, voxel size) plus the process settings (--max-memory,
- * --threads). Parsing only: nothing here reads a file.
+ * args.h — what the subcommands share on top of the option tables of
+ * opts.h: strict number parsing, the read options every command that reads a
+ * file accepts (binarisation, forced format, raw layout, voxel size) and the
+ * process settings (--max-memory, --threads) as shared option groups, and the
+ * takers and choice lists several tables use. Parsing only: nothing here
+ * reads a file.
  */
 #ifndef BVOX_CLI_ARGS_H
 #define BVOX_CLI_ARGS_H
 
 #include "bvox.h"
+#include "opts.h"
 
 #include <stddef.h>
 #include <stdio.h>
 #include <stdint.h>
-
-/* Result of offering argv[*i] to a parser (CLI_ARG_HELP: cli_parse_input_arg
- * printed the help; the command returns CLI_OK). */
-enum { CLI_ARG_NOT_MINE = 0, CLI_ARG_USED = 1, CLI_ARG_BAD = -1, CLI_ARG_HELP = 2 };
 
 /* Options of commands that read a volume. */
 typedef struct cli_read_args {
@@ -29,21 +27,36 @@ typedef struct cli_read_args {
 
 void cli_read_args_init(cli_read_args *a);
 
-/* Offer argv[*i] to the read-option parser. On CLI_ARG_USED *i points at the
- * last argument consumed; CLI_ARG_BAD has already printed a usage message. */
-int cli_parse_read_option(const char *cmd, int argc, char **argv, int *i, cli_read_args *a);
-
-/* --max-memory SIZE and --threads N, applied at once (they are process-wide). */
-int cli_parse_process_option(const char *cmd, int argc, char **argv, int *i);
-
-/* Read options (if a is not NULL), then process options; anything else is
- * an unknown option (usage message printed). Returns CLI_ARG_USED or
- * CLI_ARG_BAD, never CLI_ARG_NOT_MINE: call it after the command's own. */
-int cli_parse_shared_option(const char *cmd, int argc, char **argv, int *i, cli_read_args *a);
-
-/* Help text of the options above, for the subcommands' --help. */
-void cli_print_read_options_help(FILE *f);
-void cli_print_process_options_help(FILE *f);
+/* The read options as three groups of options (binarisation, raw layout,
+ * geometry), for a cli_read_args inside a command's args, and the process
+ * options (--max-memory, --threads: applied at once, they are process-wide). */
+extern const cli_group cli_read_groups[3];
+extern const cli_group cli_process_group;
+#define CLI_USE_READ(type, member)                                                          \
+    {&cli_read_groups[0], offsetof(type, member)}, {&cli_read_groups[1], offsetof(type, member)}, \
+    {&cli_read_groups[2], offsetof(type, member)}
+#define CLI_USE_PROCESS {&cli_process_group, 0}
+/* Takers of --dims, --voxel-size and --unit into a cli_read_args (for
+ * commands that build a grid from them without reading). */
+int cli_take_dims(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+int cli_take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+int cli_take_unit(const char *cmd, const cli_opt *o, const char *v, void *read_args);
+/* The messages of a bad --dims, --voxel-size, --unit (one %s: the value). */
+#define CLI_BAD_DIMS "--dims: '%s' is not NX,NY,NZ with each in 1..65535" /* BVOX_MAX_DIM */
+#define CLI_BAD_VOXEL_SIZE "--voxel-size: '%s' is not SX,SY,SZ (each > 0)"
+#define CLI_BAD_UNIT "--unit: '%s' is too long"
+/* "6", "18", "26": the connectivities of --conn. */
+extern const char *const cli_conn_choices[];
+/* "stl", "ply", "obj", "off": the mesh formats (--mesh-format). */
+extern const char *const cli_mesh_formats[];
+/* --filter F (render, image): a 3x3 filter by name into an int (-1: none). */
+extern const char *const cli_filter_choices[];
+int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *filter);
+#define CLI_BAD_FILTER "--filter: '%s' is not highpass, smooth, laplace or sobel"
+/* --output-format NAME into the const char * member of type. */
+#define CLI_OPT_OUTPUT_FORMAT(type, member)                                                 \
+    {"--output-format", 0, CLI_STR, "NAME", "force the output format ({formats})",           \
+     CLI_AT(type, member)}
 
 /* bvox_read with the parsed options, then the --voxel-size/--unit override
  * (a PNG stack or an uncalibrated TIFF has no z spacing of its own). */
@@ -53,30 +66,8 @@ bvox_status cli_read_volume(const char *path, const cli_read_args *a, bvox_volum
  * (NULL when neither says). For reports only. */
 const char *cli_input_format(const char *path, const cli_read_args *a);
 
-/* If argv[*i] is "--name" (value in the next argument) or "--name=VALUE",
- * sets *value and returns CLI_ARG_USED; CLI_ARG_NOT_MINE if it is something
- * else; CLI_ARG_BAD (message printed) if the value is missing. */
-int cli_match_value(const char *cmd, int argc, char **argv, int *i, const char *name,
-                    const char **value);
-
 /* 1 if arg is an option (starts with '-' and is not "-" alone). */
 int cli_is_option(const char *arg);
-
-/* The start of the argument loop of a command that takes one input IN:
- * arg is IN (the first argument that is not an option, or one after "--";
- * a second one is a usage error), "--" (sets *options_done) or --help/-h
- * (help(stdout)). Returns CLI_ARG_USED, CLI_ARG_BAD (message printed),
- * CLI_ARG_HELP, or CLI_ARG_NOT_MINE for the command's own options:
- *     if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
- *         if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
- *     } else if (...the command's options...) */
-int cli_parse_input_arg(const char *cmd, const char *arg, int *options_done, const char **in,
-                        void (*help)(FILE *));
-
-/* -o/--output OUT (sets *out) and --output-format NAME (sets wo->format), for
- * the commands that write a volume. Same returns as cli_match_value. */
-int cli_parse_output_option(const char *cmd, int argc, char **argv, int *i, const char **out,
-                            bvox_write_opts *wo);
 
 /* Strict parsers: the whole string must be consumed; 0 on success. */
 int cli_parse_double(const char *s, double *out);     /* finite */

@@ -18,12 +18,15 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 /* argv[0] is the subcommand's name; argv[argc] is NULL. */
 typedef int (*cli_run_fn)(int argc, char **argv);
 
+/* A subcommand: its entry point and its description as data (opts.h),
+ * which holds its name, summary, options and help. */
+struct cli_spec;
 typedef struct cli_command {
-    const char *name;
     cli_run_fn run;
-    const char *summary;
+    const struct cli_spec *spec;
 } cli_command;
 
+/* Each cmd_<name>.c: the entry point and the spec (name, options, help). */
 int cmd_info(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
@@ -41,7 +44,7 @@ struct cli_read_args;
 int cli_labels_load(const char *path, const struct cli_read_args *ra, const char *lut,
                     int64_t max_labels, bvox_labelset **set, bvox_label_table **table);
 int cli_mesh_labels(const char *in, const struct cli_read_args *ra, const char *labels,
-                    const char *lut, const char *max_labels, const char *out, const char *fmt,
+                    const char *lut, int64_t max_labels, const char *out, const char *fmt,
                     int ascii);
 int cmd_edit(int argc, char **argv);
 int cmd_cut(int argc, char **argv);
@@ -56,6 +59,28 @@ int cmd_mesh(int argc, char **argv);
 int cmd_voxelize(int argc, char **argv);
 int cmd_meshinfo(int argc, char **argv);
 int cmd_contours(int argc, char **argv);
+
+extern const struct cli_spec cli_spec_info;
+extern const struct cli_spec cli_spec_convert;
+extern const struct cli_spec cli_spec_demo;
+extern const struct cli_spec cli_spec_morph;
+extern const struct cli_spec cli_spec_components;
+extern const struct cli_spec cli_spec_measure;
+extern const struct cli_spec cli_spec_labels;
+extern const struct cli_spec cli_spec_interpolate;
+extern const struct cli_spec cli_spec_edit;
+extern const struct cli_spec cli_spec_cut;
+extern const struct cli_spec cli_spec_csg;
+extern const struct cli_spec cli_spec_shape;
+extern const struct cli_spec cli_spec_render;
+extern const struct cli_spec cli_spec_mosaic;
+extern const struct cli_spec cli_spec_image;
+extern const struct cli_spec cli_spec_reconstruct;
+extern const struct cli_spec cli_spec_view;
+extern const struct cli_spec cli_spec_mesh;
+extern const struct cli_spec cli_spec_voxelize;
+extern const struct cli_spec cli_spec_meshinfo;
+extern const struct cli_spec cli_spec_contours;
 
 /* "bvox: <message>" on stderr for a failed library call; returns CLI_FAIL. */
 int cli_fail(void);

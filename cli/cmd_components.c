@@ -8,39 +8,58 @@
 #include "args.h"
 #include "cli.h"
 #include "json.h"
+#include "manip.h"
+#include "opts.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox components IN [options]\n"
-          "\n"
-          "List the connected components of a volume, largest first: voxels, volume\n"
-          "and bounding box (inclusive voxel indices) of each.\n"
-          "\n"
-          "Options:\n"
-          "  --conn 6|18|26        connectivity: faces, faces+edges, all neighbours\n"
-          "                        (default 26)\n"
-          "  --json                print {\"count\": N, \"components\": [{\"voxels\",\n"
-          "                        \"volume\", \"bbox\": {\"min\", \"max\"}}, ...]}\n"
-          "  --keep-largest N      with -o: write a volume holding the N largest\n"
-          "  -o, --output OUT      the file for --keep-largest\n"
-          "  --labels OUT.nii      write a NIfTI label volume (.nii or .nii.gz): 0 for\n"
-          "                        the background, i for the i-th largest component;\n"
-          "                        uint16 when there are at most 65535, else uint32\n",
-          f);
-    fprintf(f, "  --output-format NAME  force the format of -o (%s)\n", bvox_format_list());
-    fputs("  --help                show this help\n", f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox components mask.nii.gz --conn 6\n"
-          "  bvox components cells.tif --json --labels cells-labels.nii.gz\n"
-          "  bvox components noisy.nii --keep-largest 1 -o organ.nii\n",
-          f);
-}
+typedef struct components_args {
+    const char *in, *out, *labels;
+    int64_t conn, keep;
+    int json;
+    bvox_write_opts wo;
+    cli_read_args ra;
+} components_args;
+
+#define A(member) CLI_AT(components_args, member)
+
+static const cli_opt components_opts[] = {
+    {"--conn", 0, CLI_INT, NULL, "connectivity: faces, faces+edges, all neighbours", A(conn),
+     .def = "26", .lo = 0, .hi = 26, .choices = cli_conn_choices,
+     .bad = "--conn: '%s' is not 6, 18 or 26"},
+    {"--json", 0, CLI_FLAG, NULL,
+     "print {\"count\": N, \"components\": [{\"voxels\", \"volume\", \"bbox\": {\"min\", "
+     "\"max\"}}, ...]}",
+     A(json)},
+    {"--keep-largest", 0, CLI_INT, "N", "with -o: write a volume holding the N largest", A(keep),
+     .lo = 1, .hi = INT64_MAX, .bad = "--keep-largest: '%s' is not a count >= 1"},
+    {"--output", 'o', CLI_PATH, "OUT", "the file for --keep-largest", A(out)},
+    {"--labels", 0, CLI_PATH, "OUT.nii",
+     "write a NIfTI label volume (.nii or .nii.gz): 0 for the background, i for the i-th "
+     "largest component; uint16 when there are at most 65535, else uint32",
+     A(labels)},
+    {"--output-format", 0, CLI_STR, "NAME", "force the format of -o ({formats})", A(wo.format)},
+    {NULL},
+};
+static const cli_group components_group = {"Options", components_opts, NULL};
+static const cli_pos components_pos[] = {
+    {"IN", "the volume to read", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_components = {
+    .name = "components",
+    .summary = "list connected components; keep the largest; label map",
+    .usage = "IN [options]",
+    .about = "List the connected components of a volume, largest first: voxels, volume\n"
+             "and bounding box (inclusive voxel indices) of each.\n",
+    .pos = components_pos,
+    .uses = {{&components_group, 0}, CLI_USE_READ(components_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox components mask.nii.gz --conn 6\n"
+                "  bvox components cells.tif --json --labels cells-labels.nii.gz\n"
+                "  bvox components noisy.nii --keep-largest 1 -o organ.nii\n",
+};
 
 static void print_text(const bvox_components *c, int conn, const bvox_geometry *g)
 {
@@ -116,56 +135,25 @@ static uint32_t *alloc_labels(const char *path, const bvox_volume *vol)
 
 int cmd_components(int argc, char **argv)
 {
-    const char *cmd = "components", *in = NULL, *out = NULL, *labels = NULL, *v = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r, conn = 26, json = 0;
-    int64_t keep = -1, n;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--json")) {
-            json = 1;
-        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--labels", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            labels = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--conn", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 0, 26, &n) || (n != 6 && n != 18 && n != 26))
-                return cli_usage_error(cmd, "--conn: '%s' is not 6, 18 or 26", v);
-            conn = (int)n;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--keep-largest", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 1, INT64_MAX, &keep))
-                return cli_usage_error(cmd, "--keep-largest: '%s' is not a count >= 1", v);
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "components";
+    components_args a = {.keep = -1, .wo = BVOX_WRITE_OPTS_INIT};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_components, argc, argv, &a);
+    const char *in = a.in, *out = a.out, *labels = a.labels;
+    int conn = (int)a.conn, json = a.json;
+    int64_t keep = a.keep;
     if (!in) return cli_usage_error(cmd, "missing the input file IN");
     if (keep >= 0 && !out) return cli_usage_error(cmd, "--keep-largest needs -o OUT");
     if (out && keep < 0) return cli_usage_error(cmd, "-o needs --keep-largest N");
-    if (wo.format && !out) return cli_usage_error(cmd, "--output-format needs -o OUT");
+    if (a.wo.format && !out) return cli_usage_error(cmd, "--output-format needs -o OUT");
     /* Refuse output names of unknown format before reading a large input. */
-    struct stat sb;
-    size_t len = out ? strlen(out) : 0;
-    int folder = out && ((len && out[len - 1] == '/') ||
-                         (stat(out, &sb) == 0 && S_ISDIR(sb.st_mode)));
-    if (out && !wo.format && !folder && !bvox_format_for_path(out))
-        return cli_usage_error(cmd,
-                               "%s: cannot tell the output format from the name; "
-                               "use --output-format (one of %s)",
-                               out, bvox_format_list());
+    if (out && cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
     const char *lf = labels ? bvox_format_for_path(labels) : NULL;
     if (labels && (!lf || strcmp(lf, "nifti") != 0))
         return cli_usage_error(cmd, "--labels: '%s' must end in .nii or .nii.gz", labels);
 
     bvox_volume *vol = NULL;
-    if (cli_read_volume(in, &ra, &vol)) return cli_fail();
+    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_components *c = NULL;
     uint32_t *lv = NULL;
     int rc = CLI_OK;
@@ -174,7 +162,7 @@ int cmd_components(int argc, char **argv)
     if (rc == CLI_OK && out) {
         bvox_volume *kept = NULL;
         bvox_status st = bvox_components_keep(c, keep, &kept);
-        if (!st) st = bvox_write(out, kept, &wo);
+        if (!st) st = bvox_write(out, kept, &a.wo);
         bvox_volume_destroy(kept);
         if (st) rc = cli_fail();
     }

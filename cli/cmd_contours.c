@@ -6,34 +6,52 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "opts.h"
 
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox contours MODEL [--axis x|y|z] -o OUT.json|DIR\n"
-          "\n"
-          "Trace the outlines of the 1-voxels of every slice of MODEL across an axis\n"
-          "(outer contours and holes, on pixel edges) and write them as a contour\n"
-          "stack: a JSON file when OUT ends in .json, else a folder of SVG files\n"
-          "(section_0001.svg, ...). Reading the stack back with `bvox reconstruct`\n"
-          "gives the same voxels again. Slices across x are (y, z) images, across y\n"
-          "(x, z), across z (x, y); their pixels must be square.\n"
-          "\n"
-          "Options:\n"
-          "  --axis x|y|z          the axis the slices are across (default z)\n"
-          "  -o, --output OUT      OUT.json, or a folder for SVG files\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox contours model.nii.gz -o model-contours.json\n"
-          "  bvox contours model.nii.gz --axis x -o sagittal/\n",
-          f);
-}
+typedef struct contours_args {
+    const char *in, *out, *output_format;
+    int axis;
+    cli_read_args ra;
+} contours_args;
+
+#define A(member) CLI_AT(contours_args, member)
+
+static const char *const axes[] = {"x", "y", "z", NULL};
+
+static const cli_opt contours_opts[] = {
+    {"--axis", 0, CLI_CHOICE, NULL, "the axis the slices are across", A(axis), .def = "z",
+     .choices = axes},
+    {"--output", 'o', CLI_PATH, "OUT", "OUT.json, or a folder for SVG files", A(out)},
+    /* refused below: kept so that the message says why */
+    {"--output-format", 0, CLI_STR, "NAME", "not used: OUT.json or a folder says the format",
+     A(output_format)},
+    {NULL},
+};
+static const cli_group contours_group = {"Options", contours_opts, NULL};
+static const cli_pos contours_pos[] = {
+    {"MODEL", "the volume to trace", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_contours = {
+    .name = "contours",
+    .summary = "model slices across x, y or z -> contour stack (JSON or SVG)",
+    .usage = "MODEL [--axis x|y|z] -o OUT.json|DIR",
+    .about = "Trace the outlines of the 1-voxels of every slice of MODEL across an axis\n"
+             "(outer contours and holes, on pixel edges) and write them as a contour\n"
+             "stack: a JSON file when OUT ends in .json, else a folder of SVG files\n"
+             "(section_0001.svg, ...). Reading the stack back with `bvox reconstruct`\n"
+             "gives the same voxels again. Slices across x are (y, z) images, across y\n"
+             "(x, z), across z (x, y); their pixels must be square.\n",
+    .pos = contours_pos,
+    .uses = {{&contours_group, 0}, CLI_USE_READ(contours_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox contours model.nii.gz -o model-contours.json\n"
+                "  bvox contours model.nii.gz --axis x -o sagittal/\n",
+};
 
 static int ends_with_json(const char *s)
 {
@@ -43,33 +61,18 @@ static int ends_with_json(const char *s)
 
 int cmd_contours(int argc, char **argv)
 {
-    const char *cmd = "contours", *in = NULL, *out = NULL, *v = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r, axis = 2;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--axis", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (!strcmp(v, "x")) axis = 0;
-            else if (!strcmp(v, "y")) axis = 1;
-            else if (!strcmp(v, "z")) axis = 2;
-            else return cli_usage_error(cmd, "--axis: '%s' is not x, y or z", v);
-        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "contours";
+    contours_args a = {0};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_contours, argc, argv, &a);
+    const char *in = a.in, *out = a.out;
+    int axis = a.axis;
     if (!in) return cli_usage_error(cmd, "missing the input model MODEL");
     if (!out) return cli_usage_error(cmd, "missing -o OUT.json|DIR");
-    if (wo.format) return cli_usage_error(cmd, "--output-format does not apply: OUT.json or a folder");
+    if (a.output_format) return cli_usage_error(cmd, "--output-format does not apply: OUT.json or a folder");
 
     bvox_volume *vol = NULL;
-    if (cli_read_volume(in, &ra, &vol)) return cli_fail();
+    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_contour_stack *stack = NULL;
     int rc = CLI_OK;
     if (bvox_volume_to_contours(vol, axis, &stack)) {

@@ -5,75 +5,61 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "manip.h"
+#include "opts.h"
 
 #include <string.h>
-#include <sys/stat.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox convert IN OUT [options]\n"
-          "\n"
-          "Read IN (binarising gray or label images with the read options) and write\n"
-          "the binary volume to OUT, in the format its extension names. A failure\n"
-          "leaves no partial OUT behind and an existing OUT unchanged.\n"
-          "\n"
-          "Options:\n",
-          f);
-    fprintf(f, "  --output-format NAME  force the output format (%s);\n"
-               "                        needed for a folder of PNG slices\n",
-            bvox_format_list());
-    fputs("  --help                show this help\n", f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox convert mask.nii.gz mask.tif\n"
-          "  bvox convert atlas.nii.gz hippocampus.binvox --label 37\n"
-          "  bvox convert stack.tif slices --output-format png\n"
-          "  bvox convert scan.raw scan.nii.gz --dims 512,512,200 --type i16 --threshold 300 "
-          "--voxel-size 0.4,0.4,1 --unit mm\n",
-          f);
-}
+typedef struct convert_args {
+    const char *in, *out;
+    bvox_write_opts wo;
+    cli_read_args ra;
+} convert_args;
+
+#define A(member) CLI_AT(convert_args, member)
+
+static const cli_opt convert_opts[] = {
+    {"--output-format", 0, CLI_STR, "NAME",
+     "force the output format ({formats}); needed for a folder of PNG slices", A(wo.format)},
+    {NULL},
+};
+static const cli_group convert_group = {"Options", convert_opts, NULL};
+static const cli_pos convert_pos[] = {
+    {"IN", "the volume to read", A(in)},
+    {"OUT", "the file to write (format by extension)", A(out)},
+    {NULL},
+};
+
+const cli_spec cli_spec_convert = {
+    .name = "convert",
+    .summary = "convert between formats (binarising gray/label images)",
+    .usage = "IN OUT [options]",
+    .about = "Read IN (binarising gray or label images with the read options) and write\n"
+             "the binary volume to OUT, in the format its extension names. A failure\n"
+             "leaves no partial OUT behind and an existing OUT unchanged.\n",
+    .pos = convert_pos,
+    .uses = {{&convert_group, 0}, CLI_USE_READ(convert_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox convert mask.nii.gz mask.tif\n"
+                "  bvox convert atlas.nii.gz hippocampus.binvox --label 37\n"
+                "  bvox convert stack.tif slices --output-format png\n"
+                "  bvox convert scan.raw scan.nii.gz --dims 512,512,200 --type i16 --threshold 300 "
+                "--voxel-size 0.4,0.4,1 --unit mm\n",
+};
 
 int cmd_convert(int argc, char **argv)
 {
-    const char *cmd = "convert", *in = NULL, *out = NULL, *value = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if (options_done || !cli_is_option(arg)) {
-            if (!in) in = arg;
-            else if (!out) out = arg;
-            else return cli_usage_error(cmd, "unexpected argument '%s'", arg);
-        } else if (!strcmp(arg, "--")) {
-            options_done = 1;
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            return CLI_OK;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--output-format", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            wo.format = value;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "convert";
+    convert_args a = {.wo = BVOX_WRITE_OPTS_INIT};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_convert, argc, argv, &a);
+    const char *in = a.in, *out = a.out;
     if (!in || !out) return cli_usage_error(cmd, "needs IN and OUT");
-    /* Refuse before reading a possibly large input. (A folder, existing or
-     * named with a trailing '/', is a PNG stack for bvox_write.) */
-    struct stat sb;
-    size_t len = strlen(out);
-    int folder = (len && out[len - 1] == '/') || (stat(out, &sb) == 0 && S_ISDIR(sb.st_mode));
-    if (!wo.format && !folder && !bvox_format_for_path(out))
-        return cli_usage_error(cmd,
-                               "%s: cannot tell the output format from the name; "
-                               "use --output-format (one of %s)",
-                               out, bvox_format_list());
+    /* Refuse before reading a possibly large input. */
+    if (cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
 
     bvox_volume *vol = NULL;
-    if (cli_read_volume(in, &ra, &vol)) return cli_fail();
-    bvox_status st = bvox_write(out, vol, &wo);
+    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
+    bvox_status st = bvox_write(out, vol, &a.wo);
     bvox_volume_destroy(vol);
     return st ? cli_fail() : CLI_OK;
 }

@@ -6,6 +6,7 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "opts.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -14,31 +15,36 @@
 
 static const char *const outputs[] = {"specimen.nii.gz", "specimen.tif"};
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox demo [-o DIR] [options]\n"
-          "\n"
-          "Build the built-in sample specimen: an embryo-like object (a body with a\n"
-          "hole bored through it, a ring around it and a cap on top) of 256 x 256 x 128\n"
-          "voxels of 10 x 10 x 25 um, as thick serial sections would give it, and print\n"
-          "its info.\n"
-          "\n"
-          "Options:\n"
-          "  -o, --output DIR      also write DIR/specimen.nii.gz and DIR/specimen.tif\n"
-          "                        and the paper's four pictures of it: picture1.png\n"
-          "                        binary gradient and depth shaded, picture2.png depth\n"
-          "                        shaded, zoomed x2 and high-pass filtered, picture3.png\n"
-          "                        the same resliced along a plane, picture4.png the data\n"
-          "                        set as stored in a frame buffer (DIR is created if\n"
-          "                        needed)\n"
-          "  --json                print the info as one JSON object\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_process_options_help(f);
-    fputs("\nExample:\n"
-          "  bvox demo -o out && bvox info out/specimen.nii.gz\n",
-          f);
-}
+typedef struct demo_args {
+    const char *dir;
+    int json;
+} demo_args;
+
+#define A(member) CLI_AT(demo_args, member)
+
+static const cli_opt demo_opts[] = {
+    {"--output", 'o', CLI_PATH, "DIR",
+     "also write DIR/specimen.nii.gz and DIR/specimen.tif and the paper's four pictures of "
+     "it: picture1.png binary gradient and depth shaded, picture2.png depth shaded, zoomed x2 "
+     "and high-pass filtered, picture3.png the same resliced along a plane, picture4.png the "
+     "data set as stored in a frame buffer (DIR is created if needed)",
+     A(dir), .flags = CLI_DIR},
+    {"--json", 0, CLI_FLAG, NULL, "print the info as one JSON object", A(json)},
+    {NULL},
+};
+static const cli_group demo_group = {"Options", demo_opts, NULL};
+
+const cli_spec cli_spec_demo = {
+    .name = "demo",
+    .summary = "build the sample specimen, print its info, optionally write it",
+    .usage = "[-o DIR] [options]",
+    .about = "Build the built-in sample specimen: an embryo-like object (a body with a\n"
+             "hole bored through it, a ring around it and a cap on top) of 256 x 256 x 128\n"
+             "voxels of 10 x 10 x 25 um, as thick serial sections would give it, and print\n"
+             "its info.\n",
+    .uses = {{&demo_group, 0}, CLI_USE_PROCESS},
+    .examples = "  bvox demo -o out && bvox info out/specimen.nii.gz\n",
+};
 
 static int write_outputs(const char *dir, const bvox_volume *vol)
 {
@@ -70,24 +76,11 @@ static int write_outputs(const char *dir, const bvox_volume *vol)
 
 int cmd_demo(int argc, char **argv)
 {
-    const char *cmd = "demo", *dir = NULL;
-    int json = 0, r;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if (!cli_is_option(arg)) {
-            return cli_usage_error(cmd, "unexpected argument '%s'", arg);
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            return CLI_OK;
-        } else if (!strcmp(arg, "--json")) {
-            json = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &dir)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &dir))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "demo";
+    demo_args a = {0};
+    CLI_PARSE_OR_RETURN(&cli_spec_demo, argc, argv, &a);
+    const char *dir = a.dir;
+    int json = a.json;
     if (dir && !*dir) return cli_usage_error(cmd, "-o needs a folder name");
 
     bvox_volume *vol = NULL;

@@ -7,6 +7,7 @@
  */
 #include "cli.h"
 #include "manip.h"
+#include "opts.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -24,44 +25,74 @@ typedef struct action {
     bvox_box changed;
 } action;
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox edit IN -o OUT ACTION... [options]\n"
-          "\n"
-          "Edit a volume voxel by voxel or region by region; the actions are applied\n"
-          "in the order given and each may be repeated. Prints the region each action\n"
-          "changed (the voxels whose value changed, as inclusive indices) and the\n"
-          "count of 1-voxels before and after.\n"
-          "\n"
-          "Actions:\n"
-          "  --set X,Y,Z           set one voxel (outside the volume: an error)\n"
-          "  --clear X,Y,Z         clear one voxel\n"
-          "  --fill-box BOX        set every voxel of BOX\n"
-          "  --clear-box BOX       clear every voxel of BOX\n"
-          "  --keep-box BOX        clear every voxel outside BOX (spatial selection)\n"
-          "  --keep-above A,B,C,D  clear the voxels whose centre has A*x+B*y+C*z+D < 0\n"
-          "  --keep-below A,B,C,D  clear the voxels whose centre has A*x+B*y+C*z+D >= 0\n"
-          "                        (x, y, z in world coordinates, as in 'bvox cut')\n"
-          "\n"
-          "BOX is X0:X1,Y0:Y1,Z0:Z1 in voxel indices, both ends included (as the\n"
-          "bounding box 'bvox info' prints); an interval may be one index (5), open\n"
-          "at an end (5: or :9) or the whole axis (:). Boxes are clipped to the\n"
-          "volume.\n"
-          "\n"
-          "Options:\n"
-          "  -o, --output OUT      the file to write (required)\n"
-          "  --json                print the report as one JSON object\n",
-          f);
-    fprintf(f, "  --output-format NAME  force the output format (%s)\n", bvox_format_list());
-    fputs("  --help                show this help\n", f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox edit embryo.nii -o fixed.nii --set 10,12,40 --clear 11,12,40\n"
-          "  bvox edit embryo.nii -o part.nii --keep-box 20:80,:,0:63\n"
-          "  bvox edit scan.nii.gz -o cut.nii.gz --clear-box :,:,100: --keep-above 0,0,1,-5\n",
-          f);
-}
+typedef struct edit_args {
+    const char *in, *out;
+    int json;
+    action *acts; /* room for argc actions, in the order given */
+    int nacts;
+    bvox_write_opts wo;
+    cli_read_args ra;
+} edit_args;
+
+#define A(member) CLI_AT(edit_args, member)
+#define WHOLE .offset = 0, .size = sizeof(edit_args)
+
+static int take_action(const char *cmd, const cli_opt *o, const char *v, void *target);
+
+static const cli_opt action_opts[] = {
+    {"--set", 0, CLI_STR, "X,Y,Z", "set one voxel (outside the volume: an error)", WHOLE,
+     .flags = CLI_REPEAT, .fn = take_action},
+    {"--clear", 0, CLI_STR, "X,Y,Z", "clear one voxel", WHOLE, .flags = CLI_REPEAT,
+     .fn = take_action},
+    {"--fill-box", 0, CLI_STR, "BOX", "set every voxel of BOX", WHOLE, .flags = CLI_REPEAT,
+     .fn = take_action},
+    {"--clear-box", 0, CLI_STR, "BOX", "clear every voxel of BOX", WHOLE, .flags = CLI_REPEAT,
+     .fn = take_action},
+    {"--keep-box", 0, CLI_STR, "BOX", "clear every voxel outside BOX (spatial selection)", WHOLE,
+     .flags = CLI_REPEAT, .fn = take_action},
+    {"--keep-above", 0, CLI_STR, "A,B,C,D",
+     "clear the voxels whose centre has A*x+B*y+C*z+D < 0", WHOLE, .flags = CLI_REPEAT,
+     .fn = take_action},
+    {"--keep-below", 0, CLI_STR, "A,B,C,D",
+     "clear the voxels whose centre has A*x+B*y+C*z+D >= 0 (x, y, z in world coordinates, as "
+     "in 'bvox cut')",
+     WHOLE, .flags = CLI_REPEAT, .fn = take_action},
+    {NULL},
+};
+static const cli_group action_group = {
+    "Actions", action_opts,
+    "\n"
+    "BOX is X0:X1,Y0:Y1,Z0:Z1 in voxel indices, both ends included (as the\n"
+    "bounding box 'bvox info' prints); an interval may be one index (5), open\n"
+    "at an end (5: or :9) or the whole axis (:). Boxes are clipped to the\n"
+    "volume.\n"};
+
+static const cli_opt edit_opts[] = {
+    {"--output", 'o', CLI_PATH, "OUT", "the file to write (required)", A(out)},
+    {"--json", 0, CLI_FLAG, NULL, "print the report as one JSON object", A(json)},
+    CLI_OPT_OUTPUT_FORMAT(edit_args, wo.format),
+    {NULL},
+};
+static const cli_group edit_group = {"Options", edit_opts, NULL};
+static const cli_pos edit_pos[] = {
+    {"IN", "the volume to edit", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_edit = {
+    .name = "edit",
+    .summary = "set or clear voxels and boxes, keep a box or one side of a plane",
+    .usage = "IN -o OUT ACTION... [options]",
+    .about = "Edit a volume voxel by voxel or region by region; the actions are applied\n"
+             "in the order given and each may be repeated. Prints the region each action\n"
+             "changed (the voxels whose value changed, as inclusive indices) and the\n"
+             "count of 1-voxels before and after.\n",
+    .pos = edit_pos,
+    .uses = {{&action_group, 0}, {&edit_group, 0}, CLI_USE_READ(edit_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox edit embryo.nii -o fixed.nii --set 10,12,40 --clear 11,12,40\n"
+                "  bvox edit embryo.nii -o part.nii --keep-box 20:80,:,0:63\n"
+                "  bvox edit scan.nii.gz -o cut.nii.gz --clear-box :,:,100: --keep-above 0,0,1,-5\n",
+};
 
 /* One inclusive interval "A:B", "A", "A:", ":B", ":" into half-open [lo, hi). */
 static int parse_interval(const char *s, size_t n, int32_t *lo, int32_t *hi)
@@ -140,6 +171,17 @@ static int parse_action(const char *cmd, kind k, const char *v, action *a)
     return CLI_OK;
 }
 
+/* Every action option: its kind is its name. */
+static int take_action(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    edit_args *a = target;
+    int k = 0;
+    while (k < NKINDS && strcmp(o->name + 2, kind_names[k])) k++;
+    if (parse_action(cmd, (kind)k, v, &a->acts[a->nacts]) != CLI_OK) return CLI_OPT_FAILED;
+    a->nacts++;
+    return CLI_OPT_OK;
+}
+
 static bvox_status apply(bvox_volume *vol, action *a)
 {
     switch (a->k) {
@@ -207,60 +249,23 @@ static void report(const action *acts, int n, int64_t before, int64_t after, con
 
 int cmd_edit(int argc, char **argv)
 {
-    const char *cmd = "edit", *in = NULL, *out = NULL, *v = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r, json = 0, nacts = 0;
-    action *acts = calloc((size_t)argc, sizeof *acts);
-    if (!acts) {
+    const char *cmd = "edit";
+    edit_args a = {.wo = BVOX_WRITE_OPTS_INIT};
+    cli_read_args_init(&a.ra);
+    a.acts = calloc((size_t)argc, sizeof *a.acts);
+    if (!a.acts) {
         fprintf(stderr, "bvox: out of memory\n");
         return CLI_FAIL;
     }
-    int rc = CLI_USAGE;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        int k = -1;
-        if (options_done || !cli_is_option(arg)) {
-            if (in) {
-                cli_usage_error(cmd, "unexpected argument '%s'", arg);
-                goto done;
-            }
-            in = arg;
-            continue;
-        }
-        if (!strcmp(arg, "--")) {
-            options_done = 1;
-            continue;
-        }
-        if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            rc = CLI_OK;
-            goto done;
-        }
-        if (!strcmp(arg, "--json")) {
-            json = 1;
-            continue;
-        }
-        if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) goto done;
-            continue;
-        }
-        for (int t = 0; t < NKINDS && k < 0; t++) {
-            char name[32];
-            snprintf(name, sizeof name, "--%s", kind_names[t]);
-            if ((r = cli_match_value(cmd, argc, argv, &i, name, &v))) {
-                if (r == CLI_ARG_BAD) goto done;
-                k = t;
-            }
-        }
-        if (k >= 0) {
-            if (parse_action(cmd, (kind)k, v, &acts[nacts]) != CLI_OK) goto done;
-            nacts++;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            goto done;
-        }
+    action *acts = a.acts;
+    const char *in, *out;
+    int json, nacts, rc = cli_parse(&cli_spec_edit, argc, argv, &a);
+    if (rc != CLI_PARSED) {
+        rc = rc == CLI_PARSE_HELP ? CLI_OK : CLI_USAGE;
+        goto done;
     }
+    rc = CLI_USAGE;
+    in = a.in, out = a.out, json = a.json, nacts = a.nacts;
     if (!in) {
         cli_usage_error(cmd, "missing the input file IN");
         goto done;
@@ -273,11 +278,11 @@ int cmd_edit(int argc, char **argv)
         cli_usage_error(cmd, "no action given (--set, --clear, --fill-box, ...)");
         goto done;
     }
-    if (cli_check_output(cmd, out, &wo) != CLI_OK) goto done;
+    if (cli_check_output(cmd, out, &a.wo) != CLI_OK) goto done;
 
     bvox_volume *vol = NULL;
     rc = CLI_FAIL;
-    if (cli_read_volume(in, &ra, &vol)) {
+    if (cli_read_volume(in, &a.ra, &vol)) {
         cli_fail();
         goto done;
     }
@@ -292,7 +297,7 @@ int cmd_edit(int argc, char **argv)
         }
     }
     int64_t after = bvox_volume_count(vol);
-    if (!st && (st = bvox_write(out, vol, &wo))) cli_fail();
+    if (!st && (st = bvox_write(out, vol, &a.wo))) cli_fail();
     bvox_volume_destroy(vol);
     if (!st) {
         report(acts, nacts, before, after, out, json);

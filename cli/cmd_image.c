@@ -7,34 +7,72 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "opts.h"
 
 #include <string.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox image OP IN.png OUT.png [options]\n"
-          "\n"
-          "Operations on 8-bit (zoom, average, pan: also 16-bit) gray or RGB PNG images:\n"
-          "  zoom     enlarge by pixel replication (--factor 1, 2, 4 or 8; default 2)\n"
-          "  average  zoom x2 with pixel averaging, the paper's Figure 5: each new pixel\n"
-          "           is the average of its original neighbours, rounded half up, zeros\n"
-          "           beyond the edge (13 5 / 0 8 -> 13 9 5 3 / 7 7 7 3 / 0 4 8 4 / 0 2 4 2)\n"
-          "  filter   3x3 convolution: --filter highpass|smooth|laplace|sobel, or\n"
-          "           --kernel K1,...,K9 (row by row) [--divisor D] [--bias B];\n"
-          "           results saturate at 0 and 255, the edge pixels are repeated\n"
-          "  pan      move by --offset DX,DY pixels (zeros where nothing lands)\n"
-          "  colormap gray to RGB: --map gray|bone|hot|copper|cool\n"
-          "\n"
-          "Options:\n"
-          "  --help   show this help\n",
-          f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox image average pre.png big.png\n"
-          "  bvox image filter big.png sharp.png --filter highpass\n"
-          "  bvox image filter in.png edges.png --kernel -1,0,1,-2,0,2,-1,0,1 --bias 128\n",
-          f);
-}
+typedef struct image_args {
+    const char *op, *in, *out;
+    int filter, map, kernel_given;
+    int64_t factor, kernel[9], divisor, bias, offset[2];
+} image_args;
+
+#define A(member) CLI_AT(image_args, member)
+
+static int take_kernel(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_divisor(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_offset(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_map(const char *cmd, const cli_opt *o, const char *v, void *target);
+
+static const char *const factors[] = {"1", "2", "4", "8", NULL};
+static const char *const maps[] = {"gray", "bone", "hot", "copper", "cool", NULL};
+
+static const cli_opt image_opts[] = {
+    {"--factor", 0, CLI_INT, NULL, "zoom: the enlargement", A(factor), .def = "2", .lo = 1,
+     .hi = 8, .choices = factors, .bad = "--factor: '%s' is not 1, 2, 4 or 8"},
+    {"--filter", 0, CLI_CHOICE, "F", "filter: a named 3x3 filter", A(filter),
+     .choices = cli_filter_choices, .fn = cli_take_filter, .bad = CLI_BAD_FILTER},
+    {"--kernel", 0, CLI_STR, "K1,...,K9", "filter: a 3x3 kernel, row by row",
+     .offset = 0, .size = sizeof(image_args),
+     .fn = take_kernel, .bad = "--kernel: '%s' is not 9 integers K1,...,K9"},
+    {"--divisor", 0, CLI_INT, "D", "filter: the kernel's sum is divided by D", A(divisor),
+     .def = "1", .fn = take_divisor, .bad = "--divisor: '%s' is not a non-zero integer"},
+    {"--bias", 0, CLI_INT, "B", "filter: added to the kernel's result", A(bias), .def = "0",
+     .lo = -65536, .hi = 65536, .bad = "--bias: '%s' is not an integer"},
+    {"--offset", 0, CLI_STR, "DX,DY", "pan: the move in pixels", A(offset), .fn = take_offset,
+     .bad = "--offset: '%s' is not DX,DY"},
+    {"--map", 0, CLI_CHOICE, NULL, "colormap: the colour map", A(map), .choices = maps,
+     .fn = take_map, .bad = "--map: unknown colour map '%s'"},
+    {NULL},
+};
+static const cli_group image_group = {"Options", image_opts, NULL};
+static const cli_pos image_pos[] = {
+    {"OP", "zoom, average, filter, pan or colormap", A(op)},
+    {"IN.png", "the image to read", A(in)},
+    {"OUT.png", "the image to write", A(out)},
+    {NULL},
+};
+
+const cli_spec cli_spec_image = {
+    .name = "image",
+    .summary = "2D image operations: zoom, average (Figure 5), filter, pan",
+    .usage = "OP IN.png OUT.png [options]",
+    .about = "Operations on 8-bit (zoom, average, pan: also 16-bit) gray or RGB PNG images:\n"
+             "  zoom     enlarge by pixel replication (--factor 1, 2, 4 or 8; default 2)\n"
+             "  average  zoom x2 with pixel averaging, the paper's Figure 5: each new pixel\n"
+             "           is the average of its original neighbours, rounded half up, zeros\n"
+             "           beyond the edge (13 5 / 0 8 -> 13 9 5 3 / 7 7 7 3 / 0 4 8 4 / 0 2 4 2)\n"
+             "  filter   3x3 convolution: --filter highpass|smooth|laplace|sobel, or\n"
+             "           --kernel K1,...,K9 (row by row) [--divisor D] [--bias B];\n"
+             "           results saturate at 0 and 255, the edge pixels are repeated\n"
+             "  pan      move by --offset DX,DY pixels (zeros where nothing lands)\n"
+             "  colormap gray to RGB: --map gray|bone|hot|copper|cool\n",
+    .pos = image_pos,
+    .uses = {{&image_group, 0}, CLI_USE_PROCESS},
+    .examples = "  bvox image average pre.png big.png\n"
+                "  bvox image filter big.png sharp.png --filter highpass\n"
+                "  bvox image filter in.png edges.png --kernel -1,0,1,-2,0,2,-1,0,1 --bias 128\n",
+};
 
 /* "a,b,...": exactly n integers in lo..hi. */
 static int parse_ints(const char *s, int n, int64_t lo, int64_t hi, int64_t *out)
@@ -56,56 +94,46 @@ static int parse_ints(const char *s, int n, int64_t lo, int64_t hi, int64_t *out
 enum { OP_ZOOM, OP_AVERAGE, OP_FILTER, OP_PAN, OP_COLORMAP };
 static const char *const ops[] = {"zoom", "average", "filter", "pan", "colormap"};
 
+static int take_kernel(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    image_args *a = target; /* the whole args: kernel and kernel_given */
+    if (parse_ints(v, 9, -65536, 65536, a->kernel)) return CLI_OPT_BAD;
+    a->kernel_given = 1;
+    return CLI_OPT_OK;
+}
+
+static int take_divisor(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    int64_t d;
+    if (cli_parse_int64(v, -65536, 65536, &d) || !d) return CLI_OPT_BAD;
+    *(int64_t *)target = d;
+    return CLI_OPT_OK;
+}
+
+static int take_offset(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    return parse_ints(v, 2, -BVOX_IMAGE_MAX_DIM, BVOX_IMAGE_MAX_DIM, target) ? CLI_OPT_BAD
+                                                                              : CLI_OPT_OK;
+}
+
+static int take_map(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    int m = bvox_colormap_parse(v);
+    if (m < 0) return CLI_OPT_BAD;
+    *(int *)target = m;
+    return CLI_OPT_OK;
+}
+
 int cmd_image(int argc, char **argv)
 {
-    const char *cmd = "image", *pos[3] = {NULL, NULL, NULL}, *v = NULL;
-    int npos = 0, options_done = 0, r, op = -1, filter = -1, map = -1, kernel_given = 0;
-    int64_t factor = 2, kernel[9], divisor = 1, bias = 0, offset[2] = {0, 0};
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if (options_done || !cli_is_option(arg)) {
-            if (npos == 3) return cli_usage_error(cmd, "unexpected argument '%s'", arg);
-            pos[npos++] = arg;
-        } else if (!strcmp(arg, "--")) {
-            options_done = 1;
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            return CLI_OK;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--factor", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 1, 8, &factor) || (factor & (factor - 1)))
-                return cli_usage_error(cmd, "--factor: '%s' is not 1, 2, 4 or 8", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--filter", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            filter = !strcmp(v, "laplace") ? BVOX_FILTER_LAPLACIAN : bvox_filter_parse(v);
-            if (filter < 0)
-                return cli_usage_error(cmd, "--filter: '%s' is not highpass, smooth, laplace or "
-                                            "sobel", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--kernel", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (parse_ints(v, 9, -65536, 65536, kernel))
-                return cli_usage_error(cmd, "--kernel: '%s' is not 9 integers K1,...,K9", v);
-            kernel_given = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--divisor", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, -65536, 65536, &divisor) || !divisor)
-                return cli_usage_error(cmd, "--divisor: '%s' is not a non-zero integer", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--bias", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, -65536, 65536, &bias))
-                return cli_usage_error(cmd, "--bias: '%s' is not an integer", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--offset", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (parse_ints(v, 2, -BVOX_IMAGE_MAX_DIM, BVOX_IMAGE_MAX_DIM, offset))
-                return cli_usage_error(cmd, "--offset: '%s' is not DX,DY", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--map", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if ((map = bvox_colormap_parse(v)) < 0)
-                return cli_usage_error(cmd, "--map: unknown colour map '%s'", v);
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "image";
+    image_args a = {.filter = -1, .map = -1};
+    CLI_PARSE_OR_RETURN(&cli_spec_image, argc, argv, &a);
+    const char *pos[3] = {a.op, a.in, a.out};
+    int npos = !!a.op + !!a.in + !!a.out, op = -1, filter = a.filter, map = a.map;
+    int kernel_given = a.kernel_given;
+    int64_t factor = a.factor, *kernel = a.kernel, divisor = a.divisor, bias = a.bias,
+            *offset = a.offset;
     if (npos < 3) return cli_usage_error(cmd, "needs OP IN.png OUT.png");
     for (int k = 0; k < 5; k++)
         if (!strcmp(pos[0], ops[k])) op = k;

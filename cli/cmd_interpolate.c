@@ -9,33 +9,47 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "opts.h"
 
 #include <stdlib.h>
 #include <string.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox interpolate MASK --axis z [-o OUT] [--labels] [options]\n"
-          "\n"
-          "Fill the slices of MASK that were not annotated (those without a 1-voxel)\n"
-          "between annotated ones by shape-based interpolation: signed distance maps of\n"
-          "the two annotated slices around, blended linearly, as 'bvox reconstruct' does\n"
-          "between sections. Annotated slices are kept unchanged.\n"
-          "\n"
-          "Options:\n"
-          "  --axis z              the slicing axis (only z for now)\n"
-          "  -o, --output OUT      write the filled volume (with --labels: a NIfTI label\n"
-          "                        volume, .nii or .nii.gz)\n"
-          "  --labels              MASK is a label volume: every label on its own\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox interpolate traced.nii.gz --axis z -o filled.nii.gz\n"
-          "  bvox interpolate seg_every5.nii.gz --axis z --labels -o seg.nii.gz\n",
-          f);
-}
+typedef struct interpolate_args {
+    const char *in, *out, *axis;
+    int labels;
+    cli_read_args ra;
+} interpolate_args;
+
+#define A(member) CLI_AT(interpolate_args, member)
+
+static const char *const axes[] = {"z", NULL};
+static const cli_opt interpolate_opts[] = {
+    {"--axis", 0, CLI_STR, "z", "the slicing axis (only z for now)", A(axis), .choices = axes},
+    {"--output", 'o', CLI_PATH, "OUT",
+     "write the filled volume (with --labels: a NIfTI label volume, .nii or .nii.gz)", A(out)},
+    {"--labels", 0, CLI_FLAG, NULL, "MASK is a label volume: every label on its own",
+     A(labels)},
+    {NULL},
+};
+static const cli_group interpolate_group = {"Options", interpolate_opts, NULL};
+static const cli_pos interpolate_pos[] = {
+    {"MASK", "the mask annotated on some slices", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_interpolate = {
+    .name = "interpolate",
+    .summary = "fill unannotated slices of a mask (shape-based, per label)",
+    .usage = "MASK --axis z [-o OUT] [--labels] [options]",
+    .about = "Fill the slices of MASK that were not annotated (those without a 1-voxel)\n"
+             "between annotated ones by shape-based interpolation: signed distance maps of\n"
+             "the two annotated slices around, blended linearly, as 'bvox reconstruct' does\n"
+             "between sections. Annotated slices are kept unchanged.\n",
+    .pos = interpolate_pos,
+    .uses = {{&interpolate_group, 0}, CLI_USE_READ(interpolate_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox interpolate traced.nii.gz --axis z -o filled.nii.gz\n"
+                "  bvox interpolate seg_every5.nii.gz --axis z --labels -o seg.nii.gz\n",
+};
 
 static int interpolate_labels(const char *in, const cli_read_args *ra, const char *out)
 {
@@ -92,25 +106,14 @@ done:
 
 int cmd_interpolate(int argc, char **argv)
 {
-    const char *cmd = "interpolate", *in = NULL, *out = NULL, *axis = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
+    const char *cmd = "interpolate";
+    interpolate_args a = {0};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_interpolate, argc, argv, &a);
+    const char *in = a.in, *out = a.out, *axis = a.axis;
+    int labels = a.labels;
+    cli_read_args ra = a.ra;
     bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int labels = 0, options_done = 0, r;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--labels")) {
-            labels = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--axis", &axis))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
     if (!in) return cli_usage_error(cmd, "missing the MASK to fill");
     if (axis && strcmp(axis, "z"))
         return cli_usage_error(cmd, "--axis: only z is supported, not '%s'", axis);

@@ -13,37 +13,53 @@
 #include "args.h"
 #include "cli.h"
 #include "json.h"
+#include "opts.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox labels FILE [--lut TABLE] [--json | --csv] [options]\n"
-          "\n"
-          "Measure every label of a label volume (0 is background) in one pass: name,\n"
-          "voxels, volume, surface area, centroid, bounding box, 26-connected components,\n"
-          "cavities, sphericity, and its neighbours (labels it touches, contact area).\n"
-          "Each label's numbers are those of 'bvox measure FILE --label N'.\n"
-          "\n"
-          "Options:\n"
-          "  --lut TABLE           label names and colours: FreeSurfer *LUT.txt, 3D Slicer\n"
-          "                        colour table, ITK-SNAP label description, or the AAL\n"
-          "                        list beside the atlas (aal.nii.txt)\n"
-          "  --max-labels N        refuse volumes with more distinct labels (default 65535)\n"
-          "  --json                one JSON object with a \"labels\" array\n"
-          "  --csv                 one row per label after a header line\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox labels /usr/share/mricron/templates/aal.nii.gz \\\n"
-          "      --lut /usr/share/mricron/templates/aal.nii.txt --csv > aal.csv\n"
-          "  bvox labels seg.nii.gz --lut FreeSurferColorLUT.txt --json\n",
-          f);
-}
+typedef struct labels_args {
+    const char *path, *lut;
+    int json, csv;
+    int64_t max_labels;
+    cli_read_args ra;
+} labels_args;
+
+#define A(member) CLI_AT(labels_args, member)
+
+static const cli_opt labels_opts[] = {
+    {"--lut", 0, CLI_PATH, "TABLE",
+     "label names and colours: FreeSurfer *LUT.txt, 3D Slicer colour table, ITK-SNAP label "
+     "description, or the AAL list beside the atlas (aal.nii.txt)",
+     A(lut)},
+    {"--max-labels", 0, CLI_INT, "N", "refuse volumes with more distinct labels",
+     A(max_labels), .def = "65535", .lo = 1, .hi = 2147483647,
+     .bad = "--max-labels needs a count from 1 to 2147483647, not '%s'"},
+    {"--json", 0, CLI_FLAG, NULL, "one JSON object with a \"labels\" array", A(json)},
+    {"--csv", 0, CLI_FLAG, NULL, "one row per label after a header line", A(csv)},
+    {NULL},
+};
+static const cli_group labels_group = {"Options", labels_opts, NULL};
+static const cli_pos labels_pos[] = {
+    {"FILE", "the label volume", A(path)},
+    {NULL},
+};
+
+const cli_spec cli_spec_labels = {
+    .name = "labels",
+    .summary = "label volume: per-label measures, names, neighbours (one pass)",
+    .usage = "FILE [--lut TABLE] [--json | --csv] [options]",
+    .about = "Measure every label of a label volume (0 is background) in one pass: name,\n"
+             "voxels, volume, surface area, centroid, bounding box, 26-connected components,\n"
+             "cavities, sphericity, and its neighbours (labels it touches, contact area).\n"
+             "Each label's numbers are those of 'bvox measure FILE --label N'.\n",
+    .pos = labels_pos,
+    .uses = {{&labels_group, 0}, CLI_USE_READ(labels_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox labels /usr/share/mricron/templates/aal.nii.gz \\\n"
+                "      --lut /usr/share/mricron/templates/aal.nii.txt --csv > aal.csv\n"
+                "  bvox labels seg.nii.gz --lut FreeSurferColorLUT.txt --json\n",
+};
 
 typedef struct row {
     bvox_measures m;
@@ -305,30 +321,14 @@ int cli_labels_load(const char *path, const cli_read_args *ra, const char *lut,
 
 int cmd_labels(int argc, char **argv)
 {
-    const char *cmd = "labels", *path = NULL, *lut = NULL, *v = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    int json = 0, csv = 0, options_done = 0, r;
-    int64_t max_labels = BVOX_LABELS_MAX_DEFAULT;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &path, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--json")) {
-            json = 1;
-        } else if (!strcmp(arg, "--csv")) {
-            csv = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--lut", &v))) {
-            if (r != CLI_ARG_USED) return CLI_USAGE;
-            lut = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--max-labels", &v))) {
-            if (r != CLI_ARG_USED) return CLI_USAGE;
-            if (cli_parse_int64(v, 1, INT32_MAX, &max_labels))
-                return cli_usage_error(cmd, "--max-labels needs a count from 1 to 2147483647");
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "labels";
+    labels_args a = {0};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_labels, argc, argv, &a);
+    const char *path = a.path, *lut = a.lut;
+    int json = a.json, csv = a.csv;
+    cli_read_args ra = a.ra;
+    int64_t max_labels = a.max_labels;
     if (!path) return cli_usage_error(cmd, "missing the label volume FILE");
     if (json && csv) return cli_usage_error(cmd, "give --json or --csv, not both");
     if (ra.binarize_given)

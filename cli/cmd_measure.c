@@ -8,35 +8,49 @@
 #include "args.h"
 #include "cli.h"
 #include "json.h"
+#include "opts.h"
 
 #include <math.h>
 #include <string.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox measure IN [--json | --csv] [options]\n"
-          "\n"
-          "Measure the object in a volume, in the physical units of the file: count,\n"
-          "volume and bounding box (as 'bvox info'), surface area (a smooth estimate,\n"
-          "and the area of the voxel faces), centroid, principal axes and moments,\n"
-          "inertia, sphericity, and the topology: 26-connected components, cavities,\n"
-          "tunnels and the Euler number.\n"
-          "\n"
-          "Options:\n"
-          "  --json                one JSON object: the keys of 'bvox info --json', then\n"
-          "                        surface_area, centroid, principal_axes, components...\n"
-          "  --csv                 one row per 26-connected component (largest first),\n"
-          "                        after a header line\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox measure embryo.nii.gz\n"
-          "  bvox measure atlas.nii.gz --label 37 --json\n"
-          "  bvox measure cells.tif --csv > cells.csv\n",
-          f);
-}
+typedef struct measure_args {
+    const char *path;
+    int json, csv;
+    cli_read_args ra;
+} measure_args;
+
+#define A(member) CLI_AT(measure_args, member)
+
+static const cli_opt measure_opts[] = {
+    {"--json", 0, CLI_FLAG, NULL,
+     "one JSON object: the keys of 'bvox info --json', then surface_area, centroid, "
+     "principal_axes, components...",
+     A(json)},
+    {"--csv", 0, CLI_FLAG, NULL,
+     "one row per 26-connected component (largest first), after a header line", A(csv)},
+    {NULL},
+};
+static const cli_group measure_group = {"Options", measure_opts, NULL};
+static const cli_pos measure_pos[] = {
+    {"IN", "the volume to measure", A(path)},
+    {NULL},
+};
+
+const cli_spec cli_spec_measure = {
+    .name = "measure",
+    .summary = "surface area, centroid, principal axes, topology, per component",
+    .usage = "IN [--json | --csv] [options]",
+    .about = "Measure the object in a volume, in the physical units of the file: count,\n"
+             "volume and bounding box (as 'bvox info'), surface area (a smooth estimate,\n"
+             "and the area of the voxel faces), centroid, principal axes and moments,\n"
+             "inertia, sphericity, and the topology: 26-connected components, cavities,\n"
+             "tunnels and the Euler number.\n",
+    .pos = measure_pos,
+    .uses = {{&measure_group, 0}, CLI_USE_READ(measure_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox measure embryo.nii.gz\n"
+                "  bvox measure atlas.nii.gz --label 37 --json\n"
+                "  bvox measure cells.tif --csv > cells.csv\n",
+};
 
 /* unit^2 as info names unit^3: the file's unit, "voxel" for unit cubes. */
 static void area_unit(const bvox_geometry *g, char *buf, size_t size)
@@ -179,27 +193,17 @@ static void print_csv(const bvox_measures *all, int64_t n)
 
 int cmd_measure(int argc, char **argv)
 {
-    const char *cmd = "measure", *path = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    int json = 0, csv = 0, options_done = 0, r;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &path, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--json")) {
-            json = 1;
-        } else if (!strcmp(arg, "--csv")) {
-            csv = 1;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "measure";
+    measure_args a = {0};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_measure, argc, argv, &a);
+    const char *path = a.path;
+    int json = a.json, csv = a.csv;
     if (!path) return cli_usage_error(cmd, "missing the FILE to measure");
     if (json && csv) return cli_usage_error(cmd, "give --json or --csv, not both");
 
     bvox_volume *vol = NULL;
-    if (cli_read_volume(path, &ra, &vol)) return cli_fail();
+    if (cli_read_volume(path, &a.ra, &vol)) return cli_fail();
     bvox_status st;
     if (csv) {
         bvox_measures *all = NULL;
@@ -217,7 +221,7 @@ int cmd_measure(int argc, char **argv)
     if (!st) st = bvox_measure(vol, &m);
     bvox_volume_destroy(vol);
     if (st) return cli_fail();
-    const char *format = cli_input_format(path, &ra);
+    const char *format = cli_input_format(path, &a.ra);
     if (json) print_json(&info, &m, path, format);
     else print_text(&info, &m, path, format);
     return CLI_OK;

@@ -7,50 +7,54 @@
 #include "args.h"
 #include "cli.h"
 #include "json.h"
+#include "opts.h"
 
 #include <string.h>
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox meshinfo MESH [--json] [options]\n"
-          "\n"
-          "Read a mesh (STL binary or ASCII, OBJ, PLY, OFF) and print its vertex and\n"
-          "triangle counts, enclosed volume (sum of signed tetrahedra: positive when the\n"
-          "triangles face outward), surface area, bounding box, and whether it is\n"
-          "watertight (every edge on exactly two triangles); otherwise how many edges\n"
-          "are open (on one triangle) or non-manifold (on more than two).\n"
-          "\n"
-          "Options:\n"
-          "  --json                one JSON object: vertices, triangles, volume, area,\n"
-          "                        bbox {min, max}, watertight, edges, boundary_edges,\n"
-          "                        nonmanifold_edges, inconsistent_edges, open_edges\n"
-          "  --mesh-format NAME    stl, obj, ply or off (default: by extension/content)\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox meshinfo bunny.off\n"
-          "  bvox meshinfo part.stl --json\n",
-          f);
-}
+typedef struct meshinfo_args {
+    const char *in, *fmt;
+    int json;
+} meshinfo_args;
+
+#define A(member) CLI_AT(meshinfo_args, member)
+
+static const cli_opt meshinfo_opts[] = {
+    {"--json", 0, CLI_FLAG, NULL,
+     "one JSON object: vertices, triangles, volume, area, bbox {min, max}, watertight, edges, "
+     "boundary_edges, nonmanifold_edges, inconsistent_edges, open_edges",
+     A(json)},
+    {"--mesh-format", 0, CLI_STR, "NAME", "stl, obj, ply or off (default: by extension/content)",
+     A(fmt), .choices = cli_mesh_formats},
+    {NULL},
+};
+static const cli_group meshinfo_group = {"Options", meshinfo_opts, NULL};
+static const cli_pos meshinfo_pos[] = {
+    {"MESH", "the mesh file", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_meshinfo = {
+    .name = "meshinfo",
+    .summary = "mesh counts, volume, area, bounding box, watertightness",
+    .usage = "MESH [--json] [options]",
+    .about = "Read a mesh (STL binary or ASCII, OBJ, PLY, OFF) and print its vertex and\n"
+             "triangle counts, enclosed volume (sum of signed tetrahedra: positive when the\n"
+             "triangles face outward), surface area, bounding box, and whether it is\n"
+             "watertight (every edge on exactly two triangles); otherwise how many edges\n"
+             "are open (on one triangle) or non-manifold (on more than two).\n",
+    .pos = meshinfo_pos,
+    .uses = {{&meshinfo_group, 0}, CLI_USE_PROCESS},
+    .examples = "  bvox meshinfo bunny.off\n"
+                "  bvox meshinfo part.stl --json\n",
+};
 
 int cmd_meshinfo(int argc, char **argv)
 {
-    const char *cmd = "meshinfo", *in = NULL, *value = NULL, *fmt = NULL;
-    int json = 0, options_done = 0, r;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--json")) {
-            json = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--mesh-format", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            fmt = value;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "meshinfo";
+    meshinfo_args a = {0};
+    CLI_PARSE_OR_RETURN(&cli_spec_meshinfo, argc, argv, &a);
+    const char *in = a.in, *fmt = a.fmt;
+    int json = a.json;
     if (!in) return cli_usage_error(cmd, "needs MESH");
     bvox_mesh *m = NULL;
     if (bvox_mesh_read(in, fmt, &m)) return cli_fail();

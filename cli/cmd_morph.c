@@ -11,55 +11,77 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "manip.h"
+#include "opts.h"
 
 #include <string.h>
-#include <sys/stat.h>
 
 typedef enum op { DILATE, ERODE, OPEN, CLOSE, FILL, HOLLOW, ISLANDS, NOPS } op;
 static const char *const op_names[NOPS] = {"dilate", "erode",  "open",   "close",
                                            "fill",   "hollow", "islands"};
 
-static void help(FILE *f)
-{
-    fputs("Usage: bvox morph IN OPERATION -o OUT [options]\n"
-          "\n"
-          "Apply one morphological operation to a volume and write the result.\n"
-          "\n"
-          "Operations:\n"
-          "  dilate    add every voxel within reach of the object\n"
-          "  erode     keep only voxels whose whole neighbourhood is object (the\n"
-          "            outside of the volume counts as background)\n"
-          "  open      erode, then dilate: removes specks and thin bridges\n"
-          "  close     dilate, then erode: closes small gaps and dents (the border of\n"
-          "            the volume does not eat into the object)\n"
-          "  fill      fill the cavities (background not 6-connected to the border)\n"
-          "  hollow    keep only the shell: object voxels within --radius of the\n"
-          "            background (default: the voxels with a --conn neighbour outside\n"
-          "            the object, --conn 6 by default: a one-voxel shell)\n"
-          "  islands   remove the components (--conn connected) of fewer than\n"
-          "            --min-size voxels\n"
-          "\n"
-          "Options:\n"
-          "  -o, --output OUT      the file to write (required)\n"
-          "  --radius R            dilate, erode, open, close: use a ball of radius R in\n"
-          "                        the file's unit (voxel offsets (i,j,k) with\n"
-          "                        (i*sx)^2 + (j*sy)^2 + (k*sz)^2 <= R^2);\n"
-          "                        hollow: the shell's thickness\n"
-          "  --conn 6|18|26        neighbourhood when --radius is not given (default 26;\n"
-          "                        hollow: 6); islands: the connectivity (default 26)\n"
-          "  --min-size N          islands: smallest component kept, in voxels (required)\n",
-          f);
-    fprintf(f, "  --output-format NAME  force the output format (%s)\n", bvox_format_list());
-    fputs("  --help                show this help\n", f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox morph mask.nii.gz dilate --conn 6 -o grown.nii.gz\n"
-          "  bvox morph embryo.tif close --radius 0.05 -o closed.tif\n"
-          "  bvox morph mask.nii islands --min-size 100 -o clean.nii\n"
-          "  bvox morph organ.nii hollow --radius 0.5 -o shell.nii\n",
-          f);
-}
+typedef struct morph_args {
+    const char *in, *opname, *out;
+    double radius;
+    int64_t conn, min_size;
+    bvox_write_opts wo;
+    cli_read_args ra;
+} morph_args;
+
+#define A(member) CLI_AT(morph_args, member)
+
+static const cli_opt morph_opts[] = {
+    {"--output", 'o', CLI_PATH, "OUT", "the file to write (required)", A(out)},
+    {"--radius", 0, CLI_DOUBLE, "R",
+     "dilate, erode, open, close: use a ball of radius R in the file's unit (voxel offsets "
+     "(i,j,k) with (i*sx)^2 + (j*sy)^2 + (k*sz)^2 <= R^2); hollow: the shell's thickness",
+     A(radius), .flags = CLI_MIN_OPEN, .min = 0, .bad = "--radius: '%s' is not a length > 0"},
+    {"--conn", 0, CLI_INT, NULL,
+     "neighbourhood when --radius is not given (default 26; hollow: 6); islands: the "
+     "connectivity (default 26)",
+     A(conn), .lo = 0, .hi = 26, .choices = cli_conn_choices,
+     .bad = "--conn: '%s' is not 6, 18 or 26"},
+    {"--min-size", 0, CLI_INT, "N", "islands: smallest component kept, in voxels (required)",
+     A(min_size), .lo = 1, .hi = INT64_MAX, .bad = "--min-size: '%s' is not a voxel count >= 1"},
+    CLI_OPT_OUTPUT_FORMAT(morph_args, wo.format),
+    {NULL},
+};
+static const cli_group morph_group = {"Options", morph_opts, NULL};
+static const cli_pos morph_pos[] = {
+    {"IN", "the volume to read", A(in)},
+    {"OPERATION", "dilate, erode, open, close, fill, hollow or islands", A(opname)},
+    {NULL},
+};
+static const cli_section morph_sections[] = {
+    {"Operations",
+     "  dilate    add every voxel within reach of the object\n"
+     "  erode     keep only voxels whose whole neighbourhood is object (the\n"
+     "            outside of the volume counts as background)\n"
+     "  open      erode, then dilate: removes specks and thin bridges\n"
+     "  close     dilate, then erode: closes small gaps and dents (the border of\n"
+     "            the volume does not eat into the object)\n"
+     "  fill      fill the cavities (background not 6-connected to the border)\n"
+     "  hollow    keep only the shell: object voxels within --radius of the\n"
+     "            background (default: the voxels with a --conn neighbour outside\n"
+     "            the object, --conn 6 by default: a one-voxel shell)\n"
+     "  islands   remove the components (--conn connected) of fewer than\n"
+     "            --min-size voxels\n"},
+    {NULL, NULL},
+};
+
+const cli_spec cli_spec_morph = {
+    .name = "morph",
+    .summary = "dilate, erode, open, close, fill cavities, hollow, remove islands",
+    .usage = "IN OPERATION -o OUT [options]",
+    .about = "Apply one morphological operation to a volume and write the result.\n",
+    .pos = morph_pos,
+    .sections = morph_sections,
+    .uses = {{&morph_group, 0}, CLI_USE_READ(morph_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox morph mask.nii.gz dilate --conn 6 -o grown.nii.gz\n"
+                "  bvox morph embryo.tif close --radius 0.05 -o closed.tif\n"
+                "  bvox morph mask.nii islands --min-size 100 -o clean.nii\n"
+                "  bvox morph organ.nii hollow --radius 0.5 -o shell.nii\n",
+};
 
 static int parse_op(const char *s)
 {
@@ -106,43 +128,14 @@ static bvox_status run(op o, const bvox_volume *in, int conn, double radius, int
 
 int cmd_morph(int argc, char **argv)
 {
-    const char *cmd = "morph", *in = NULL, *opname = NULL, *out = NULL, *v = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r, conn = 0;
-    double radius = 0;
-    int64_t min_size = -1, n;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if (options_done || !cli_is_option(arg)) {
-            if (!in) in = arg;
-            else if (!opname) opname = arg;
-            else return cli_usage_error(cmd, "unexpected argument '%s'", arg);
-        } else if (!strcmp(arg, "--")) {
-            options_done = 1;
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            return CLI_OK;
-        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--radius", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_double(v, &radius) || !(radius > 0))
-                return cli_usage_error(cmd, "--radius: '%s' is not a length > 0", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--conn", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 0, 26, &n) || (n != 6 && n != 18 && n != 26))
-                return cli_usage_error(cmd, "--conn: '%s' is not 6, 18 or 26", v);
-            conn = (int)n;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--min-size", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 1, INT64_MAX, &min_size))
-                return cli_usage_error(cmd, "--min-size: '%s' is not a voxel count >= 1", v);
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "morph";
+    morph_args a = {.min_size = -1, .wo = BVOX_WRITE_OPTS_INIT};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_morph, argc, argv, &a);
+    const char *in = a.in, *opname = a.opname, *out = a.out;
+    int conn = (int)a.conn;
+    double radius = a.radius;
+    int64_t min_size = a.min_size;
     if (!in) return cli_usage_error(cmd, "missing the input file IN");
     if (!opname)
         return cli_usage_error(cmd, "missing the OPERATION (dilate, erode, open, close, fill, "
@@ -165,21 +158,14 @@ int cmd_morph(int argc, char **argv)
         return cli_usage_error(cmd, "--min-size applies to islands only");
     if (!conn) conn = o == HOLLOW ? 6 : 26;
     /* Refuse an output name of unknown format before reading a large input. */
-    struct stat sb;
-    size_t len = strlen(out);
-    int folder = (len && out[len - 1] == '/') || (stat(out, &sb) == 0 && S_ISDIR(sb.st_mode));
-    if (!wo.format && !folder && !bvox_format_for_path(out))
-        return cli_usage_error(cmd,
-                               "%s: cannot tell the output format from the name; "
-                               "use --output-format (one of %s)",
-                               out, bvox_format_list());
+    if (cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
 
     bvox_volume *vol = NULL, *res = NULL;
-    if (cli_read_volume(in, &ra, &vol)) return cli_fail();
+    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st = run((op)o, vol, conn, radius, min_size, &res);
     bvox_volume_destroy(vol);
     if (st) return cli_fail();
-    st = bvox_write(out, res, &wo);
+    st = bvox_write(out, res, &a.wo);
     bvox_volume_destroy(res);
     return st ? cli_fail() : CLI_OK;
 }

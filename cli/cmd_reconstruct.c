@@ -9,6 +9,7 @@
 #include "args.h"
 #include "cli.h"
 #include "json.h"
+#include "opts.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -16,74 +17,216 @@
 #include <strings.h>
 #include <unistd.h>
 
-static void help(FILE *f)
+typedef struct recon_args {
+    cli_list inputs;
+    const char *out, *save, *report_path;
+    int quiet, thr_given, otsu_given, pol_given, markers_given, bg_given;
+    bvox_recon_opts o;
+    bvox_write_opts wo;
+} recon_args;
+
+#define A(member) CLI_AT(recon_args, member)
+#define WHOLE .offset = 0, .size = sizeof(recon_args)
+
+/* The takers that count what was given, for the exclusions checked after
+ * parsing, or that check more than a bound. */
+static int take_background(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
-    fputs("Usage: bvox reconstruct SECTIONS... -o MODEL [options]\n"
-          "\n"
-          "Reconstruct a binary model from serial sections. SECTIONS: section images\n"
-          "(8/16-bit gray or RGB PNG or TIFF, all the same size) in stack order, or one\n"
-          "folder of them (natural order: s2.png before s10.png), or one contour file (.json,\n"
-          "a folder of .svg, a Reconstruct .ser series), whose markers align it.\n"
-          "Per image: background correction, threshold, median smoothing, markers\n"
-          "(found and removed from the object), specks, contours (holes kept); then the\n"
-          "sections are aligned by their markers onto the middle one (chained\n"
-          "neighbour to neighbour) and the aligned contours become the model, with\n"
-          "shape-based interpolation between sections to isotropic voxels.\n"
-          "\n"
-          "Options:\n"
-          "  -o, --output MODEL     the model (format by extension: .nii, .nii.gz, .tif, ...)\n"
-          "  --background BG.png    a blank section image subtracted from every section\n"
-          "                         (default: a smooth background estimated per section)\n"
-          "  --no-background        neither\n"
-          "  --threshold T          fixed gray threshold (default: --otsu, per section)\n"
-          "  --otsu                 Otsu's threshold per section\n"
-          "  --dark, --bright       the object is darker (default) or brighter than the\n"
-          "                         background\n"
-          "  --smooth R             median filter radius in pixels (default 1; 0: none)\n"
-          "  --min-area A           remove specks and fill holes below A pixels (default 16)\n"
-          "  --markers N            find N reference markers (small dark round blobs) per\n"
-          "                         section and align by them; N = auto: count them\n"
-          "  --marker-coords F      put the model in a known frame: F (contour JSON) gives in\n"
-          "                         its first section where the reference section's markers\n"
-          "                         belong (pixels)\n"
-          "  --markers-file F       take the markers from a contour stack file (JSON):\n"
-          "                         its section i holds the markers of section i\n"
-          "  --marker-radius MIN,MAX  marker radius range in pixels (default 1.5 to\n"
-          "                         image size / 16)\n"
-          "  --allow-scale          fit a uniform scale too (shrinkage)\n"
-          "  --reference K          align onto section K (1-based; default: the middle one)\n"
-          "  --no-align             do not align\n"
-          "  --pixel P              pixel size (default 1, or the contour file's)\n"
-          "  --spacing S            distance between sections (default 1, or the file's)\n"
-          "  --unit U               unit of P and S, e.g. um\n"
-          "  --z-spacing Z          output slice spacing (default: P, isotropic voxels)\n"
-          "  --no-interpolate       copy the nearest section instead of interpolating\n"
-          "  --simplify TOL         simplify traced contours to TOL pixels (default: exact)\n"
-          "  --smooth-contours N    moving average over 2N+1 contour points (area kept)\n"
-          "  --svg-select SEL       SVG sections: read only elements named by SEL, a list of\n"
-          "                         id:NAME, class:NAME, layer:NAME or NAME (default: every\n"
-          "                         visible outline; a full-canvas background is skipped)\n"
-          "  --strict               refuse a contour that crosses itself (default: fill it\n"
-          "                         even-odd and warn)\n"
-          "  --save-contours OUT    the aligned contours: OUT.json, or a folder of SVG files\n"
-          "  --report REPORT.json   per section: markers, transform, residual, fallback;\n"
-          "                         the time of each step\n"
-          "  --save-steps DIR       each section's steps as PNG files in the folder DIR\n"
-          "                         (created): NAME.1_flat.png (background corrected),\n"
-          "                         NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png\n"
-          "  --quiet, -q            no progress and no warnings on stderr\n"
-          "  --output-format NAME   force the model's format\n"
-          "  --help                 show this help\n",
-          f);
-    cli_print_process_options_help(f);
-    fputs("\nA section whose markers are not found or do not match keeps its neighbour's\n"
-          "transform (a warning names it; the report marks it \"fallback\").\n"
-          "\nExamples:\n"
-          "  bvox reconstruct sections/ --markers 3 --pixel 0.5 --spacing 2 --unit um -o model.nii.gz\n"
-          "  bvox reconstruct s*.png --background blank.png --bright --no-align -o m.nii\n"
-          "  bvox reconstruct traced.json -o model.nii --report report.json\n",
-          f);
+    recon_args *a = target;
+    if (v) a->o.background = v;
+    else a->o.estimate_background = 0; /* --no-background */
+    a->bg_given++;
+    return CLI_OPT_OK;
 }
+
+static int take_threshold(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    recon_args *a = target;
+    double d;
+    if (cli_parse_double(v, &d) || d < 0) return CLI_OPT_BAD;
+    a->o.threshold = d;
+    a->thr_given = 1;
+    return CLI_OPT_OK;
+}
+
+static int take_polarity(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    recon_args *a = target;
+    int dark = !strcmp(o->name, "--dark");
+    if (a->pol_given && a->o.dark != dark) {
+        cli_usage_error(cmd, "--dark and --bright exclude each other");
+        return CLI_OPT_FAILED;
+    }
+    a->o.dark = dark;
+    a->pol_given = 1;
+    return CLI_OPT_OK;
+}
+
+static int take_markers(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    recon_args *a = target;
+    int64_t k;
+    if (!strcmp(o->name, "--markers-file")) {
+        a->o.markers_file = v;
+    } else {
+        if (!strcmp(v, "auto")) k = BVOX_MARKERS_AUTO;
+        else if (cli_parse_int64(v, 2, 16, &k)) return CLI_OPT_BAD;
+        a->o.markers.count = (int32_t)k;
+    }
+    a->markers_given++;
+    return CLI_OPT_OK;
+}
+
+static int take_marker_radius(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    bvox_marker_opts *m = target;
+    char buf[64], *comma;
+    double lo, hi;
+    if (strlen(v) >= sizeof buf || !strchr(v, ',')) {
+        cli_usage_error(cmd, "--marker-radius: '%s' is not MIN,MAX", v);
+        return CLI_OPT_FAILED;
+    }
+    strcpy(buf, v);
+    comma = strchr(buf, ',');
+    *comma = '\0';
+    if (cli_parse_double(buf, &lo) || cli_parse_double(comma + 1, &hi) || lo <= 0 || hi < lo)
+        return CLI_OPT_BAD;
+    m->min_radius = lo;
+    m->max_radius = hi;
+    return CLI_OPT_OK;
+}
+
+static int take_reference(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    int64_t k;
+    if (cli_parse_int64(v, 1, INT32_MAX, &k)) return CLI_OPT_BAD;
+    *(int32_t *)target = (int32_t)(k - 1); /* 1-based on the command line */
+    return CLI_OPT_OK;
+}
+
+static int take_unit(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    char *unit = target;
+    if (strlen(v) >= sizeof ((bvox_recon_opts *)0)->unit) return CLI_OPT_BAD;
+    strcpy(unit, v);
+    return CLI_OPT_OK;
+}
+
+static int take_quiet(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    *(int *)target = 1;
+    bvox_set_warning_handler(NULL, NULL);
+    return CLI_OPT_OK;
+}
+
+static const cli_opt recon_opts[] = {
+    {"--output", 'o', CLI_PATH, "MODEL",
+     "the model (format by extension: .nii, .nii.gz, .tif, ...)", A(out)},
+    {"--background", 0, CLI_PATH, "BG.png",
+     "a blank section image subtracted from every section (default: a smooth background "
+     "estimated per section)",
+     WHOLE, .fn = take_background},
+    {"--no-background", 0, CLI_FLAG, NULL, "neither", WHOLE, .fn = take_background},
+    {"--threshold", 0, CLI_DOUBLE, "T", "fixed gray threshold (default: --otsu, per section)",
+     WHOLE, .fn = take_threshold, .bad = "--threshold: '%s' is not a gray level >= 0"},
+    {"--otsu", 0, CLI_FLAG, NULL, "Otsu's threshold per section", A(otsu_given)},
+    {"--dark", 0, CLI_FLAG, NULL, "the object is darker than the background (default)", WHOLE,
+     .fn = take_polarity},
+    {"--bright", 0, CLI_FLAG, NULL, "the object is brighter than the background", WHOLE,
+     .fn = take_polarity},
+    {"--smooth", 0, CLI_INT, "R", "median filter radius in pixels (default 1; 0: none)",
+     A(o.smooth), .lo = 0, .hi = 1000, .bad = "--smooth: '%s' is not a radius 0..1000"},
+    {"--min-area", 0, CLI_INT, "A", "remove specks and fill holes below A pixels (default 16)",
+     A(o.min_area), .lo = 0, .hi = INT64_MAX / 2, .bad = "--min-area: '%s' is not a pixel count"},
+    {"--markers", 0, CLI_INT, "N",
+     "find N reference markers (small dark round blobs) per section and align by them; N = "
+     "auto: count them",
+     WHOLE, .fn = take_markers, .bad = "--markers: '%s' is not a count 2..16 or auto"},
+    {"--marker-coords", 0, CLI_PATH, "F",
+     "put the model in a known frame: F (contour JSON) gives in its first section where the "
+     "reference section's markers belong (pixels)",
+     A(o.marker_coords)},
+    {"--markers-file", 0, CLI_PATH, "F",
+     "take the markers from a contour stack file (JSON): its section i holds the markers of "
+     "section i",
+     WHOLE, .fn = take_markers},
+    {"--marker-radius", 0, CLI_STR, "MIN,MAX",
+     "marker radius range in pixels (default 1.5 to image size / 16)", A(o.markers),
+     .fn = take_marker_radius, .bad = "--marker-radius: '%s' is not MIN,MAX with 0 < MIN <= MAX"},
+    {"--allow-scale", 0, CLI_FLAG, NULL, "fit a uniform scale too (shrinkage)",
+     A(o.markers.allow_scale)},
+    {"--reference", 0, CLI_INT, "K", "align onto section K (1-based; default: the middle one)",
+     A(o.reference), .fn = take_reference, .bad = "--reference: '%s' is not a section number"},
+    {"--no-align", 0, CLI_FLAG, NULL, "do not align", A(o.align), .flags = CLI_NEGATE},
+    {"--pixel", 0, CLI_DOUBLE, "P", "pixel size (default 1, or the contour file's)", A(o.pixel),
+     .flags = CLI_MIN_OPEN, .min = 0, .bad = "--pixel: '%s' is not a size > 0"},
+    {"--spacing", 0, CLI_DOUBLE, "S", "distance between sections (default 1, or the file's)",
+     A(o.spacing), .flags = CLI_MIN_OPEN, .min = 0,
+     .bad = "--spacing: '%s' is not a distance > 0"},
+    {"--unit", 0, CLI_STR, "U", "unit of P and S, e.g. um", A(o.unit), .fn = take_unit,
+     .bad = "--unit: '%s' is too long"},
+    {"--z-spacing", 0, CLI_DOUBLE, "Z", "output slice spacing (default: P, isotropic voxels)",
+     A(o.z_spacing), .flags = CLI_MIN_OPEN, .min = 0,
+     .bad = "--z-spacing: '%s' is not a distance > 0"},
+    {"--no-interpolate", 0, CLI_FLAG, NULL, "copy the nearest section instead of interpolating",
+     A(o.interpolate), .flags = CLI_NEGATE},
+    {"--simplify", 0, CLI_DOUBLE, "TOL", "simplify traced contours to TOL pixels (default: exact)",
+     A(o.simplify), .flags = CLI_MIN, .min = 0,
+     .bad = "--simplify: '%s' is not a tolerance >= 0"},
+    {"--smooth-contours", 0, CLI_INT, "N", "moving average over 2N+1 contour points (area kept)",
+     A(o.contour_smooth), .lo = 0, .hi = 1000,
+     .bad = "--smooth-contours: '%s' is not a radius 0..1000"},
+    {"--svg-select", 0, CLI_STR, "SEL",
+     "SVG sections: read only elements named by SEL, a list of id:NAME, class:NAME, "
+     "layer:NAME or NAME (default: every visible outline; a full-canvas background is "
+     "skipped)",
+     A(o.svg_select)},
+    {"--strict", 0, CLI_FLAG, NULL,
+     "refuse a contour that crosses itself (default: fill it even-odd and warn)", A(o.strict)},
+    {"--save-contours", 0, CLI_PATH, "OUT",
+     "the aligned contours: OUT.json, or a folder of SVG files", A(save)},
+    {"--report", 0, CLI_PATH, "REPORT.json",
+     "per section: markers, transform, residual, fallback; the time of each step",
+     A(report_path)},
+    {"--save-steps", 0, CLI_PATH, "DIR",
+     "each section's steps as PNG files in the folder DIR (created): NAME.1_flat.png "
+     "(background corrected), NAME.2_threshold.png, NAME.3_smooth.png, NAME.4_final.png",
+     A(o.save_steps), .flags = CLI_DIR},
+    /* --quiet itself is the global one (main.c takes it out of the line); -q
+     * is this command's, kept from before --quiet was global */
+    {"--quiet", 'q', CLI_FLAG, NULL, "no progress and no warnings on stderr", A(quiet),
+     .fn = take_quiet},
+    {"--output-format", 0, CLI_STR, "NAME", "force the model's format ({formats})", A(wo.format)},
+    {NULL},
+};
+static const cli_group recon_group = {"Options", recon_opts, NULL};
+static const cli_pos recon_pos[] = {
+    {"SECTIONS...", "section images, a folder of them, or one contour file", A(inputs),
+     .many = 1},
+    {NULL},
+};
+
+const cli_spec cli_spec_reconstruct = {
+    .name = "reconstruct",
+    .summary = "serial section images or traced contours -> aligned model",
+    .usage = "SECTIONS... -o MODEL [options]",
+    .about = "Reconstruct a binary model from serial sections. SECTIONS: section images\n"
+             "(8/16-bit gray or RGB PNG or TIFF, all the same size) in stack order, or one\n"
+             "folder of them (natural order: s2.png before s10.png), or one contour file (.json,\n"
+             "a folder of .svg, a Reconstruct .ser series), whose markers align it.\n"
+             "Per image: background correction, threshold, median smoothing, markers\n"
+             "(found and removed from the object), specks, contours (holes kept); then the\n"
+             "sections are aligned by their markers onto the middle one (chained\n"
+             "neighbour to neighbour) and the aligned contours become the model, with\n"
+             "shape-based interpolation between sections to isotropic voxels.\n",
+    .pos = recon_pos,
+    .uses = {{&recon_group, 0}, CLI_USE_PROCESS},
+    .notes = "A section whose markers are not found or do not match keeps its neighbour's\n"
+             "transform (a warning names it; the report marks it \"fallback\").\n",
+    .examples = "  bvox reconstruct sections/ --markers 3 --pixel 0.5 --spacing 2 --unit um -o model.nii.gz\n"
+                "  bvox reconstruct s*.png --background blank.png --bright --no-align -o m.nii\n"
+                "  bvox reconstruct traced.json -o model.nii --report report.json\n",
+};
 
 typedef struct progress_state {
     int tty;
@@ -238,152 +381,29 @@ static int ends_with(const char *s, const char *suffix)
 
 int cmd_reconstruct(int argc, char **argv)
 {
-    const char *cmd = "reconstruct", *v = NULL, *out = NULL, *save = NULL, *report_path = NULL;
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    bvox_recon_opts o = bvox_recon_opts_default();
-    int r, options_done = 0, quiet = 0, thr_given = 0, otsu_given = 0, pol_given = 0;
-    int markers_given = 0, bg_given = 0;
-    const char **inputs = calloc((size_t)argc + 1, sizeof *inputs);
-    int32_t nin = 0;
-    if (!inputs) {
+    const char *cmd = "reconstruct";
+    recon_args a = {.o = bvox_recon_opts_default(), .wo = BVOX_WRITE_OPTS_INIT};
+    a.inputs.items = calloc((size_t)argc + 1, sizeof *a.inputs.items);
+    if (!a.inputs.items) {
         fprintf(stderr, "bvox: out of memory\n");
         return CLI_FAIL;
     }
+    const char **inputs = a.inputs.items;
 #define USAGE(...) do { free(inputs); return cli_usage_error(cmd, __VA_ARGS__); } while (0)
-#define VALUE(name) ((r = cli_match_value(cmd, argc, argv, &i, name, &v)) != CLI_ARG_NOT_MINE)
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        double d;
-        int64_t k;
-        if (options_done || !cli_is_option(arg)) {
-            inputs[nin++] = arg;
-        } else if (!strcmp(arg, "--")) {
-            options_done = 1;
-        } else if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
-            help(stdout);
-            free(inputs);
-            return CLI_OK;
-        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) {
-                free(inputs);
-                return CLI_USAGE;
-            }
-        } else if (VALUE("--background")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            o.background = v;
-            bg_given++;
-        } else if (!strcmp(arg, "--no-background")) {
-            o.estimate_background = 0;
-            bg_given++;
-        } else if (VALUE("--threshold")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_double(v, &d) || d < 0) USAGE("--threshold: '%s' is not a gray level >= 0", v);
-            o.threshold = d;
-            thr_given = 1;
-        } else if (!strcmp(arg, "--otsu")) {
-            otsu_given = 1;
-        } else if (!strcmp(arg, "--dark") || !strcmp(arg, "--bright")) {
-            if (pol_given && o.dark != !strcmp(arg, "--dark")) USAGE("--dark and --bright exclude each other");
-            o.dark = !strcmp(arg, "--dark");
-            pol_given = 1;
-        } else if (VALUE("--smooth")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_int64(v, 0, 1000, &k)) USAGE("--smooth: '%s' is not a radius 0..1000", v);
-            o.smooth = (int32_t)k;
-        } else if (VALUE("--min-area")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_int64(v, 0, INT64_MAX / 2, &k)) USAGE("--min-area: '%s' is not a pixel count", v);
-            o.min_area = k;
-        } else if (VALUE("--markers")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (!strcmp(v, "auto")) k = BVOX_MARKERS_AUTO;
-            else if (cli_parse_int64(v, 2, 16, &k))
-                USAGE("--markers: '%s' is not a count 2..16 or auto", v);
-            o.markers.count = (int32_t)k;
-            markers_given++;
-        } else if (VALUE("--marker-coords")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            o.marker_coords = v;
-        } else if (VALUE("--markers-file")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            o.markers_file = v;
-            markers_given++;
-        } else if (VALUE("--marker-radius")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            char buf[64], *comma;
-            double lo, hi;
-            if (strlen(v) >= sizeof buf) USAGE("--marker-radius: '%s' is not MIN,MAX", v);
-            strcpy(buf, v);
-            comma = strchr(buf, ',');
-            if (!comma) USAGE("--marker-radius: '%s' is not MIN,MAX", v);
-            *comma = '\0';
-            if (cli_parse_double(buf, &lo) || cli_parse_double(comma + 1, &hi) || lo <= 0 || hi < lo)
-                USAGE("--marker-radius: '%s' is not MIN,MAX with 0 < MIN <= MAX", v);
-            o.markers.min_radius = lo;
-            o.markers.max_radius = hi;
-        } else if (!strcmp(arg, "--allow-scale")) {
-            o.markers.allow_scale = 1;
-        } else if (VALUE("--reference")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_int64(v, 1, INT32_MAX, &k)) USAGE("--reference: '%s' is not a section number", v);
-            o.reference = (int32_t)(k - 1);
-        } else if (!strcmp(arg, "--no-align")) {
-            o.align = 0;
-        } else if (VALUE("--pixel")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_double(v, &d) || !(d > 0)) USAGE("--pixel: '%s' is not a size > 0", v);
-            o.pixel = d;
-        } else if (VALUE("--spacing")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_double(v, &d) || !(d > 0)) USAGE("--spacing: '%s' is not a distance > 0", v);
-            o.spacing = d;
-        } else if (VALUE("--unit")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (strlen(v) >= sizeof o.unit) USAGE("--unit: '%s' is too long", v);
-            strcpy(o.unit, v);
-        } else if (VALUE("--z-spacing")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_double(v, &d) || !(d > 0)) USAGE("--z-spacing: '%s' is not a distance > 0", v);
-            o.z_spacing = d;
-        } else if (!strcmp(arg, "--no-interpolate")) {
-            o.interpolate = 0;
-        } else if (VALUE("--simplify")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_double(v, &d) || d < 0) USAGE("--simplify: '%s' is not a tolerance >= 0", v);
-            o.simplify = d;
-        } else if (VALUE("--smooth-contours")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            if (cli_parse_int64(v, 0, 1000, &k)) USAGE("--smooth-contours: '%s' is not a radius 0..1000", v);
-            o.contour_smooth = (int32_t)k;
-        } else if (VALUE("--save-contours")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            save = v;
-        } else if (VALUE("--svg-select")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            o.svg_select = v;
-        } else if (!strcmp(arg, "--strict")) {
-            o.strict = 1;
-        } else if (VALUE("--save-steps")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            o.save_steps = v;
-        } else if (VALUE("--report")) {
-            if (r == CLI_ARG_BAD) goto bad_value;
-            report_path = v;
-        } else if (!strcmp(arg, "-q")) {
-            quiet = 1;
-            bvox_set_warning_handler(NULL, NULL);
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
-            free(inputs);
-            return CLI_USAGE;
-        }
+    int r = cli_parse(&cli_spec_reconstruct, argc, argv, &a);
+    if (r != CLI_PARSED) {
+        free(inputs);
+        return r == CLI_PARSE_HELP ? CLI_OK : CLI_USAGE;
     }
-#undef VALUE
+    const char *out = a.out, *save = a.save, *report_path = a.report_path;
+    bvox_recon_opts o = a.o;
+    int32_t nin = a.inputs.n;
     if (nin == 0) USAGE("needs SECTIONS (image files, a folder or a contour file)");
     if (!out && !save && !report_path) USAGE("needs -o MODEL (or --save-contours / --report)");
-    if (thr_given && otsu_given) USAGE("--threshold and --otsu exclude each other");
-    if (markers_given > 1) USAGE("--markers and --markers-file exclude each other");
-    if (bg_given > 1) USAGE("--background and --no-background exclude each other");
-    if (cli_quiet) quiet = 1;
+    if (a.thr_given && a.otsu_given) USAGE("--threshold and --otsu exclude each other");
+    if (a.markers_given > 1) USAGE("--markers and --markers-file exclude each other");
+    if (a.bg_given > 1) USAGE("--background and --no-background exclude each other");
+    int quiet = a.quiet || cli_quiet;
     progress_state ps = {isatty(2), -1, 0};
     if (!quiet) {
         o.progress = on_progress;
@@ -408,7 +428,7 @@ int cmd_reconstruct(int argc, char **argv)
     for (int32_t i = 0; i < rep->nsections && !quiet; i++)
         if (rep->sections[i].message[0])
             fprintf(stderr, "bvox: warning: %s\n", rep->sections[i].message);
-    if (out && bvox_write(out, vol, &wo)) rc = cli_fail();
+    if (out && bvox_write(out, vol, &a.wo)) rc = cli_fail();
     if (!rc && save) {
         st = ends_with(save, ".json") ? bvox_stack_write_json(save, stack)
                                       : bvox_stack_write_svg_dir(save, stack);
@@ -428,7 +448,4 @@ int cmd_reconstruct(int argc, char **argv)
     bvox_stack_destroy(stack);
     bvox_recon_report_destroy(rep);
     return rc;
-bad_value: /* cli_match_value printed the message */
-    free(inputs);
-    return CLI_USAGE;
 }

@@ -7,71 +7,107 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "manip.h"
+#include "opts.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
-static void help(FILE *f)
-{
-    fputs(
-        "Usage: bvox render IN -o OUT.png [options]\n"
-        "\n"
-        "Render a binary volume as the paper's display pipeline does: cast a\n"
-        "pre-image (depth and normal code per pixel), shade it through a lookup\n"
-        "table, then zoom and filter the image. Axes are the file's voxel index\n"
-        "axes (x, y, z = i, j, k), never reoriented.\n"
-        "\n"
-        "Options:\n"
-        "  -o, --output OUT.png  the picture (required)\n"
-        "  --view V              +z -z +x -x +y -y: an axis view; +z looks along +z\n"
-        "                        (rays enter at z = 0); one pixel per voxel column,\n"
-        "                        for +-z column = x, row = y; for +-x column = y,\n"
-        "                        row = z; for +-y column = x, row = z (default +z).\n"
-        "                        AZ,EL: a parallel projection turned by azimuth and\n"
-        "                        elevation in degrees (0,0 is +z). iso: isometric,\n"
-        "                        looking from the corner (+1,+1,+1), z up; iso+x-y+z\n"
-        "                        etc. pick any of the 8 corners\n"
-        "  --shade S             depth, binary (binary gradient: the 26 voxel normals),\n"
-        "                        gradient (from the depth map, Sobel) or binary+depth\n"
-        "                        (default)\n"
-        "  --light AZ,EL         light direction: azimuth in the image plane (0 from\n"
-        "                        the right, 90 from the top), elevation towards the\n"
-        "                        viewer (default 135,45)\n"
-        "  --size W,H            image size: the view becomes a projection of W x H\n"
-        "                        pixels that fits the object (default for AZ,EL and\n"
-        "                        iso: 512,512)\n"
-        "  --zoom N              enlarge by pixel replication, N = 1, 2, 4 or 8\n"
-        "  --average             then zoom x2 with pixel averaging (the paper's Figure 5)\n"
-        "  --filter F            then a 3x3 filter: highpass, smooth, laplace, sobel\n"
-        "  --cut A,B,C,D         cut by the plane A*x + B*y + C*z + D = 0 in world\n"
-        "                        coordinates (as 'bvox cut'); the cut face is drawn\n"
-        "                        lit by the plane's normal and tinted (RGB output)\n"
-        "  --keep above|below    the side of the cut to keep (default above: >= 0)\n"
-        "  --stereo sbs|anaglyph a stereo pair, the view turned by -+3 degrees about\n"
-        "                        the image's vertical: side by side (left eye's image\n"
-        "                        on the left, for parallel viewing) or a red-cyan\n"
-        "                        anaglyph (red = left eye)\n"
-        "  --sheet               four views in a 2x2 grid: +z, +x / -y, iso (each\n"
-        "                        --size, default 256,256)\n"
-        "  --turntable N         N frames of the object spinning about the volume axis\n"
-        "                        nearest the image's vertical: OUT ending in .gif is\n"
-        "                        an animated GIF, else OUT_000.png, OUT_001.png ...\n"
-        "  --depth OUT16.png     also write the depth map, 16 bits: 0 background,\n"
-        "                        else depth + 1; depth in voxels from the entry face\n"
-        "                        for an axis view, in pixel units from the front of\n"
-        "                        the fitting sphere for a projection\n"
-        "  --help                show this help\n",
-        f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox render embryo.nii.gz -o top.png --view +z --shade depth\n"
-          "  bvox render embryo.nii.gz -o iso.png --view iso --zoom 2 --average --filter highpass\n"
-          "  bvox render embryo.nii.gz -o half.png --view 30,20 --cut 1,0,0,-1.2 --keep below\n"
-          "  bvox render embryo.nii.gz -o spin.gif --view iso --turntable 36\n",
-          f);
-}
+typedef struct render_args {
+    const char *in, *out, *depth;
+    bvox_render_opts o;
+    cli_plane cut;
+    int keep, sheet; /* keep: -1 not given, 0 above, 1 below */
+    int64_t turntable;
+    cli_read_args ra;
+} render_args;
+
+#define A(member) CLI_AT(render_args, member)
+
+static int take_view(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_light(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_size(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_stereo(const char *cmd, const cli_opt *o, const char *v, void *target);
+
+static const char *const shades[] = {"depth", "binary", "gradient", "binary+depth", NULL};
+static const char *const zooms[] = {"1", "2", "4", "8", NULL};
+static const char *const stereos[] = {"sbs", "anaglyph", NULL};
+
+static const cli_opt render_opts[] = {
+    {"--output", 'o', CLI_PATH, "OUT.png", "the picture (required)", A(out)},
+    {"--view", 0, CLI_STR, "V",
+     "+z -z +x -x +y -y: an axis view; +z looks along +z (rays enter at z = 0); one pixel per "
+     "voxel column, for +-z column = x, row = y; for +-x column = y, row = z; for +-y column = "
+     "x, row = z (default +z). AZ,EL: a parallel projection turned by azimuth and elevation in "
+     "degrees (0,0 is +z). iso: isometric, looking from the corner (+1,+1,+1), z up; iso+x-y+z "
+     "etc. pick any of the 8 corners",
+     A(o), .fn = take_view},
+    {"--shade", 0, CLI_CHOICE, "S",
+     "depth, binary (binary gradient: the 26 voxel normals), gradient (from the depth map, "
+     "Sobel) or binary+depth (default)",
+     A(o.shade), .choices = shades, .fn = take_shade,
+     .bad = "--shade: '%s' is not depth, binary, gradient or binary+depth"},
+    {"--light", 0, CLI_STR, "AZ,EL",
+     "light direction: azimuth in the image plane (0 from the right, 90 from the top), "
+     "elevation towards the viewer (default 135,45)",
+     A(o.light), .fn = take_light, .bad = "--light: '%s' is not AZ,EL"},
+    {"--size", 0, CLI_STR, "W,H",
+     "image size: the view becomes a projection of W x H pixels that fits the object (default "
+     "for AZ,EL and iso: 512,512)",
+     A(o.proj), .fn = take_size, .bad = "--size: '%s' is not W,H (whole pixels, 1..16384)"},
+    {"--zoom", 0, CLI_INT, NULL, "enlarge by pixel replication", A(o.zoom), .lo = 1, .hi = 8,
+     .choices = zooms, .bad = "--zoom: '%s' is not 1, 2, 4 or 8"},
+    {"--average", 0, CLI_FLAG, NULL, "then zoom x2 with pixel averaging (the paper's Figure 5)",
+     A(o.average)},
+    {"--filter", 0, CLI_CHOICE, "F", "then a 3x3 filter: highpass, smooth, laplace, sobel",
+     A(o.filter), .choices = cli_filter_choices, .fn = cli_take_filter, .bad = CLI_BAD_FILTER},
+    {"--cut", 0, CLI_STR, "A,B,C,D",
+     "cut by the plane A*x + B*y + C*z + D = 0 in world coordinates (as 'bvox cut'); the cut "
+     "face is drawn lit by the plane's normal and tinted (RGB output)",
+     A(cut), .fn = cli_take_plane},
+    {"--keep", 0, CLI_CHOICE, NULL, "the side of the cut to keep (default above: >= 0)", A(keep),
+     .choices = cli_keep_choices},
+    {"--stereo", 0, CLI_CHOICE, NULL,
+     "a stereo pair, the view turned by -+3 degrees about the image's vertical: side by side "
+     "(left eye's image on the left, for parallel viewing) or a red-cyan anaglyph (red = left "
+     "eye)",
+     A(o.stereo), .choices = stereos, .fn = take_stereo},
+    {"--sheet", 0, CLI_FLAG, NULL,
+     "four views in a 2x2 grid: +z, +x / -y, iso (each --size, default 256,256)", A(sheet)},
+    {"--turntable", 0, CLI_INT, "N",
+     "N frames of the object spinning about the volume axis nearest the image's vertical: OUT "
+     "ending in .gif is an animated GIF, else OUT_000.png, OUT_001.png ...",
+     A(turntable), .lo = 1, .hi = 3600, .bad = "--turntable: '%s' is not a frame count in 1..3600"},
+    {"--depth", 0, CLI_PATH, "OUT16.png",
+     "also write the depth map, 16 bits: 0 background, else depth + 1; depth in voxels from "
+     "the entry face for an axis view, in pixel units from the front of the fitting sphere for "
+     "a projection",
+     A(depth)},
+    {NULL},
+};
+static const cli_group render_group = {"Options", render_opts, NULL};
+static const cli_pos render_pos[] = {
+    {"IN", "the volume to render", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_render = {
+    .name = "render",
+    .summary = "shaded picture: axis/iso/any view, cut, stereo, sheet, turntable",
+    .usage = "IN -o OUT.png [options]",
+    .about = "Render a binary volume as the paper's display pipeline does: cast a\n"
+             "pre-image (depth and normal code per pixel), shade it through a lookup\n"
+             "table, then zoom and filter the image. Axes are the file's voxel index\n"
+             "axes (x, y, z = i, j, k), never reoriented.\n",
+    .pos = render_pos,
+    .uses = {{&render_group, 0}, CLI_USE_READ(render_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox render embryo.nii.gz -o top.png --view +z --shade depth\n"
+                "  bvox render embryo.nii.gz -o iso.png --view iso --zoom 2 --average --filter highpass\n"
+                "  bvox render embryo.nii.gz -o half.png --view 30,20 --cut 1,0,0,-1.2 --keep below\n"
+                "  bvox render embryo.nii.gz -o spin.gif --view iso --turntable 36\n",
+};
 
 /* "a,b,...": exactly n finite numbers. */
 static int parse_list(const char *s, int n, double *out)
@@ -96,10 +132,47 @@ static int ends_with(const char *s, const char *suffix)
     return n >= k && !strcasecmp(s + n - k, suffix);
 }
 
-/* The filter names of the CLI: the library's, and "laplace". */
-static int parse_filter(const char *v)
+static int take_view(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
-    return !strcmp(v, "laplace") ? BVOX_FILTER_LAPLACIAN : bvox_filter_parse(v);
+    if (!bvox_render_parse_view(v, target)) return CLI_OPT_OK;
+    cli_usage_error(cmd, "--view: %s", bvox_errmsg());
+    return CLI_OPT_FAILED;
+}
+
+static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    int m = bvox_shade_mode_parse(v);
+    if (m < 0) return CLI_OPT_BAD;
+    *(bvox_shade_mode *)target = (bvox_shade_mode)m;
+    return CLI_OPT_OK;
+}
+
+static int take_light(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    double x[2];
+    if (parse_list(v, 2, x)) return CLI_OPT_BAD;
+    bvox_light *light = target;
+    light->azimuth = x[0], light->elevation = x[1];
+    return CLI_OPT_OK;
+}
+
+static int take_size(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    double x[2];
+    if (parse_list(v, 2, x) || x[0] != (int32_t)x[0] || x[1] != (int32_t)x[1] || x[0] < 1 ||
+        x[1] < 1 || x[0] > 16384 || x[1] > 16384)
+        return CLI_OPT_BAD;
+    bvox_projection *proj = target;
+    proj->width = (int32_t)x[0], proj->height = (int32_t)x[1];
+    return CLI_OPT_OK;
+}
+
+static int take_stereo(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    if (!strcmp(v, "sbs")) *(bvox_stereo *)target = BVOX_STEREO_SBS;
+    else if (!strcmp(v, "anaglyph")) *(bvox_stereo *)target = BVOX_STEREO_ANAGLYPH;
+    else return CLI_OPT_BAD;
+    return CLI_OPT_OK;
 }
 
 static int write_depth(const bvox_preimage *pre, const char *path)
@@ -113,85 +186,19 @@ static int write_depth(const bvox_preimage *pre, const char *path)
 
 int cmd_render(int argc, char **argv)
 {
-    const char *cmd = "render", *in = NULL, *out = NULL, *depth = NULL, *v = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    bvox_render_opts o = bvox_render_opts_default();
-    int options_done = 0, r, keep_given = 0, sheet = 0;
-    int64_t turntable = 0;
-    double x[4];
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--average")) {
-            o.average = 1;
-        } else if (!strcmp(arg, "--sheet")) {
-            sheet = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            out = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--view", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (bvox_render_parse_view(v, &o)) return cli_usage_error(cmd, "--view: %s", bvox_errmsg());
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--shade", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            int s = bvox_shade_mode_parse(v);
-            if (s < 0)
-                return cli_usage_error(cmd, "--shade: '%s' is not depth, binary, gradient or "
-                                            "binary+depth", v);
-            o.shade = (bvox_shade_mode)s;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--light", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (parse_list(v, 2, x)) return cli_usage_error(cmd, "--light: '%s' is not AZ,EL", v);
-            o.light.azimuth = x[0], o.light.elevation = x[1];
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--size", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (parse_list(v, 2, x) || x[0] != (int32_t)x[0] || x[1] != (int32_t)x[1] || x[0] < 1 ||
-                x[1] < 1 || x[0] > 16384 || x[1] > 16384)
-                return cli_usage_error(cmd, "--size: '%s' is not W,H (whole pixels, 1..16384)", v);
-            o.proj.width = (int32_t)x[0], o.proj.height = (int32_t)x[1];
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--zoom", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            int64_t z;
-            if (cli_parse_int64(v, 1, 8, &z) || (z != 1 && z != 2 && z != 4 && z != 8))
-                return cli_usage_error(cmd, "--zoom: '%s' is not 1, 2, 4 or 8", v);
-            o.zoom = (int)z;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--filter", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if ((o.filter = parse_filter(v)) < 0)
-                return cli_usage_error(cmd, "--filter: '%s' is not highpass, smooth, laplace or "
-                                            "sobel", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--cut", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (parse_list(v, 4, o.plane))
-                return cli_usage_error(cmd, "--cut: '%s' is not A,B,C,D", v);
-            if (!o.plane[0] && !o.plane[1] && !o.plane[2])
-                return cli_usage_error(cmd, "--cut: the normal A,B,C is zero");
-            o.cut = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--keep", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (!strcmp(v, "above")) o.keep_above = 1;
-            else if (!strcmp(v, "below")) o.keep_above = 0;
-            else return cli_usage_error(cmd, "--keep: '%s' is not above or below", v);
-            keep_given = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--stereo", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (!strcmp(v, "sbs")) o.stereo = BVOX_STEREO_SBS;
-            else if (!strcmp(v, "anaglyph")) o.stereo = BVOX_STEREO_ANAGLYPH;
-            else return cli_usage_error(cmd, "--stereo: '%s' is not sbs or anaglyph", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--turntable", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 1, 3600, &turntable))
-                return cli_usage_error(cmd, "--turntable: '%s' is not a frame count in 1..3600", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--depth", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            depth = v;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
+    const char *cmd = "render";
+    render_args a = {.o = bvox_render_opts_default(), .keep = -1};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_render, argc, argv, &a);
+    const char *in = a.in, *out = a.out, *depth = a.depth;
+    bvox_render_opts o = a.o;
+    int keep_given = a.keep >= 0, sheet = a.sheet;
+    int64_t turntable = a.turntable;
+    if (a.cut.given) {
+        memcpy(o.plane, a.cut.p, sizeof o.plane);
+        o.cut = 1;
     }
+    if (keep_given) o.keep_above = a.keep == 0;
     if (!in) return cli_usage_error(cmd, "needs IN");
     if (!out || !*out) return cli_usage_error(cmd, "needs -o OUT.png");
     if (keep_given && !o.cut) return cli_usage_error(cmd, "--keep needs --cut");
@@ -207,7 +214,7 @@ int cmd_render(int argc, char **argv)
                                turntable ? " or .gif" : "");
 
     bvox_volume *vol = NULL;
-    if (cli_read_volume(in, &ra, &vol)) return cli_fail();
+    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st;
     int rc = CLI_OK;
     if (turntable) {

@@ -6,6 +6,7 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "opts.h"
 
 #ifdef BVOX_HAVE_VIEWER
 #include "view.h"
@@ -14,83 +15,82 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void help(FILE *f)
+typedef struct view_args {
+    const char *in, *script, *output;
+    int demo, bench, offscreen;
+    int64_t frames, size[2];
+    cli_read_args ra;
+} view_args;
+
+#define A(member) CLI_AT(view_args, member)
+
+static int take_size(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
-    fputs("Usage: bvox view MODEL [options]\n"
-          "       bvox view --demo [options]\n"
-          "\n"
-          "Open a window showing the shaded object: turn it with the mouse (left drag),\n"
-          "zoom (wheel), pan (right drag), move the light (arrows, shift+left drag:\n"
-          "only the lookup table changes), switch shading, cut it with a plane, see\n"
-          "the mosaic and three linked orthogonal slices, edit it (brush, box\n"
-          "selection, primitives; undo/redo) and save it. Press h in the window for\n"
-          "every key.\n"
-          "\n"
-          "Options:\n"
-          "  --demo                view the built-in specimen instead of a file\n"
-          "  --script FILE         replay FILE's events (key, drag, click, move, wheel,\n"
-          "                        wait, screenshot PATH, save PATH, quit; see README)\n"
-          "                        in the window, then exit\n"
-          "  --offscreen           with --script: draw in memory, open no window\n"
-          "  --bench               render a full turn off screen and print frames per\n"
-          "                        second and the time of each phase\n"
-          "  --frames N            frames of the --bench turn (default 120)\n"
-          "  --size W,H            canvas size in pixels (default 800,800)\n"
-          "  -o, --output OUT      where ctrl+s saves the model\n"
-          "                        (default bvox-view-model.nii.gz)\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_read_options_help(f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox view embryo.nii.gz\n"
-          "  bvox view --demo --bench\n"
-          "  xvfb-run -a bvox view model.nii --script rotate.txt\n",
-          f);
+    int64_t *wh = target;
+    const char *comma = strchr(v, ',');
+    char wbuf[32];
+    if (!comma || (size_t)(comma - v) >= sizeof wbuf) {
+        cli_usage_error(cmd, "--size: '%s' is not W,H", v);
+        return CLI_OPT_FAILED;
+    }
+    memcpy(wbuf, v, (size_t)(comma - v));
+    wbuf[comma - v] = 0;
+    if (cli_parse_int64(wbuf, 64, 8192, &wh[0]) || cli_parse_int64(comma + 1, 64, 8192, &wh[1]))
+        return CLI_OPT_BAD;
+    return CLI_OPT_OK;
 }
+
+static const cli_opt view_opts[] = {
+    {"--demo", 0, CLI_FLAG, NULL, "view the built-in specimen instead of a file", A(demo)},
+    {"--script", 0, CLI_PATH, "FILE",
+     "replay FILE's events (key, drag, click, move, wheel, wait, screenshot PATH, save PATH, "
+     "quit; see README) in the window, then exit",
+     A(script)},
+    {"--offscreen", 0, CLI_FLAG, NULL, "with --script: draw in memory, open no window",
+     A(offscreen)},
+    {"--bench", 0, CLI_FLAG, NULL,
+     "render a full turn off screen and print frames per second and the time of each phase",
+     A(bench)},
+    {"--frames", 0, CLI_INT, "N", "frames of the --bench turn (default 120)", A(frames), .lo = 1,
+     .hi = 100000, .bad = "--frames: '%s' is not a count in 1..100000"},
+    {"--size", 0, CLI_STR, "W,H", "canvas size in pixels (default 800,800)", A(size),
+     .fn = take_size, .bad = "--size: '%s' is not W,H with each in 64..8192"},
+    {"--output", 'o', CLI_PATH, "OUT",
+     "where ctrl+s saves the model (default bvox-view-model.nii.gz)", A(output)},
+    {NULL},
+};
+static const cli_group view_group = {"Options", view_opts, NULL};
+static const cli_pos view_pos[] = {
+    {"MODEL", "the volume to view", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_view = {
+    .name = "view",
+    .summary = "interactive viewer: turn, light, cut, slices, mosaic, edit (SDL2)",
+    .usage = "MODEL [options]\n--demo [options]",
+    .about = "Open a window showing the shaded object: turn it with the mouse (left drag),\n"
+             "zoom (wheel), pan (right drag), move the light (arrows, shift+left drag:\n"
+             "only the lookup table changes), switch shading, cut it with a plane, see\n"
+             "the mosaic and three linked orthogonal slices, edit it (brush, box\n"
+             "selection, primitives; undo/redo) and save it. Press h in the window for\n"
+             "every key.\n",
+    .pos = view_pos,
+    .uses = {{&view_group, 0}, CLI_USE_READ(view_args, ra), CLI_USE_PROCESS},
+    .examples = "  bvox view embryo.nii.gz\n"
+                "  bvox view --demo --bench\n"
+                "  xvfb-run -a bvox view model.nii --script rotate.txt\n",
+};
 
 int cmd_view(int argc, char **argv)
 {
-    const char *cmd = "view", *in = NULL, *v = NULL, *script = NULL, *output = NULL;
-    cli_read_args ra;
-    cli_read_args_init(&ra);
-    int options_done = 0, r, demo = 0, bench = 0, offscreen = 0;
-    int64_t frames = 0, width = 0, height = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--demo")) {
-            demo = 1;
-        } else if (!strcmp(arg, "--bench")) {
-            bench = 1;
-        } else if (!strcmp(arg, "--offscreen")) {
-            offscreen = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--script", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            script = v;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--frames", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(v, 1, 100000, &frames))
-                return cli_usage_error(cmd, "--frames: '%s' is not a count in 1..100000", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--size", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            const char *comma = strchr(v, ',');
-            char wbuf[32];
-            if (!comma || (size_t)(comma - v) >= sizeof wbuf)
-                return cli_usage_error(cmd, "--size: '%s' is not W,H", v);
-            memcpy(wbuf, v, (size_t)(comma - v));
-            wbuf[comma - v] = 0;
-            if (cli_parse_int64(wbuf, 64, 8192, &width) || cli_parse_int64(comma + 1, 64, 8192, &height))
-                return cli_usage_error(cmd, "--size: '%s' is not W,H with each in 64..8192", v);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "-o", &v)) ||
-                   (r = cli_match_value(cmd, argc, argv, &i, "--output", &v))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            output = v;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, &ra) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
+    const char *cmd = "view";
+    view_args a = {0};
+    cli_read_args_init(&a.ra);
+    CLI_PARSE_OR_RETURN(&cli_spec_view, argc, argv, &a);
+    const char *in = a.in, *script = a.script, *output = a.output;
+    int demo = a.demo, bench = a.bench, offscreen = a.offscreen;
+    int64_t frames = a.frames, width = a.size[0], height = a.size[1];
     if (!in && !demo) return cli_usage_error(cmd, "needs MODEL (or --demo)");
     if (in && demo) return cli_usage_error(cmd, "give MODEL or --demo, not both");
     if (script && bench) return cli_usage_error(cmd, "--script and --bench exclude each other");
@@ -102,7 +102,7 @@ int cmd_view(int argc, char **argv)
     return CLI_FAIL;
 #else
     bvox_volume *vol = NULL;
-    bvox_status st = demo ? bvox_demo_specimen(&vol) : cli_read_volume(in, &ra, &vol);
+    bvox_status st = demo ? bvox_demo_specimen(&vol) : cli_read_volume(in, &a.ra, &vol);
     if (st) return cli_fail();
     vw_run_opts o = {script, bench, (int)frames, (int)width, (int)height, output, offscreen};
     return vw_run(&o, vol) ? CLI_FAIL : CLI_OK;

@@ -7,108 +7,116 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "manip.h"
+#include "opts.h"
 
 #include <string.h>
 
-static void help(FILE *f)
+typedef struct voxelize_args {
+    const char *in, *out, *fmt, *like;
+    bvox_voxelize_opts vo;
+    bvox_dims grid_dims; /* --dims (nx 0: not given) */
+    cli_grid origin;     /* --origin */
+    bvox_write_opts wo;
+} voxelize_args;
+
+#define A(member) CLI_AT(voxelize_args, member)
+
+static int take_unit(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
-    fputs("Usage: bvox voxelize MESH -o OUT (--res N | --voxel-size S | --like IMAGE) [--shell]\n"
-          "                     [options]\n"
-          "\n"
-          "Turn a triangle mesh (STL, OBJ, PLY, OFF) into a binary volume: a voxel is set\n"
-          "when its centre is inside the mesh (exact, robust to vertices and edges on\n"
-          "the sampling lines), or with --shell when the surface passes through it. The\n"
-          "grid covers the mesh's bounding box; voxel centres are at origin + i * S, so\n"
-          "meshing the volume back ('bvox mesh') lands on the original coordinates.\n"
-          "A mesh that is not closed is reported (open edges) and voxelized by the\n"
-          "majority vote of inside tests along x, y and z.\n"
-          "\n"
-          "Options:\n"
-          "  -o, --output OUT      the volume file (format by extension)\n"
-          "  --res N               N voxels along the longest side of the bounding box\n"
-          "  --voxel-size S        or the voxel size in mesh units (cubic voxels), or\n"
-          "                        SX,SY,SZ for anisotropic voxels\n"
-          "  --like IMAGE          or the grid of an existing image (its dimensions, voxel\n"
-          "                        size, origin, axes and unit), to overlay the two\n"
-          "  --dims NX,NY,NZ --origin X,Y,Z  with --voxel-size: a grid given in full, voxel\n"
-          "                        (0,0,0)'s centre at the origin (mesh parts outside are cut)\n"
-          "  --shell               only the voxels the surface passes through\n"
-          "  --unit NAME           unit of the mesh coordinates, stored in OUT (e.g. mm)\n"
-          "  --mesh-format NAME    stl, obj, ply or off (default: by extension/content)\n"
-          "  --output-format NAME  force the output format\n"
-          "  --help                show this help\n",
-          f);
-    cli_print_process_options_help(f);
-    fputs("\nExamples:\n"
-          "  bvox voxelize bunny.off -o bunny.nii.gz --res 256\n"
-          "  bvox voxelize part.stl -o part.binvox --voxel-size 0.1 --unit mm\n"
-          "  bvox voxelize part.stl -o shell.tif --res 128 --shell\n",
-          f);
+    bvox_voxelize_opts *vo = target;
+    if (strlen(v) >= sizeof vo->unit) {
+        cli_usage_error(cmd, "--unit: at most %zu characters", sizeof vo->unit - 1);
+        return CLI_OPT_FAILED;
+    }
+    snprintf(vo->unit, sizeof vo->unit, "%s", v);
+    return CLI_OPT_OK;
 }
+
+/* S (cubic voxels) or SX,SY,SZ (anisotropic voxels). */
+static int take_voxel_size(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    bvox_voxelize_opts *vo = target;
+    if (strchr(v, ',')) {
+        if (cli_parse_triple(v, vo->spacing) || !(vo->spacing[0] > 0) || !(vo->spacing[1] > 0) ||
+            !(vo->spacing[2] > 0)) {
+            cli_usage_error(cmd, "--voxel-size needs S or SX,SY,SZ > 0, not '%s'", v);
+            return CLI_OPT_FAILED;
+        }
+    } else if (cli_parse_double(v, &vo->voxel_size) || !(vo->voxel_size > 0)) {
+        cli_usage_error(cmd, "--voxel-size needs a positive number, not '%s'", v);
+        return CLI_OPT_FAILED;
+    }
+    return CLI_OPT_OK;
+}
+
+static int take_dims(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    return cli_parse_dims(v, target) ? CLI_OPT_BAD : CLI_OPT_OK;
+}
+
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
+static const cli_opt voxelize_opts[] = {
+    {"--output", 'o', CLI_PATH, "OUT", "the volume file (format by extension)", A(out)},
+    {"--res", 0, CLI_INT, "N", "N voxels along the longest side of the bounding box", A(vo.res),
+     .lo = 1, .hi = BVOX_MAX_DIM, .bad = "--res needs an integer 1.." STR(BVOX_MAX_DIM) ", not '%s'"},
+    {"--voxel-size", 0, CLI_STR, "S",
+     "or the voxel size in mesh units (cubic voxels), or SX,SY,SZ for anisotropic voxels",
+     A(vo), .fn = take_voxel_size},
+    {"--like", 0, CLI_PATH, "IMAGE",
+     "or the grid of an existing image (its dimensions, voxel size, origin, axes and unit), to "
+     "overlay the two",
+     A(like)},
+    {"--dims", 0, CLI_STR, "NX,NY,NZ",
+     "with --origin and --voxel-size: a grid given in full (mesh parts outside are cut)",
+     A(grid_dims), .fn = take_dims, .bad = "--dims needs NX,NY,NZ, not '%s'"},
+    {"--origin", 0, CLI_TRIPLE, "X,Y,Z", "with --dims: the centre of voxel (0,0,0)", A(origin),
+     .fn = cli_take_origin, .bad = "--origin needs X,Y,Z, not '%s'"},
+    {"--shell", 0, CLI_FLAG, NULL, "only the voxels the surface passes through", A(vo.shell)},
+    {"--unit", 0, CLI_STR, "NAME", "unit of the mesh coordinates, stored in OUT (e.g. mm)",
+     A(vo), .fn = take_unit},
+    {"--mesh-format", 0, CLI_STR, "NAME", "stl, obj, ply or off (default: by extension/content)",
+     A(fmt), .choices = cli_mesh_formats},
+    CLI_OPT_OUTPUT_FORMAT(voxelize_args, wo.format),
+    {NULL},
+};
+static const cli_group voxelize_group = {"Options", voxelize_opts, NULL};
+static const cli_pos voxelize_pos[] = {
+    {"MESH", "the mesh file (STL, OBJ, PLY, OFF)", A(in)},
+    {NULL},
+};
+
+const cli_spec cli_spec_voxelize = {
+    .name = "voxelize",
+    .summary = "triangle mesh (STL, OBJ, PLY, OFF) -> volume, solid or shell",
+    .usage = "MESH -o OUT (--res N | --voxel-size S | --like IMAGE) [--shell] [options]",
+    .about = "Turn a triangle mesh (STL, OBJ, PLY, OFF) into a binary volume: a voxel is set\n"
+             "when its centre is inside the mesh (exact, robust to vertices and edges on\n"
+             "the sampling lines), or with --shell when the surface passes through it. The\n"
+             "grid covers the mesh's bounding box; voxel centres are at origin + i * S, so\n"
+             "meshing the volume back ('bvox mesh') lands on the original coordinates.\n"
+             "A mesh that is not closed is reported (open edges) and voxelized by the\n"
+             "majority vote of inside tests along x, y and z.\n",
+    .pos = voxelize_pos,
+    .uses = {{&voxelize_group, 0}, CLI_USE_PROCESS},
+    .examples = "  bvox voxelize bunny.off -o bunny.nii.gz --res 256\n"
+                "  bvox voxelize part.stl -o part.binvox --voxel-size 0.1 --unit mm\n"
+                "  bvox voxelize part.stl -o shell.tif --res 128 --shell\n",
+};
 
 int cmd_voxelize(int argc, char **argv)
 {
-    const char *cmd = "voxelize", *in = NULL, *out = NULL, *value = NULL, *fmt = NULL;
-    bvox_voxelize_opts vo;
-    memset(&vo, 0, sizeof vo);
-    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
-    int options_done = 0, r, have_dims = 0, have_origin = 0;
-    const char *like = NULL;
-    bvox_dims grid_dims = {0, 0, 0};
-    double origin[3] = {0, 0, 0};
+    const char *cmd = "voxelize";
+    voxelize_args a = {.wo = BVOX_WRITE_OPTS_INIT};
+    CLI_PARSE_OR_RETURN(&cli_spec_voxelize, argc, argv, &a);
+    const char *in = a.in, *out = a.out, *fmt = a.fmt, *like = a.like;
+    bvox_voxelize_opts vo = a.vo;
+    int have_dims = a.grid_dims.nx > 0, have_origin = a.origin.origin_given;
+    bvox_dims grid_dims = a.grid_dims;
+    const double *origin = a.origin.origin;
     bvox_geometry grid = bvox_geometry_default();
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        if ((r = cli_parse_input_arg(cmd, arg, &options_done, &in, help))) {
-            if (r != CLI_ARG_USED) return r == CLI_ARG_HELP ? CLI_OK : CLI_USAGE;
-        } else if (!strcmp(arg, "--shell")) {
-            vo.shell = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--res", &value))) {
-            int64_t n;
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_int64(value, 1, BVOX_MAX_DIM, &n))
-                return cli_usage_error(cmd, "--res needs an integer 1..%d, not '%s'",
-                                       BVOX_MAX_DIM, value);
-            vo.res = (int32_t)n;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--voxel-size", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (strchr(value, ',')) { /* SX,SY,SZ: anisotropic voxels */
-                if (cli_parse_triple(value, vo.spacing) || !(vo.spacing[0] > 0) ||
-                    !(vo.spacing[1] > 0) || !(vo.spacing[2] > 0))
-                    return cli_usage_error(cmd, "--voxel-size needs S or SX,SY,SZ > 0, not '%s'",
-                                           value);
-            } else if (cli_parse_double(value, &vo.voxel_size) || !(vo.voxel_size > 0)) {
-                return cli_usage_error(cmd, "--voxel-size needs a positive number, not '%s'",
-                                       value);
-            }
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--like", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            like = value;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--dims", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_dims(value, &grid_dims))
-                return cli_usage_error(cmd, "--dims needs NX,NY,NZ, not '%s'", value);
-            have_dims = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--origin", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (cli_parse_triple(value, origin))
-                return cli_usage_error(cmd, "--origin needs X,Y,Z, not '%s'", value);
-            have_origin = 1;
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--unit", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            if (strlen(value) >= sizeof vo.unit)
-                return cli_usage_error(cmd, "--unit: at most %zu characters",
-                                       sizeof vo.unit - 1);
-            snprintf(vo.unit, sizeof vo.unit, "%s", value);
-        } else if ((r = cli_match_value(cmd, argc, argv, &i, "--mesh-format", &value))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-            fmt = value;
-        } else if ((r = cli_parse_output_option(cmd, argc, argv, &i, &out, &wo))) {
-            if (r == CLI_ARG_BAD) return CLI_USAGE;
-        } else if (cli_parse_shared_option(cmd, argc, argv, &i, NULL) == CLI_ARG_BAD) {
-            return CLI_USAGE;
-        }
-    }
     if (!in) return cli_usage_error(cmd, "needs MESH");
     if (!out) return cli_usage_error(cmd, "needs -o OUT");
     if (like && (vo.res > 0 || vo.voxel_size > 0 || vo.spacing[0] > 0 || have_dims || have_origin))
@@ -137,7 +145,7 @@ int cmd_voxelize(int argc, char **argv)
         vo.grid = &grid;
         vo.grid_dims = grid_dims;
     }
-    if (!wo.format && !bvox_format_for_path(out))
+    if (!a.wo.format && !bvox_format_for_path(out))
         return cli_usage_error(cmd,
                                "%s: cannot tell the output format from the name; use "
                                "--output-format (one of %s)",
@@ -154,7 +162,7 @@ int cmd_voxelize(int argc, char **argv)
                 "bvox: warning: %s is not closed (%lld open edges)%s\n", in,
                 (long long)rep.open_edges,
                 vo.shell ? "" : ": voxels by majority vote of the inside tests along x, y, z");
-    st = bvox_write(out, vol, &wo);
+    st = bvox_write(out, vol, &a.wo);
     if (!st) {
         bvox_dims d = bvox_volume_dims(vol);
         const bvox_geometry *g = bvox_volume_geometry(vol);

@@ -1,64 +1,119 @@
 /*
- * main.c — the `bvox` command: a table of subcommands {name, run, summary}
- * from which dispatch, `bvox --help` and `bvox help CMD` are all derived, plus
- * --version. Each subcommand lives in its own cmd_<name>.c and is a thin
+ * main.c — the `bvox` command: a table of subcommands {run, spec} from which
+ * dispatch, `bvox --help`, `bvox help CMD`, the manual pages (`bvox help
+ * --man [CMD]`) and the bash completion (`bvox help --bash-completion`) are
+ * all derived, plus --version. Each subcommand lives in its own cmd_<name>.c and is a thin
  * wrapper over one library call.
  */
 #include "cli.h"
+#include "opts.h"
 
 #include <string.h>
 
 static const cli_command commands[] = {
-    {"info", cmd_info, "print dimensions, voxel size, count, volume and bounding box"},
-    {"convert", cmd_convert, "convert between formats (binarising gray/label images)"},
-    {"demo", cmd_demo, "build the sample specimen, print its info, optionally write it"},
-    {"morph", cmd_morph, "dilate, erode, open, close, fill cavities, hollow, remove islands"},
-    {"components", cmd_components, "list connected components; keep the largest; label map"},
-    {"measure", cmd_measure, "surface area, centroid, principal axes, topology, per component"},
-    {"labels", cmd_labels, "label volume: per-label measures, names, neighbours (one pass)"},
-    {"interpolate", cmd_interpolate, "fill unannotated slices of a mask (shape-based, per label)"},
-    {"edit", cmd_edit, "set or clear voxels and boxes, keep a box or one side of a plane"},
-    {"cut", cmd_cut, "cut by a plane ax+by+cz+d=0 (world coordinates), keep one side"},
-    {"csg", cmd_csg, "set operations on files and shapes: \"a.nii - sphere(r=2)\""},
-    {"shape", cmd_shape, "draw a sphere, ellipsoid, box, cylinder, cone, torus or half-space"},
-    {"render", cmd_render, "shaded picture: axis/iso/any view, cut, stereo, sheet, turntable"},
-    {"mosaic", cmd_mosaic, "the data set as the frame buffer held it: 8 slices per byte"},
-    {"image", cmd_image, "2D image operations: zoom, average (Figure 5), filter, pan"},
-    {"reconstruct", cmd_reconstruct, "serial section images or traced contours -> aligned model"},
-    {"view", cmd_view, "interactive viewer: turn, light, cut, slices, mosaic, edit (SDL2)"},
-    {"mesh", cmd_mesh, "surface mesh (marching cubes or voxel faces) as STL, PLY, OBJ, OFF"},
-    {"voxelize", cmd_voxelize, "triangle mesh (STL, OBJ, PLY, OFF) -> volume, solid or shell"},
-    {"meshinfo", cmd_meshinfo, "mesh counts, volume, area, bounding box, watertightness"},
-    {"contours", cmd_contours, "model slices across x, y or z -> contour stack (JSON or SVG)"},
+    {cmd_info, &cli_spec_info},
+    {cmd_convert, &cli_spec_convert},
+    {cmd_demo, &cli_spec_demo},
+    {cmd_morph, &cli_spec_morph},
+    {cmd_components, &cli_spec_components},
+    {cmd_measure, &cli_spec_measure},
+    {cmd_labels, &cli_spec_labels},
+    {cmd_interpolate, &cli_spec_interpolate},
+    {cmd_edit, &cli_spec_edit},
+    {cmd_cut, &cli_spec_cut},
+    {cmd_csg, &cli_spec_csg},
+    {cmd_shape, &cli_spec_shape},
+    {cmd_render, &cli_spec_render},
+    {cmd_mosaic, &cli_spec_mosaic},
+    {cmd_image, &cli_spec_image},
+    {cmd_reconstruct, &cli_spec_reconstruct},
+    {cmd_view, &cli_spec_view},
+    {cmd_mesh, &cli_spec_mesh},
+    {cmd_voxelize, &cli_spec_voxelize},
+    {cmd_meshinfo, &cli_spec_meshinfo},
+    {cmd_contours, &cli_spec_contours},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
+
+static const cli_spec *const specs[] = {
+    &cli_spec_info,
+    &cli_spec_convert,
+    &cli_spec_demo,
+    &cli_spec_morph,
+    &cli_spec_components,
+    &cli_spec_measure,
+    &cli_spec_labels,
+    &cli_spec_interpolate,
+    &cli_spec_edit,
+    &cli_spec_cut,
+    &cli_spec_csg,
+    &cli_spec_shape,
+    &cli_spec_render,
+    &cli_spec_mosaic,
+    &cli_spec_image,
+    &cli_spec_reconstruct,
+    &cli_spec_view,
+    &cli_spec_mesh,
+    &cli_spec_voxelize,
+    &cli_spec_meshinfo,
+    &cli_spec_contours,
+};
+
+static const cli_opt global_opts[] = {
+    {"--help", 'h', CLI_FLAG, NULL, "show this help ('bvox COMMAND --help' for a command)",
+     .offset = 0},
+    {"--version", 'V', CLI_FLAG, NULL, "show the version and the SIMD level in use", .offset = 0},
+    /* taken out of the line by take_quiet before any command parses it */
+    {"--quiet", 0, CLI_FLAG, NULL, "no warnings on stderr (errors are still printed)",
+     .offset = 0},
+    {NULL},
+};
+static const cli_group global_group = {"Global options", global_opts, NULL};
+static const cli_program program = {specs, sizeof specs / sizeof specs[0], &global_group};
+
+_Static_assert(sizeof specs / sizeof specs[0] == NCOMMANDS, "one spec per command");
 
 static const cli_command *find(const char *name)
 {
     for (size_t i = 0; i < NCOMMANDS; i++)
-        if (!strcmp(commands[i].name, name)) return &commands[i];
+        if (!strcmp(commands[i].spec->name, name)) return &commands[i];
     return NULL;
 }
 
-static void help(FILE *f)
+static void help(FILE *f) { cli_print_program_help(f, &program); }
+
+/* `bvox help [COMMAND]`, `bvox help --man [COMMAND]` (a roff manual page:
+ * bvox(1) or bvox-COMMAND(1)), `bvox help --bash-completion`. */
+static int help_command(int argc, char **argv)
 {
-    fputs("Usage: bvox COMMAND [options]\n"
-          "\n"
-          "Binary voxel models: read, measure, convert.\n"
-          "\n"
-          "Commands:\n",
-          f);
-    for (size_t i = 0; i < NCOMMANDS; i++)
-        fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(f, "\n"
-               "Global options:\n"
-               "  --help, -h     show this help ('bvox COMMAND --help' for a command)\n"
-               "  --version      show the version and the SIMD level in use\n"
-               "  --quiet        no warnings on stderr (errors are still printed)\n"
-               "\n"
-               "Formats: %s\n"
-               "Exit status: 0 success, 1 failure, 2 wrong command line.\n",
-            bvox_format_list());
+    if (argc < 3) {
+        help(stdout);
+        return CLI_OK;
+    }
+    const char *what = argv[2];
+    if (!strcmp(what, "--bash-completion")) {
+        if (argc > 3) return cli_usage_error(NULL, "help --bash-completion takes no argument");
+        cli_print_completion(stdout, &program);
+        return CLI_OK;
+    }
+    if (!strcmp(what, "--man")) {
+        if (argc > 4) return cli_usage_error(NULL, "help --man takes one COMMAND at most");
+        if (argc == 3) {
+            cli_print_program_man(stdout, &program);
+            return CLI_OK;
+        }
+        const cli_command *c = find(argv[3]);
+        if (!c) return cli_usage_error(NULL, "unknown command '%s'", argv[3]);
+        cli_print_man(stdout, c->spec);
+        return CLI_OK;
+    }
+    const cli_command *c = find(what);
+    if (!c) {
+        if (what[0] == '-') return cli_usage_error(NULL, "help: unknown option '%s'", what);
+        return cli_usage_error(NULL, "unknown command '%s'", what);
+    }
+    char *sub[] = {argv[2], "--help", NULL};
+    return c->run(2, sub);
 }
 
 /* Library warnings: one line each on stderr, "bvox: warning: ...". */
@@ -114,16 +169,7 @@ int main(int argc, char **argv)
         version();
         return CLI_OK;
     }
-    if (!strcmp(name, "help")) {
-        if (argc < 3) {
-            help(stdout);
-            return CLI_OK;
-        }
-        const cli_command *c = find(argv[2]);
-        if (!c) return cli_usage_error(NULL, "unknown command '%s'", argv[2]);
-        char *sub[] = {argv[2], "--help", NULL};
-        return c->run(2, sub);
-    }
+    if (!strcmp(name, "help")) return help_command(argc, argv);
     const cli_command *c = find(name);
     if (!c) {
         if (name[0] == '-') return cli_usage_error(NULL, "unknown option '%s'", name);

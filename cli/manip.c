@@ -38,6 +38,23 @@ int cli_parse_plane(const char *s, double p[4])
     return *q ? -1 : 0;
 }
 
+const char *const cli_keep_choices[] = {"above", "below", NULL};
+
+int cli_take_plane(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    cli_plane *pl = target;
+    if (cli_parse_plane(v, pl->p)) {
+        cli_usage_error(cmd, "%s: '%s' is not A,B,C,D", o->name, v);
+        return CLI_OPT_FAILED;
+    }
+    if (!pl->p[0] && !pl->p[1] && !pl->p[2]) {
+        cli_usage_error(cmd, "%s: the normal A,B,C is zero", o->name);
+        return CLI_OPT_FAILED;
+    }
+    pl->given = 1;
+    return CLI_OPT_OK;
+}
+
 void cli_format_plane(char *buf, size_t size, const double p[4])
 {
     static const char *const names[4] = {"*x", "*y", "*z", ""};
@@ -97,17 +114,12 @@ void cli_box_union(bvox_box *acc, const bvox_box *b)
     if (b->z1 > acc->z1) acc->z1 = b->z1;
 }
 
-int cli_parse_grid_option(const char *cmd, int argc, char **argv, int *i, cli_grid *g)
+int cli_take_origin(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
-    const char *v = NULL;
-    int r = cli_match_value(cmd, argc, argv, i, "--origin", &v);
-    if (r != CLI_ARG_USED) return r;
-    if (cli_parse_triple(v, g->origin)) {
-        cli_usage_error(cmd, "--origin: '%s' is not X,Y,Z", v);
-        return CLI_ARG_BAD;
-    }
+    cli_grid *g = target;
+    if (cli_parse_triple(v, g->origin)) return CLI_OPT_BAD;
     g->origin_given = 1;
-    return CLI_ARG_USED;
+    return CLI_OPT_OK;
 }
 
 void cli_grid_to_opts(const cli_read_args *ra, const cli_grid *g, bvox_csg_eval_opts *o)

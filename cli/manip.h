@@ -17,6 +17,16 @@ int cli_check_output(const char *cmd, const char *out, const bvox_write_opts *wo
 /* "A,B,C,D" (a plane), each finite; 0 on success. */
 int cli_parse_plane(const char *s, double p[4]);
 
+/* A plane option's value (--plane, --cut): "A,B,C,D" with A,B,C not all
+ * zero; given is set once it is. The taker's messages name the option. */
+typedef struct cli_plane {
+    double p[4];
+    int given;
+} cli_plane;
+int cli_take_plane(const char *cmd, const cli_opt *o, const char *v, void *plane);
+/* "above", "below": the sides of --keep (index 1: below). */
+extern const char *const cli_keep_choices[];
+
 /* "0.5*x - y + 2*z - 12" for the plane p (zero terms left out). */
 void cli_format_plane(char *buf, size_t size, const double p[4]);
 
@@ -33,8 +43,8 @@ typedef struct cli_grid {
     int origin_given;
     double origin[3];
 } cli_grid;
-/* --origin X,Y,Z; CLI_ARG_NOT_MINE for anything else. */
-int cli_parse_grid_option(const char *cmd, int argc, char **argv, int *i, cli_grid *g);
+/* Taker of --origin X,Y,Z into a cli_grid. */
+int cli_take_origin(const char *cmd, const cli_opt *o, const char *v, void *grid);
 void cli_grid_to_opts(const cli_read_args *ra, const cli_grid *g, bvox_csg_eval_opts *o);
 
 #endif

@@ -57,11 +57,8 @@ static int parse_list(const char *list, const bvox_labelset *set, const char *in
 }
 
 int cli_mesh_labels(const char *in, const cli_read_args *ra, const char *labels, const char *lut,
-                    const char *max_labels, const char *out, const char *fmt, int ascii)
+                    int64_t limit, const char *out, const char *fmt, int ascii)
 {
-    int64_t limit = BVOX_LABELS_MAX_DEFAULT;
-    if (max_labels && cli_parse_int64(max_labels, 1, INT32_MAX, &limit))
-        return cli_usage_error("mesh", "--max-labels needs a count from 1 to 2147483647");
     if (!strcmp(labels, "")) return cli_usage_error("mesh", "--labels needs 'all' or a list");
     bvox_labelset *set;
     bvox_label_table *table;
