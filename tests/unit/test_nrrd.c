@@ -141,7 +141,7 @@ TEST(detached_gzip_big_endian_and_skips)
 TEST(two_d_is_one_slice)
 {
     const char *hdr = "NRRD0004\ntype: uchar\ndimension: 2\nsizes: 3 2\nencoding: raw\n\n";
-    uint8_t buf[64];
+    uint8_t buf[128];
     size_t n = strlen(hdr);
     memcpy(buf, hdr, n);
     const uint8_t px[6] = {0, 1, 1, 0, 0, 1};
