@@ -417,6 +417,65 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
     return st;
 }
 
+/* Decode into a gray volume without binarising (label volumes read the
+ * typed samples once, labels_read.c): g->data points into data, or into the
+ * inflated copy that g owns (.nii.gz, within the memory budget). */
+static bvox_status nifti_gray_memory(const uint8_t *data, size_t size, const char *name,
+                                     const bvox_read_opts *opts, bvox__gray *g)
+{
+    (void)opts;
+    bvox__gray_init(g);
+    if (!name) name = "input";
+    bvox__bytes unz = {0};
+    header hd;
+    bvox_status st;
+    if (bvox__is_gzip(data, size)) {
+        uint8_t head[HDR_SIZE];
+        long got = gunzip_head(data, size, head, sizeof head);
+        if (got < 0) return bvox__fail(BVOX_EFORMAT, "%s: corrupt gzip data", name);
+        st = parse_header(head, (size_t)got, name, &hd);
+        if (st) return st;
+        uint64_t need = hd.vox_offset + hd.data_bytes;
+        if (need + GZ_SLACK > bvox_memory_budget()) {
+            char what[32], lim[32];
+            bvox__format_bytes(what, sizeof what, (size_t)need);
+            bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
+            return bvox__fail(BVOX_ETOOBIG,
+                              "%s: the label samples need the whole inflated file (%s), over "
+                              "the memory budget of %s",
+                              name, what, lim);
+        }
+        st = bvox__gunzip(data, size, name, (size_t)need + GZ_SLACK, &unz);
+        if (st) return st;
+        data = unz.data;
+        size = unz.size;
+    }
+    st = parse_header(data, size, name, &hd);
+    if (st == BVOX_OK && hd.vox_offset > size)
+        st = bvox__fail(BVOX_EFORMAT,
+                        "%s: vox_offset %llu is beyond the end of the file (%zu bytes)", name,
+                        (unsigned long long)hd.vox_offset, size);
+    else if (st == BVOX_OK && hd.data_bytes > size - hd.vox_offset)
+        st = bvox__fail(BVOX_EFORMAT,
+                        "%s: truncated: header claims %llu bytes of voxel data, file has %llu",
+                        name, (unsigned long long)hd.data_bytes,
+                        (unsigned long long)(size - hd.vox_offset));
+    if (st) {
+        if (unz.data) bvox__bytes_release(&unz);
+        return st;
+    }
+    g->dims = hd.dims;
+    g->dtype = hd.dtype;
+    g->data = data + hd.vox_offset;
+    g->owned = unz.data;
+    g->owned_bytes = unz.alloc_bytes;
+    g->byteswap = hd.swap && hd.elem > 1;
+    g->slope = hd.slope;
+    g->inter = hd.inter;
+    g->geom = hd.geom;
+    return BVOX_OK;
+}
+
 /* ---------------------------------------------------------- streamed reading */
 
 
@@ -805,5 +864,5 @@ static const char *const nifti_extensions[] = {".nii.gz", ".nii", NULL};
 
 const bvox__format bvox__format_nifti = {
     "nifti", nifti_extensions, nifti_sniff, nifti_read_memory, nifti_read_path,
-    nifti_write_path, nifti_probe_dims, nifti_write_limits,
+    nifti_write_path, nifti_probe_dims, nifti_write_limits, nifti_gray_memory,
 };
