@@ -83,6 +83,19 @@ static bvox_status finish(bvox_status st, bvox_volume **out)
     return st;
 }
 
+/* The format of a buffer: the forced one, else by content. */
+static bvox_status memory_format(const void *data, size_t size, const char *name,
+                                 const char *forced, const bvox__format **f)
+{
+    bvox_status st = resolve(forced, NULL, f);
+    if (st) return st;
+    if (!*f) *f = sniff(data, size);
+    if (!*f)
+        return bvox__fail(BVOX_EFORMAT, "%s: unrecognised content (give the format: %s)", name,
+                          bvox_format_list());
+    return BVOX_OK;
+}
+
 bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
                              const bvox_read_opts *opts, bvox_volume **out)
 {
@@ -92,12 +105,8 @@ bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
     if (!opts) opts = &defaults;
     if (!name) name = "input";
     const bvox__format *f;
-    bvox_status st = resolve(opts->format, NULL, &f);
+    bvox_status st = memory_format(data, size, name, opts->format, &f);
     if (st) return st;
-    if (!f) f = sniff(data, size);
-    if (!f)
-        return bvox__fail(BVOX_EFORMAT, "%s: unrecognised content (give the format: %s)", name,
-                          bvox_format_list());
     st = f->read_memory(data, size, name, opts, out);
     return finish(st, out);
 }
@@ -205,7 +214,7 @@ static bvox_status no_samples(const bvox__format *f, const char *name)
 {
     return bvox__fail(BVOX_EUNSUPPORTED,
                       "%s: %s files hold binary voxels, not labels (label volumes are read "
-                      "from nifti, tiff or raw)",
+                      "from nifti, tiff, raw or nrrd)",
                       name, f->name);
 }
 
@@ -217,12 +226,8 @@ bvox_status bvox__read_gray_memory(const void *data, size_t size, const char *na
     if (!opts) opts = &defaults;
     if (!name) name = "input";
     const bvox__format *f;
-    bvox_status st = resolve(opts->format, NULL, &f);
+    bvox_status st = memory_format(data, size, name, opts->format, &f);
     if (st) return st;
-    if (!f) f = sniff(data, size);
-    if (!f)
-        return bvox__fail(BVOX_EFORMAT, "%s: unrecognised content (give the format: %s)", name,
-                          bvox_format_list());
     if (!f->gray_memory) return no_samples(f, name);
     return f->gray_memory(data, size, name, opts, g);
 }
