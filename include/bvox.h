@@ -609,6 +609,96 @@ BVOX_API bvox_status bvox_measure(const bvox_volume *vol, bvox_measures *out);
 BVOX_API bvox_status bvox_measure_components(const bvox_volume *vol, int conn,
                                              bvox_measures **per_component, int64_t *n);
 
+/* ----------------------------------------------------------- label volumes */
+
+/* A label volume (atlas, segmentation: 0 background, other integers objects)
+ * read once and split into one binary volume per label, each cropped to its
+ * label's bounding box grown by one voxel (clipped to the volume), so memory
+ * follows the objects, not labels x volume. */
+#define BVOX_LABELS_MAX_DEFAULT 65535
+
+typedef struct bvox_label_object {
+    int64_t label;       /* the value in the file (never 0) */
+    int64_t count;       /* voxels */
+    bvox_box bbox;       /* tight, half-open, in the label volume's voxel indices */
+    bvox_box crop;       /* the part of the label volume `volume` holds */
+    bvox_volume *volume; /* the label's voxels within crop; the origin is moved so
+                            that voxels keep their world position (bvox_volume_crop) */
+} bvox_label_object;
+
+/* Two labels that touch: voxel faces between a voxel of one and a voxel of
+ * the other (6-neighbours), per axis, and their area in unit^2. */
+typedef struct bvox_label_contact {
+    int64_t a, b;     /* indices into objects, a < b */
+    int64_t faces[3]; /* faces perpendicular to x, y, z */
+    double area;      /* faces[0]*sy*sz + faces[1]*sx*sz + faces[2]*sx*sy */
+} bvox_label_contact;
+
+typedef struct bvox_labelset {
+    bvox_dims dims;          /* of the label volume */
+    bvox_geometry geometry;  /* of the label volume */
+    int64_t background;      /* voxels of label 0 */
+    int64_t n;               /* objects, by ascending label */
+    bvox_label_object *objects;
+    int64_t ncontacts;       /* sorted by (a, b) */
+    bvox_label_contact *contacts;
+} bvox_labelset;
+
+/* Read a label volume (NIfTI, TIFF or raw: integer samples, or floats that
+ * hold integers; scl_slope/inter applied) in two passes over its samples.
+ * opts: format and raw options (binarize is ignored; NULL: defaults).
+ * max_labels (<= 0: BVOX_LABELS_MAX_DEFAULT) bounds the distinct non-zero
+ * labels: more is BVOX_ETOOBIG before any per-label volume is made. A
+ * sample that is not an integer is BVOX_EFORMAT naming the voxel; binvox
+ * and PNG files are BVOX_EUNSUPPORTED. *out is released with
+ * bvox_labelset_destroy. Thread-safe. */
+BVOX_API bvox_status bvox_labels_read(const char *path, const bvox_read_opts *opts, int64_t max_labels,
+                             bvox_labelset **out);
+BVOX_API bvox_status bvox_labels_read_memory(const void *data, size_t size, const char *name,
+                                    const bvox_read_opts *opts, int64_t max_labels,
+                                    bvox_labelset **out);
+/* Release a label set and its volumes; NULL is fine. */
+BVOX_API void bvox_labelset_destroy(bvox_labelset *set);
+/* Give the label volume a new geometry (e.g. a voxel size the file lacks):
+ * every crop follows, keeping its place in the volume. BVOX_EINVAL for an
+ * invalid geometry (as bvox_volume_set_geometry). */
+BVOX_API bvox_status bvox_labelset_set_geometry(bvox_labelset *set, const bvox_geometry *geom);
+/* Index of label in set->objects, or -1. */
+BVOX_API int64_t bvox_labelset_find(const bvox_labelset *set, int64_t label);
+/* bvox_measure of object `index`, reported in the label volume's frame
+ * (bbox, extents and centroid as bvox_measure gives them for the volume of
+ * that label alone, e.g. `bvox measure --label N`): the crop changes nothing
+ * but the work. BVOX_EINVAL for an index out of range. */
+BVOX_API bvox_status bvox_labelset_measure(const bvox_labelset *set, int64_t index, bvox_measures *out);
+
+/* A lookup table of label names and colours, as segmentation tools write
+ * them: FreeSurfer *LUT.txt and 3D Slicer colour tables ("index name R G B
+ * A"), ITK-SNAP label descriptions ("index R G B A visible mesh \"name\""),
+ * the AAL text list ("index name code"). '#' starts a comment. */
+typedef struct bvox_label_entry {
+    int64_t label;
+    char name[96];
+    unsigned char rgba[4];
+    int has_color;
+} bvox_label_entry;
+
+typedef struct bvox_label_table {
+    int64_t n;
+    bvox_label_entry *entries;  /* by ascending label; a duplicate keeps the first */
+    int sorted;                 /* internal: entries are sorted */
+    int nwarnings;              /* duplicates, unreadable lines: not failures; each
+                                   also goes to the warning handler */
+} bvox_label_table;
+
+/* Read a table. BVOX_ENOTFOUND, BVOX_EFORMAT (no line could be read).
+ * Release with bvox_label_table_destroy. */
+BVOX_API bvox_status bvox_label_table_read(const char *path, bvox_label_table **out);
+BVOX_API bvox_status bvox_label_table_parse(const char *text, size_t size, const char *name,
+                                   bvox_label_table **out);
+BVOX_API void bvox_label_table_destroy(bvox_label_table *table);
+/* The entry for label, or NULL. */
+BVOX_API const bvox_label_entry *bvox_label_table_find(const bvox_label_table *table, int64_t label);
+
 /* ------------------------------------------------------------------ render */
 
 /* The display pipeline of the paper (section 4.2), in stages with their own

@@ -264,4 +264,13 @@ BVOX_API bvox_status bvox_stack_write_svg_dir_opts(const char *dir, const bvox_c
 BVOX_API bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis,
                                              bvox_contour_stack **out);
 
+/* Fill the z slices of a mask that were not annotated by shape-based
+ * interpolation between the annotated slices around them (signed distance
+ * maps blended linearly, as bvox_stack_to_volume does between sections).
+ * annotated: nz flags (NULL: a slice is annotated when it holds a 1-voxel).
+ * Annotated slices are kept; slices outside the first..last annotated one
+ * are kept as they are. *out has in's size and geometry. */
+BVOX_API bvox_status bvox_interpolate_slices(const bvox_volume *in, const uint8_t *annotated,
+                                    bvox_volume **out);
+
 #endif /* BVOX_CONTOURS_H */

@@ -37,14 +37,35 @@ static const struct {
 } kinds[] = {
     [BVOX__DIR_PNG_SLICES] = {"png-slices", "slice_", ".png"},
     [BVOX__DIR_SVG_SECTIONS] = {"svg-sections", "section_", ".svg"},
+    [BVOX__DIR_LABEL_MESHES] = {"label-meshes", "", ""},
 };
 #define NKINDS (sizeof kinds / sizeof kinds[0])
 #define MANIFEST_HEADER "bvox output manifest 1"
 #define MANIFEST_MAX (16u << 20) /* 65535 names of ~20 bytes fit many times */
 
 /* prefix, one or more digits, suffix: the only names bvox ever removes */
+/* LABEL[_NAME].EXT: digits, then '_' and the cleaned name's characters
+ * (bvox_label_file_name), then a mesh extension */
+static bool label_mesh_name(const char *s)
+{
+    size_t i = 0, n = strlen(s);
+    while (i < n && s[i] >= '0' && s[i] <= '9') i++;
+    if (i == 0) return false;
+    const char *dot = strrchr(s, '.');
+    if (!dot || (size_t)(dot - s) < i) return false;
+    if (strcmp(dot, ".stl") && strcmp(dot, ".ply") && strcmp(dot, ".obj") && strcmp(dot, ".off"))
+        return false;
+    if (s + i != dot && s[i] != '_') return false;
+    for (const char *p = s + i; p < dot; p++)
+        if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+              *p == '-' || *p == '_' || *p == '.'))
+            return false;
+    return true;
+}
+
 static bool owned_name(int kind, const char *s)
 {
+    if (kind == BVOX__DIR_LABEL_MESHES) return label_mesh_name(s);
     size_t np = strlen(kinds[kind].prefix), ns = strlen(kinds[kind].suffix), n = strlen(s);
     if (n <= np + ns || strncmp(s, kinds[kind].prefix, np) || strcmp(s + n - ns, kinds[kind].suffix))
         return false;

@@ -135,7 +135,11 @@ bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *e
  *    replace files of the same names and nothing else is removed.
  * Nothing but the listed files is ever deleted. The temporary folder is
  * removed on every failure, and by bvox_cleanup_on_signals' handler. */
-typedef enum { BVOX__DIR_PNG_SLICES, BVOX__DIR_SVG_SECTIONS } bvox__dir_kind;
+typedef enum {
+    BVOX__DIR_PNG_SLICES,   /* slice_NNNN.png */
+    BVOX__DIR_SVG_SECTIONS, /* section_NNNN.svg */
+    BVOX__DIR_LABEL_MESHES  /* LABEL[_NAME].stl|ply|obj|off (bvox mesh --labels) */
+} bvox__dir_kind;
 #define BVOX__MANIFEST_NAME ".bvox-manifest"
 typedef struct bvox__dir_sink {
     char *target;  /* trailing slashes removed, a symlink resolved */
@@ -185,6 +189,11 @@ typedef struct bvox__format {
     bvox_status (*probe_dims)(const char *path, const bvox_read_opts *opts, bvox_dims *dims);
     /* the writer's own limits on dimensions (NULL: none beyond BVOX_MAX_DIM) */
     bvox_status (*write_limits)(const char *path, bvox_dims dims);
+    /* Decode to typed samples without binarising (label volumes read them
+     * once, labels.c); NULL for formats that hold only binary voxels. On
+     * success g->data points into data or into g->owned. */
+    bvox_status (*gray_memory)(const uint8_t *data, size_t size, const char *name,
+                               const bvox_read_opts *opts, bvox__gray *g);
 } bvox__format;
 
 extern const bvox__format bvox__format_nifti;
@@ -192,6 +201,16 @@ extern const bvox__format bvox__format_binvox;
 extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
+extern const bvox__format bvox__format_nrrd; /* read only (nrrd.c) */
+
+/* The typed samples of a file or buffer, for readers of label volumes: the
+ * format resolved as bvox_read does (forced, extension, content). On success
+ * g->data may point into *file (released by the caller after g) or into
+ * g->owned. BVOX_EUNSUPPORTED for formats without samples (binvox, png). */
+bvox_status bvox__read_gray(const char *path, const bvox_read_opts *opts, bvox__bytes *file,
+                            bvox__gray *g);
+bvox_status bvox__read_gray_memory(const void *data, size_t size, const char *name,
+                                   const bvox_read_opts *opts, bvox__gray *g);
 
 /* The TIFF writer, in its own file (tiff_write.c) beside the reader (tiff.c). */
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,

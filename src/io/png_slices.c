@@ -323,5 +323,5 @@ static const char *const png_extensions[] = {".png", NULL};
 
 const bvox__format bvox__format_png = {
     "png", png_extensions, png_sniff, png_read_memory, png_read_path, png_write_path,
-    png_probe_dims, NULL,
+    png_probe_dims, NULL, NULL,
 };

@@ -13,18 +13,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-
 static int write_text(const char *path, const char *text)
 {
     FILE *f = fopen(path, "wb");
@@ -80,9 +68,9 @@ TEST(new_folder_gets_files_and_manifest)
 {
     const char *target = harness_path("p");
     CHECK_OK(put(target, BVOX__DIR_PNG_SLICES, false, "a", three));
-    CHECK_EQ(count_entries(target), 4);
+    CHECK_EQ(harness_count_entries(target), 4);
     CHECK(exists(target, BVOX__MANIFEST_NAME));
-    CHECK_EQ(count_entries(harness_tmpdir()), 1); /* nothing left beside it */
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1); /* nothing left beside it */
     char m[1200];
     snprintf(m, sizeof m, "%s/%s", target, BVOX__MANIFEST_NAME);
     CHECK(strcmp(read_text(m), "bvox output manifest 1\nkind png-slices\nslice_0000.png\n"
@@ -102,9 +90,9 @@ TEST(foreign_folder_refused_untouched)
     CHECK_STATUS(put(target, BVOX__DIR_PNG_SLICES, false, "a", three), BVOX_EIO);
     CHECK(strstr(bvox_errmsg(), "did not write") != NULL);
     CHECK(strstr(bvox_errmsg(), "thesis.txt") != NULL || strstr(bvox_errmsg(), "sub") != NULL);
-    CHECK_EQ(count_entries(target), 2);
+    CHECK_EQ(harness_count_entries(target), 2);
     CHECK(strcmp(read_text(thesis), "x") == 0);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -118,7 +106,7 @@ TEST(own_output_replaced)
     struct stat before;
     CHECK(stat(target, &before) == 0);
     CHECK_OK(put(target, BVOX__DIR_PNG_SLICES, false, "new", two));
-    CHECK_EQ(count_entries(target), 3);
+    CHECK_EQ(harness_count_entries(target), 3);
     CHECK(!exists(target, "slice_0002.png"));
     char p[1200];
     snprintf(p, sizeof p, "%s/slice_0001.png", target);
@@ -127,7 +115,7 @@ TEST(own_output_replaced)
     CHECK(stat(target, &after) == 0);
     CHECK_EQ(after.st_ino, before.st_ino);
     CHECK_EQ(after.st_mode & 0777, 0750);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -143,7 +131,7 @@ TEST(empty_folder_filled_and_kept)
     CHECK(stat(target, &after) == 0);
     CHECK_EQ(after.st_ino, before.st_ino);
     CHECK_EQ(after.st_mode & 0777, 0700);
-    CHECK_EQ(count_entries(target), 2);
+    CHECK_EQ(harness_count_entries(target), 2);
     return 0;
 }
 
@@ -176,7 +164,7 @@ TEST(force_removes_nothing_else)
     CHECK_OK(put(t2, BVOX__DIR_PNG_SLICES, true, "new", two));
     CHECK(strcmp(read_text(p), "slice_0000.png new") == 0);
     CHECK(exists(t2, "slice_0009.png"));
-    CHECK_EQ(count_entries(t2), 4);
+    CHECK_EQ(harness_count_entries(t2), 4);
     /* a folder of one of the new names: refused before anything moves */
     const char *t3 = harness_path("r");
     CHECK(mkdir(t3, 0777) == 0);
@@ -184,8 +172,8 @@ TEST(force_removes_nothing_else)
     CHECK(mkdir(p, 0777) == 0);
     CHECK_STATUS(put(t3, BVOX__DIR_PNG_SLICES, true, "new", two), BVOX_EIO);
     CHECK(strstr(bvox_errmsg(), "not a regular file") != NULL);
-    CHECK_EQ(count_entries(t3), 1);
-    CHECK_EQ(count_entries(harness_tmpdir()), 3);
+    CHECK_EQ(harness_count_entries(t3), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 3);
     return 0;
 }
 
@@ -230,7 +218,7 @@ TEST(not_a_folder_and_abort)
     snprintf(p, sizeof p, "%s/slice_0000.png", d.tmp);
     CHECK(write_text(p, "x"));
     bvox__dir_sink_abort(&d);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     CHECK_STATUS(bvox__dir_sink_open(harness_path("no/such/g"), BVOX__DIR_PNG_SLICES, false, &d),
                  BVOX_ENOTFOUND);
     return 0;
@@ -243,10 +231,10 @@ TEST(symlink_to_folder)
     CHECK(mkdir(real, 0777) == 0);
     CHECK(symlink("real", harness_path("link")) == 0);
     CHECK_OK(put(harness_path("link"), BVOX__DIR_PNG_SLICES, false, "a", two));
-    CHECK_EQ(count_entries(real), 3);
+    CHECK_EQ(harness_count_entries(real), 3);
     struct stat sb;
     CHECK(lstat(harness_path("link"), &sb) == 0 && S_ISLNK(sb.st_mode));
-    CHECK_EQ(count_entries(harness_tmpdir()), 2);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 2);
     return 0;
 }
 
@@ -282,8 +270,8 @@ TEST(concurrent_writers_leave_nothing)
         }
         for (int i = 0; i < 8; i++) pthread_join(th[i], NULL);
         for (int i = 0; i < 8; i++) CHECK_OK(jobs[i].st);
-        CHECK_EQ(count_entries(harness_tmpdir()), 1);
-        CHECK_EQ(count_entries(harness_path("stack")), 4);
+        CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
+        CHECK_EQ(harness_count_entries(harness_path("stack")), 4);
     }
     bvox_volume *back = NULL;
     CHECK_OK(bvox_read(target, NULL, &back));

@@ -11,18 +11,6 @@
 #include <unistd.h>
 #include <zlib.h>
 
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-
 static int write_text(const char *path, const char *text)
 {
     FILE *f = fopen(path, "wb");
@@ -116,12 +104,12 @@ TEST(sink_commit_replaces_atomically)
     CHECK_OK(bvox__read_file(path, &b));
     CHECK_EQ(b.size, 3);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(harness_tmpdir()), 2);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 2);
     CHECK_OK(bvox__sink_commit(&s));
     CHECK_OK(bvox__read_file(path, &b));
     CHECK_EQ(b.size, 11);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -144,7 +132,7 @@ TEST(sink_injected_failure_keeps_old_file)
         CHECK_EQ(b.size, 8);
         CHECK(memcmp(b.data, "precious", 8) == 0);
         bvox__bytes_release(&b);
-        CHECK_EQ(count_entries(harness_tmpdir()), 1);
+        CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     }
     return 0;
 }
@@ -168,7 +156,7 @@ TEST(sink_gzip_and_abort)
     CHECK_OK(bvox__sink_open(harness_path("never.bin"), 0, &s));
     CHECK_OK(bvox__sink_write(&s, "abc", 3));
     bvox__sink_abort(&s);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     /* a folder that does not exist */
     CHECK_STATUS(bvox__sink_open(harness_path("nodir/x.bin"), 0, &s), BVOX_ENOTFOUND);
     return 0;
@@ -192,9 +180,9 @@ TEST(write_file_atomic)
     CHECK_OK(bvox__read_file(path, &b));
     CHECK_EQ(b.size, 9);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     CHECK_STATUS(bvox_write_file_atomic(harness_path("no/such/dir/x"), "x", 1), BVOX_ENOTFOUND);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -251,7 +239,7 @@ TEST(sink_refuses_special_files)
     CHECK(symlink("o.nii", harness_path("l.nii")) == 0);
     CHECK_STATUS(bvox_write_file_atomic(harness_path("l.nii"), "abc", 3), BVOX_EIO);
     CHECK(lstat(fifo, &sb) == 0 && S_ISFIFO(sb.st_mode));
-    CHECK_EQ(count_entries(harness_tmpdir()), 3);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 3);
     return 0;
 }
 
@@ -277,11 +265,11 @@ TEST(sink_writes_through_symlinks)
     CHECK_EQ(b.size, 4);
     CHECK(memcmp(b.data, "new!", 4) == 0);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(sub), 1);
-    CHECK_EQ(count_entries(harness_tmpdir()), 3);
+    CHECK_EQ(harness_count_entries(sub), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 3);
     CHECK(symlink("sub/made.json", harness_path("dangling.json")) == 0);
     CHECK_OK(bvox_write_file_atomic(harness_path("dangling.json"), "x", 1));
-    CHECK_EQ(count_entries(sub), 2);
+    CHECK_EQ(harness_count_entries(sub), 2);
     CHECK(lstat(harness_path("dangling.json"), &sb) == 0 && S_ISLNK(sb.st_mode));
     return 0;
 }

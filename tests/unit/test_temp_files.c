@@ -13,18 +13,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-
 /* In the child: start a write into dir (a file, or a PNG folder with one
  * slice written), tell the parent, and wait to be killed. */
 static void child(const char *dir, int folder, int ready)
@@ -65,13 +53,13 @@ static int kill_mid_write(int sig, int folder)
     char c;
     CHECK_EQ(read(p[0], &c, 1), 1);
     close(p[0]);
-    CHECK_EQ(count_entries(dir), 1); /* the temporary is there */
+    CHECK_EQ(harness_count_entries(dir), 1); /* the temporary is there */
     CHECK(kill(pid, sig) == 0);
     int status;
     CHECK(waitpid(pid, &status, 0) == pid);
     CHECK(WIFSIGNALED(status)); /* ended by the signal, as without the handler */
     CHECK_EQ(WTERMSIG(status), sig);
-    CHECK_EQ(count_entries(dir), 0); /* and nothing left */
+    CHECK_EQ(harness_count_entries(dir), 0); /* and nothing left */
     return 0;
 }
 
