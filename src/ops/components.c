@@ -64,19 +64,6 @@ static inline uint64_t range_mask(size_t k, int32_t z0, int32_t z1)
     return m;
 }
 
-/* Set voxels of a column in [z0, z1), and the first of them (-1: none). */
-static int64_t range_count(const uint64_t *col, int32_t z0, int32_t z1, int32_t *first)
-{
-    int64_t n = 0;
-    *first = -1;
-    for (size_t k = (size_t)z0 / 64; k <= (size_t)(z1 - 1) / 64; k++) {
-        uint64_t w = col[k] & range_mask(k, z0, z1);
-        if (w && *first < 0) *first = (int32_t)(k * 64) + __builtin_ctzll(w);
-        n += bvox__popcount64(w);
-    }
-    return n;
-}
-
 void bvox_components_destroy(bvox_components *c)
 {
     if (!c) return;
@@ -109,10 +96,46 @@ static void add_run(bvox_component *it, int64_t voxels, bvox_box b)
     if (b.z1 > it->bbox.z1) it->bbox.z1 = b.z1;
 }
 
+/* The statistics of run [z0, z1) of a 2 x 2 group whose first column is at
+ * (x, y): voxels and box into the label's item, the first voxel's key into
+ * *first. Most runs lie in one word: its four column words are masked once. */
+static inline __attribute__((always_inline)) void
+group_run(const bvox_components *c, size_t grp, int32_t x, int32_t y, int32_t z0, int32_t z1,
+          bvox_component *item, int64_t *first, int hw)
+{
+    const bvox__labelruns *R = &c->runs;
+    const uint64_t *cols[4];
+    for (size_t j = 0; j < 2; j++)
+        for (size_t i = 0; i < 2; i++) cols[j * 2 + i] = bvox__labelruns_column(R, grp, i, j);
+    int64_t voxels = 0;
+    int32_t fz[4] = {0, 0, 0, 0}; /* first z of each column's voxels in the run */
+    unsigned any = 0;             /* bit i: column i has voxels in the run */
+    for (size_t k = (size_t)z0 / 64; k <= (size_t)(z1 - 1) / 64; k++) {
+        uint64_t m = range_mask(k, z0, z1);
+        for (unsigned ci = 0; ci < 4; ci++) {
+            if (!cols[ci]) continue;
+            uint64_t w = cols[ci][k] & m;
+            if (!w) continue;
+            voxels += hw ? __builtin_popcountll(w) : bvox__popcount64(w);
+            if (!(any >> ci & 1)) fz[ci] = (int32_t)(k * 64) + __builtin_ctzll(w);
+            any |= 1u << ci;
+        }
+    }
+    /* the first voxel: the first column in column order ((x, y), (x+1, y),
+     * (x, y+1), (x+1, y+1)) that has any, at its first z */
+    unsigned ci = (unsigned)__builtin_ctz(any);
+    int64_t key = (int64_t)((size_t)(cols[ci] - c->words) / c->wpc) * c->dims.nz + fz[ci];
+    bvox_box b = {any & 5 ? x : x + 1, any & 3 ? y : y + 1, z0,
+                  any & 10 ? x + 2 : x + 1, any & 12 ? y + 2 : y + 1, z1};
+    add_run(item, voxels, b);
+    if (key < *first) *first = key;
+}
+
 /* Voxels, bounding boxes and first voxels summed per label over a range of
  * groups, into out (zeroed items, first at INT64_MAX). */
-static bvox_status sum_statistics_range(const bvox_components *c, const uint32_t *labels,
-                                        size_t g0, size_t g1, partial_sums out)
+static inline __attribute__((always_inline)) bvox_status
+stats_body(const bvox_components *c, const uint32_t *labels, size_t g0, size_t g1,
+           partial_sums out, int hw)
 {
     const bvox__labelruns *R = &c->runs;
     int32_t *z0 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z0);
@@ -122,7 +145,7 @@ static bvox_status sum_statistics_range(const bvox_components *c, const uint32_t
         free(z1);
         return BVOX_ENOMEM;
     }
-    size_t nx = (size_t)c->dims.nx, g = (size_t)R->g;
+    size_t g = (size_t)R->g;
     for (size_t grp = g0; grp < g1; grp++) {
         uint32_t first = R->grp_start[grp];
         if (first == R->grp_start[grp + 1]) continue;
@@ -130,33 +153,38 @@ static bvox_status sum_statistics_range(const bvox_components *c, const uint32_t
         int32_t x = (int32_t)(grp % R->gx * g), y = (int32_t)(grp / R->gx * g);
         for (size_t i = 0; i < n; i++) {
             uint32_t l = labels[first + i];
-            if (g == 1) {
+            if (g == 1)
                 add_run(&out.items[l], z1[i] - z0[i], (bvox_box){x, y, z0[i], x + 1, y + 1, z1[i]});
-                continue;
-            }
-            /* the run's voxels in each of the group's columns, in column order */
-            int64_t voxels = 0, key = -1;
-            int xs[2] = {0, 0}, ys[2] = {0, 0};
-            for (size_t j = 0; j < 2; j++)
-                for (size_t ii = 0; ii < 2; ii++) {
-                    const uint64_t *col = bvox__labelruns_column(R, grp, ii, j);
-                    if (!col) continue;
-                    int32_t fz;
-                    int64_t k = range_count(col, z0[i], z1[i], &fz);
-                    if (!k) continue;
-                    voxels += k;
-                    xs[ii] = ys[j] = 1;
-                    if (key < 0) key = (int64_t)(((size_t)y + j) * nx + (size_t)x + ii) * c->dims.nz + fz;
-                }
-            bvox_box b = {xs[0] ? x : x + 1, ys[0] ? y : y + 1, z0[i],
-                          xs[1] ? x + 2 : x + 1, ys[1] ? y + 2 : y + 1, z1[i]};
-            add_run(&out.items[l], voxels, b);
-            if (key < out.first[l]) out.first[l] = key;
+            else
+                group_run(c, grp, x, y, z0[i], z1[i], &out.items[l], &out.first[l], hw);
         }
     }
     free(z0);
     free(z1);
     return BVOX_OK;
+}
+
+static bvox_status stats_portable(const bvox_components *c, const uint32_t *labels, size_t g0,
+                                  size_t g1, partial_sums out)
+{
+    return stats_body(c, labels, g0, g1, out, 0);
+}
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("popcnt"))) static bvox_status
+stats_popcnt(const bvox_components *c, const uint32_t *labels, size_t g0, size_t g1,
+             partial_sums out)
+{
+    return stats_body(c, labels, g0, g1, out, 1);
+}
+#endif
+
+static bvox_status sum_statistics_range(const bvox_components *c, const uint32_t *labels,
+                                        size_t g0, size_t g1, partial_sums out)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    if (bvox_simd_active() != BVOX_SIMD_GENERIC) return stats_popcnt(c, labels, g0, g1, out);
+#endif
+    return stats_portable(c, labels, g0, g1, out);
 }
 
 typedef struct stats_job {
@@ -333,8 +361,8 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
     c->nwords = vol->nwords;
     c->words = bvox__alloc(c->nwords * sizeof(uint64_t), false, "component words", &st);
     if (!c->words) goto fail;
-    memcpy(c->words, vol->words, c->nwords * sizeof(uint64_t));
-    st = bvox__labelruns_find(c->words, (size_t)vol->nx, (size_t)vol->ny, c->wpc, conn, 0, &c->runs);
+    st = bvox__labelruns_find(vol->words, c->words, (size_t)vol->nx, (size_t)vol->ny, c->wpc, conn,
+                              0, &c->runs);
     if (st) goto fail;
     uint32_t *parent = c->rank = c->runs.parent; /* parent, then label, then rank: one array */
 
@@ -369,7 +397,7 @@ bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_b
     bvox_status st = check_conn(conn);
     if (st) return st;
     bvox__labelruns r;
-    st = bvox__labelruns_find(vol->words, (size_t)vol->nx, (size_t)vol->ny, vol->wpc, conn,
+    st = bvox__labelruns_find(vol->words, NULL, (size_t)vol->nx, (size_t)vol->ny, vol->wpc, conn,
                           merge_border ? 1 : 0, &r);
     if (st) return st;
     size_t nodes = r.nruns;

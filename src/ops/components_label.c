@@ -157,6 +157,12 @@ ALWAYS_INLINE void join_pair(const labeller *L, size_t ga, size_t gb, const uint
     for (size_t k = 0; k < wpc; k++) {
         uint64_t ua = UA[k], ub = UB[k];
         uint64_t an = 0, bn = 0, sb_next = 0; /* bit 0 of word k + 1 */
+        if (!(ua | ub)) {
+            /* nothing here: no run goes on, no segment stays open */
+            ua_hi = ub_hi = a_prev = b_prev = carry = 0;
+            if (k + 1 < wpc) a = A0[k + 1] | A1[k + 1], b = B0[k + 1] | B1[k + 1];
+            continue;
+        }
         if (k + 1 < wpc) {
             an = A0[k + 1] | A1[k + 1];
             bn = B0[k + 1] | B1[k + 1];
@@ -281,8 +287,24 @@ static void label_slabs(void *ctx, int64_t begin, int64_t end)
 
 typedef struct count_ctx {
     bvox__labelruns *R;
-    uint32_t *counts; /* per group, shifted by one: counts[grp + 1] */
+    const uint64_t *src; /* the words to label; R->words is their copy when they differ */
+    uint32_t *counts;    /* per group, shifted by one: counts[grp + 1] */
 } count_ctx;
+
+/* The group's columns copied from src into R->words when that is a copy. */
+static void copy_group(const count_ctx *c, size_t grp)
+{
+    bvox__labelruns *R = c->R;
+    if (c->src == R->words) return;
+    size_t g = (size_t)R->g, wpc = R->wpc;
+    for (size_t j = 0; j < g; j++)
+        for (size_t i = 0; i < g; i++) {
+            const uint64_t *col = bvox__labelruns_column(R, grp, i, j);
+            if (!col) continue;
+            size_t off = (size_t)(col - R->words);
+            memcpy((uint64_t *)R->words + off, c->src + off, wpc * sizeof *col);
+        }
+}
 
 static void count_groups(void *ctx, int64_t begin, int64_t end)
 {
@@ -290,6 +312,7 @@ static void count_groups(void *ctx, int64_t begin, int64_t end)
     bvox__labelruns *R = c->R;
     size_t wpc = R->wpc;
     for (int64_t grp = begin; grp < end; grp++) {
+        copy_group(c, (size_t)grp);
         const uint64_t *u = R->words + (size_t)grp * wpc;
         if (R->g == 2) {
             const uint64_t *c00 = bvox__labelruns_column(R, (size_t)grp, 0, 0);
@@ -320,12 +343,12 @@ void bvox__labelruns_free(bvox__labelruns *r)
     memset(r, 0, sizeof *r);
 }
 
-bvox_status bvox__labelruns_find(const uint64_t *words, size_t nx, size_t ny, size_t wpc, int conn,
-                             size_t extra, bvox__labelruns *out)
+bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t nx, size_t ny,
+                                 size_t wpc, int conn, size_t extra, bvox__labelruns *out)
 {
     bvox__labelruns *R = out;
     memset(R, 0, sizeof *R);
-    R->nx = nx, R->ny = ny, R->wpc = wpc, R->words = words, R->extra = extra;
+    R->nx = nx, R->ny = ny, R->wpc = wpc, R->words = copy ? copy : words, R->extra = extra;
     R->g = conn == 26 ? 2 : 1;
     R->gx = (nx + (size_t)R->g - 1) / (size_t)R->g;
     R->gy = (ny + (size_t)R->g - 1) / (size_t)R->g;
@@ -346,7 +369,7 @@ bvox_status bvox__labelruns_find(const uint64_t *words, size_t nx, size_t ny, si
      * into grp_start[c + 1] and are summed in place; 64-bit total first so
      * that more than 2^32 runs is an error, not a wrap. */
     R->grp_start[0] = 0;
-    count_ctx cc = {R, R->grp_start};
+    count_ctx cc = {R, words, R->grp_start};
     bvox__parallel_for((int64_t)R->ngrp, 4096 / (R->g * R->g), count_groups, &cc);
     uint64_t total = 0;
     for (size_t i = 0; i < R->ngrp; i++) {

@@ -31,9 +31,11 @@ typedef struct bvox__labelruns {
 /* Labels the runs of words (nx * ny columns of wpc words) for conn 6, 18 or
  * 26: on return parent[] is a forest whose roots are the smallest run of
  * each component, and parent[i] <= i. extra entries after the runs are left
- * for the caller. BVOX_ENOMEM / BVOX_ETOOBIG (budget, or 2^32 runs). */
-bvox_status bvox__labelruns_find(const uint64_t *words, size_t nx, size_t ny, size_t wpc, int conn,
-                             size_t extra, bvox__labelruns *out);
+ * for the caller. copy, when not NULL, receives a copy of words during the
+ * first pass (which reads them anyway) and is what out->words then points
+ * to. BVOX_ENOMEM / BVOX_ETOOBIG (budget, or 2^32 runs). */
+bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t nx, size_t ny,
+                                 size_t wpc, int conn, size_t extra, bvox__labelruns *out);
 void bvox__labelruns_free(bvox__labelruns *r);
 
 /* The OR words of group grp (the column itself when g == 1). */
