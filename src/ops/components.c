@@ -390,6 +390,19 @@ fail:
     return st;
 }
 
+typedef struct root_count {
+    const uint32_t *parent;
+    int64_t roots;
+} root_count;
+
+static void count_roots(void *ctx, int64_t begin, int64_t end)
+{
+    root_count *rc = ctx;
+    int64_t n = 0;
+    for (int64_t i = begin; i < end; i++) n += rc->parent[i] == (uint32_t)i;
+    __atomic_fetch_add(&rc->roots, n, __ATOMIC_RELAXED);
+}
+
 bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_border,
                                    int64_t *count)
 {
@@ -408,9 +421,9 @@ bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_b
         bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
         nodes++;
     }
-    int64_t roots = 0;
-    for (size_t i = 0; i < nodes; i++) roots += r.parent[i] == i;
-    *count = merge_border ? roots - 1 : roots;
+    root_count rc = {r.parent, 0};
+    bvox__parallel_for((int64_t)nodes, 1 << 16, count_roots, &rc);
+    *count = merge_border ? rc.roots - 1 : rc.roots;
     bvox__labelruns_free(&r);
     return BVOX_OK;
 }
