@@ -18,9 +18,22 @@ typedef struct convert_args {
 
 #define A(member) CLI_AT(convert_args, member)
 
+/* --chunks X,Y,Z: the Zarr writer's chunk shape (each in 1..65535). */
+static int take_chunks(const char *cmd, const cli_opt *o, const char *v, void *t)
+{
+    (void)cmd, (void)o;
+    bvox_dims d;
+    if (cli_parse_dims(v, &d)) return CLI_OPT_BAD;
+    int32_t *c = ((bvox_write_opts *)t)->chunks;
+    c[0] = d.nx, c[1] = d.ny, c[2] = d.nz;
+    return CLI_OPT_OK;
+}
+
 static const cli_opt convert_opts[] = {
     {"--output-format", 0, CLI_STR, "NAME",
      "force the output format ({formats}); needed for a folder of PNG slices", A(wo.format)},
+    {"--chunks", 0, CLI_STR, "X,Y,Z", "chunk shape of a .zarr output (default: up to 64 per axis)",
+     A(wo), .fn = take_chunks, .bad = "--chunks needs X,Y,Z (each 1..65535), not '%s'"},
     {NULL},
 };
 static const cli_group convert_group = {"Options", convert_opts, NULL};
@@ -42,6 +55,7 @@ const cli_spec cli_spec_convert = {
     .examples = "  bvox convert mask.nii.gz mask.tif\n"
                 "  bvox convert atlas.nii.gz hippocampus.binvox --label 37\n"
                 "  bvox convert stack.tif slices --output-format png\n"
+                "  bvox convert mask.nii.gz mask.zarr --chunks 128,128,64\n"
                 "  bvox convert scan.raw scan.nii.gz --dims 512,512,200 --type i16 --threshold 300 "
                 "--voxel-size 0.4,0.4,1 --unit mm\n",
 };

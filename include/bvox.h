@@ -295,7 +295,7 @@ typedef struct bvox_binarize {
 
 typedef struct bvox_read_opts {
     const char *format;     /* NULL: by extension / content; else "nifti", "binvox",
-                               "tiff", "png", "raw" */
+                               "tiff", "png", "raw", "zarr" */
     bvox_binarize binarize;
     /* raw only (required there): */
     bvox_dims raw_dims;
@@ -324,9 +324,10 @@ typedef struct bvox_write_opts {
     const char *format; /* NULL: by extension ("png" for a path ending in '/' or
                            without extension is not guessed: give it) */
     int raw_bits;       /* raw only: 8 (0/1 bytes, default) */
+    int32_t chunks[3];  /* zarr only: chunk shape x, y, z (0: up to 64 per axis) */
 } bvox_write_opts;
 
-#define BVOX_WRITE_OPTS_INIT { NULL, 8 }
+#define BVOX_WRITE_OPTS_INIT { NULL, 8, { 0, 0, 0 } }
 
 /* Write a volume. The output is first written under a temporary name in the
  * target folder, synced and then renamed: a failure leaves no partial file

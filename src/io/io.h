@@ -112,6 +112,9 @@ extern const bvox__format bvox__format_binvox;
 extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
+extern const bvox__format bvox__format_zarr;
+/* A folder holding .zarray or .zgroup (zarr.c). */
+bool bvox__zarr_is_dir(const char *path);
 
 /* The TIFF writer, in its own file (tiff_write.c) beside the reader (tiff.c). */
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,

@@ -1,0 +1,94 @@
+/*
+ * zarr.h — private interface of the OME-Zarr (NGFF 0.4 on Zarr v2) reader and
+ * writer: a small JSON tree (zarr_json.c), the metadata of one array and of
+ * the multiscales group (zarr_meta.c), and the format itself (zarr.c).
+ *
+ * Array order: Zarr arrays are C order (last index fastest) and NGFF orders
+ * the axes (z, y, x), so the array shape is [nz, ny, nx] and a chunk's bytes
+ * run x fastest, then y, then z — the order bvox__gray holds its samples.
+ */
+#ifndef BVOX_IO_ZARR_H
+#define BVOX_IO_ZARR_H
+
+#include "io.h"
+
+/* ---- zarr_json.c: a bounded JSON tree ---- */
+
+typedef enum bvox__json_type {
+    BVOX__JSON_NULL, BVOX__JSON_FALSE, BVOX__JSON_TRUE, BVOX__JSON_NUMBER,
+    BVOX__JSON_STRING, BVOX__JSON_ARRAY, BVOX__JSON_OBJECT
+} bvox__json_type;
+
+typedef struct bvox__json_node {
+    bvox__json_type type;
+    double num;          /* NUMBER */
+    bool is_int;         /* NUMBER written without fraction or exponent */
+    const char *str;     /* STRING: decoded, NUL-terminated (may hold NULs: len) */
+    size_t len;
+    const char *key;     /* member name when the parent is an OBJECT, else NULL */
+    int32_t first_child; /* ARRAY/OBJECT: index of the first element, -1 none */
+    int32_t next;        /* next sibling, -1 none */
+    int32_t count;       /* ARRAY/OBJECT: number of elements */
+} bvox__json_node;
+
+typedef struct bvox__json {
+    bvox__json_node *nodes; /* nodes[0] is the root */
+    int32_t n, cap;
+    char *text;             /* decoded copy of the input the strings point into */
+} bvox__json;
+
+/* Limits: metadata files are small; anything larger is refused. */
+#define BVOX__JSON_MAX_BYTES ((size_t)1 << 20)
+#define BVOX__JSON_MAX_DEPTH 64
+
+/* Parse strict JSON (RFC 8259). Errors are BVOX_EFORMAT "NAME: line L: what". */
+bvox_status bvox__json_parse(const char *text, size_t size, const char *name, bvox__json *out);
+void bvox__json_release(bvox__json *j);
+/* Member `key` of object node i, or NULL (also when i is not an object). */
+const bvox__json_node *bvox__json_get(const bvox__json *j, const bvox__json_node *obj,
+                                      const char *key);
+/* Element k of an array node, or NULL. */
+const bvox__json_node *bvox__json_at(const bvox__json *j, const bvox__json_node *arr, int32_t k);
+
+/* ---- zarr_meta.c ---- */
+
+typedef enum bvox__zarr_codec {
+    BVOX__ZARR_RAW = 0, BVOX__ZARR_ZLIB, BVOX__ZARR_GZIP, BVOX__ZARR_BLOSC
+} bvox__zarr_codec;
+
+typedef struct bvox__zarr_meta {
+    int64_t shape[3];   /* z, y, x */
+    int64_t chunks[3];  /* z, y, x */
+    bvox_dtype dtype;
+    bool big_endian;    /* dtype's byte order ('>') */
+    bool is_bool;       /* "|b1": read as u8 */
+    bvox__zarr_codec codec;
+    bool has_fill;      /* fill_value is a number (missing chunks are it) */
+    double fill;
+    char sep;           /* '.' or '/' */
+} bvox__zarr_meta;
+
+/* 1 if this build reads and writes Blosc chunks (zarr.c). */
+bool bvox__zarr_have_blosc(void);
+/* 1 if path is a folder holding .zarray or .zgroup (a Zarr array or group). */
+bool bvox__zarr_is_dir(const char *path);
+
+/* Parse and validate a .zarray (3-D, C order, no filters, a known dtype and
+ * compressor, chunks >= 1). name names the file in messages. */
+bvox_status bvox__zarr_meta_parse(const char *text, size_t size, const char *name,
+                                  bvox__zarr_meta *out);
+
+/* From a group's .zattrs: the path of the first (finest) multiscales dataset
+ * (path_cap bytes; "" if none), its scale (z, y, x order in the file, stored
+ * here as x, y, z) and the unit of the space axes ("" if none). have_scale is
+ * false when there is no scale transform. */
+typedef struct bvox__zarr_attrs {
+    char path[256];
+    double spacing[3]; /* x, y, z */
+    bool have_scale;
+    char unit[16];
+} bvox__zarr_attrs;
+bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *name,
+                                   bvox__zarr_attrs *out);
+
+#endif
