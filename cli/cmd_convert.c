@@ -13,10 +13,13 @@
 typedef struct convert_args {
     const char *in, *out;
     bvox_write_opts wo;
+    int wo_codec; /* index into zarr_codecs */
     cli_read_args ra;
 } convert_args;
 
 #define A(member) CLI_AT(convert_args, member)
+
+static const char *const zarr_codecs[] = {"zlib", "blosc", NULL};
 
 /* --chunks X,Y,Z: the Zarr writer's chunk shape (each in 1..65535). */
 static int take_chunks(const char *cmd, const cli_opt *o, const char *v, void *t)
@@ -34,6 +37,8 @@ static const cli_opt convert_opts[] = {
      "force the output format ({formats}); needed for a folder of PNG slices", A(wo.format)},
     {"--chunks", 0, CLI_STR, "X,Y,Z", "chunk shape of a .zarr output (default: up to 64 per axis)",
      A(wo), .fn = take_chunks, .bad = "--chunks needs X,Y,Z (each 1..65535), not '%s'"},
+    {"--compressor", 0, CLI_CHOICE, NULL, "chunk codec of a .zarr output (blosc: bit-shuffled lz4)",
+     A(wo_codec), .def = "zlib", .choices = zarr_codecs},
     {NULL},
 };
 static const cli_group convert_group = {"Options", convert_opts, NULL};
@@ -68,6 +73,7 @@ int cmd_convert(int argc, char **argv)
     CLI_PARSE_OR_RETURN(&cli_spec_convert, argc, argv, &a);
     const char *in = a.in, *out = a.out;
     if (!in || !out) return cli_usage_error(cmd, "needs IN and OUT");
+    a.wo.compressor = zarr_codecs[a.wo_codec];
     /* Refuse before reading a possibly large input. */
     if (cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
 

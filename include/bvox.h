@@ -325,9 +325,10 @@ typedef struct bvox_write_opts {
                            without extension is not guessed: give it) */
     int raw_bits;       /* raw only: 8 (0/1 bytes, default) */
     int32_t chunks[3];  /* zarr only: chunk shape x, y, z (0: up to 64 per axis) */
+    const char *compressor; /* zarr only: "zlib" (NULL: the default) or "blosc" */
 } bvox_write_opts;
 
-#define BVOX_WRITE_OPTS_INIT { NULL, 8, { 0, 0, 0 } }
+#define BVOX_WRITE_OPTS_INIT { NULL, 8, { 0, 0, 0 }, NULL }
 
 /* Write a volume. The output is first written under a temporary name in the
  * target folder, synced and then renamed: a failure leaves no partial file

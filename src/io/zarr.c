@@ -5,13 +5,15 @@
  * entry: axes z, y, x of type space with the unit, a scale transform from the
  * voxel size) and the array "0" (.zarray and one file per chunk, "kz.ky.kx").
  * Samples are uint8 0/1 ("|u1"), chunk shape the caller's (opts->chunks) or
- * up to 64 per axis, each chunk compressed with zlib (numcodecs "zlib").
+ * up to 64 per axis, each chunk compressed with zlib (numcodecs "zlib") or,
+ * with opts->compressor "blosc", Blosc lz4 with bit-shuffle (a 0/1 byte
+ * has one live bit plane, so chunks come close to one bit per voxel).
  * The whole folder is built under a temporary name and renamed on success
  * (bvox__dir_sink_*), so it appears complete or not at all.
  *
  * Read: the path is an array (has .zarray) or a group whose .zattrs names the
  * finest multiscales dataset (else "0"). Any integer/float dtype or bool, C
- * order, compressor none/zlib/gzip; the read options binarise (binarize.c).
+ * order, compressor none/zlib/gzip/blosc; the read options binarise (binarize.c).
  * Every chunk must decode to exactly the chunk's bytes (edge chunks are full
  * size, as Zarr writes them); a missing chunk is the fill value only when
  * the metadata gives one. Errors name the chunk file.
@@ -24,9 +26,24 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <blosc.h>
 #include <zlib.h>
 
-bool bvox__zarr_have_blosc(void) { return false; }
+bool bvox__zarr_have_blosc(void) { return true; }
+
+/* Blosc chunk -> exactly n bytes: 0 ok, -1 corrupt, -2 wrong size. The
+ * header is validated against the buffer before decoding (a lying header
+ * must not make Blosc read or write out of bounds). */
+static int unblosc_exact(const uint8_t *src, size_t size, uint8_t *dst, size_t n)
+{
+    size_t nbytes = 0;
+    if (size < BLOSC_MIN_HEADER_LENGTH || blosc_cbuffer_validate(src, size, &nbytes) != 0)
+        return -1;
+    if (nbytes != n) return -2;
+    if (n == 0) return 0;
+    int got = blosc_decompress_ctx(src, dst, n, 1);
+    return got < 0 ? -1 : (size_t)got != n ? -2 : 0;
+}
 
 /* ---------------------------------------------------------- helpers */
 
@@ -170,6 +187,7 @@ static bvox_status read_chunk(reader *r, int64_t kx, int64_t ky, int64_t kz, con
         break;
     case BVOX__ZARR_ZLIB: rc = inflate_exact(f.data, f.size, 15, r->chunk, r->chunk_bytes); break;
     case BVOX__ZARR_GZIP: rc = inflate_exact(f.data, f.size, 31, r->chunk, r->chunk_bytes); break;
+    case BVOX__ZARR_BLOSC: rc = unblosc_exact(f.data, f.size, r->chunk, r->chunk_bytes); break;
     default: rc = -1; break;
     }
     bvox__bytes_release(&f);
@@ -339,7 +357,7 @@ static const char *ngff_unit(const char *u)
     return NULL;
 }
 
-static bvox_status write_meta(const char *tmp, const bvox_volume *v, const int64_t c[3])
+static bvox_status write_meta(const char *tmp, const bvox_volume *v, const int64_t c[3], bool blosc)
 {
     char buf[2048];
     bvox_status st = write_file(tmp, ".zgroup", "{\n    \"zarr_format\": 2\n}\n", 25);
@@ -367,11 +385,15 @@ static bvox_status write_meta(const char *tmp, const bvox_volume *v, const int64
                                                  strerror(errno));
     n = snprintf(buf, sizeof buf,
                  "{\n    \"chunks\": [%lld, %lld, %lld],\n"
-                 "    \"compressor\": {\"id\": \"zlib\", \"level\": 1},\n"
+                 "    \"compressor\": %s,\n"
                  "    \"dimension_separator\": \".\",\n    \"dtype\": \"|u1\",\n"
                  "    \"fill_value\": 0,\n    \"filters\": null,\n    \"order\": \"C\",\n"
                  "    \"shape\": [%d, %d, %d],\n    \"zarr_format\": 2\n}\n",
-                 (long long)c[2], (long long)c[1], (long long)c[0], (int)v->nz, (int)v->ny,
+                 (long long)c[2], (long long)c[1], (long long)c[0],
+                 blosc ? "{\"id\": \"blosc\", \"cname\": \"lz4\", \"clevel\": 5, "
+                         "\"shuffle\": 2, \"blocksize\": 0}"
+                       : "{\"id\": \"zlib\", \"level\": 1}",
+                 (int)v->nz, (int)v->ny,
                  (int)v->nx);
     return write_file(arr, ".zarray", buf, (size_t)n);
 }
@@ -381,6 +403,11 @@ static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
 {
     int32_t n[3] = {v->nx, v->ny, v->nz};
     int64_t c[3];
+    const char *codec = opts && opts->compressor ? opts->compressor : "zlib";
+    bool blosc = !strcmp(codec, "blosc");
+    if (!blosc && strcmp(codec, "zlib"))
+        return bvox__fail(BVOX_EINVAL, "%s: unknown Zarr compressor '%s' (zlib or blosc)", path,
+                          codec);
     for (int a = 0; a < 3; a++) {
         int32_t want = opts && opts->chunks[a] ? opts->chunks[a] : 64;
         if (want < 0 || want > BVOX_MAX_DIM)
@@ -392,7 +419,8 @@ static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
     size_t chunk_bytes = (size_t)c[0] * (size_t)c[1] * (size_t)c[2];
     /* slab: the 64-aligned z range covering one row of chunks */
     size_t slab_slices = (size_t)c[2] + 126 < (size_t)n[2] ? (size_t)c[2] + 126 : (size_t)n[2];
-    size_t slab_bytes, zbound = compressBound((uLong)chunk_bytes);
+    size_t slab_bytes, zbound = blosc ? chunk_bytes + BLOSC_MAX_OVERHEAD
+                                     : compressBound((uLong)chunk_bytes);
     if (!bvox__mul_size(page, slab_slices, &slab_bytes))
         return bvox__fail(BVOX_ETOOBIG, "%s: slices too large", path);
     bvox_status st;
@@ -401,7 +429,7 @@ static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
     uint8_t *z = chunk ? bvox__alloc(zbound, false, "Zarr compressed chunk", &st) : NULL;
     char *tmp = NULL;
     if (z) st = bvox__dir_sink_open(path, &tmp);
-    if (!st) st = write_meta(tmp, v, c);
+    if (!st) st = write_meta(tmp, v, c, blosc);
     char arr[4200];
     if (tmp) snprintf(arr, sizeof arr, "%s/0", tmp);
     for (int64_t z0 = 0; !st && z0 < n[2]; z0 += c[2]) {
@@ -423,7 +451,16 @@ static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
                                    (size_t)(y0 + y) * (size_t)n[0] + (size_t)x0,
                                (size_t)wx);
                 uLongf zn = (uLongf)zbound;
-                if (compress2(z, &zn, chunk, (uLong)chunk_bytes, 1) != Z_OK) {
+                if (blosc) {
+                    /* bit-shuffled 0/1 bytes: 7 of every 8 bit planes are zero */
+                    int k = blosc_compress_ctx(5, BLOSC_BITSHUFFLE, 1, chunk_bytes, chunk, z,
+                                               zbound, "lz4", 0, 1);
+                    if (k <= 0) {
+                        st = bvox__fail(BVOX_ENOMEM, "%s: Blosc failed", path);
+                        break;
+                    }
+                    zn = (uLongf)k;
+                } else if (compress2(z, &zn, chunk, (uLong)chunk_bytes, 1) != Z_OK) {
                     st = bvox__fail(BVOX_ENOMEM, "%s: zlib failed", path);
                     break;
                 }

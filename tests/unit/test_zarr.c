@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <blosc.h>
 #include <zlib.h>
 
 static void put(const char *path, const void *data, size_t n)
@@ -52,6 +53,7 @@ TEST(roundtrip_awkward_sizes_and_chunks)
         CHECK_OK(bvox_volume_set_geometry(v, &g));
         bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
         wo.chunks[0] = s[3], wo.chunks[1] = s[4], wo.chunks[2] = s[5];
+        wo.compressor = i % 2 ? "blosc" : "zlib"; /* both codecs, every shape class */
         const char *p = harness_path("a.zarr");
         CHECK_OK(bvox_write(p, v, &wo));
         bvox_volume *w;
@@ -226,6 +228,19 @@ TEST(bad_arrays_name_the_chunk)
     put_chunk(a, "0.0.0", big, 11, 0);
     CHECK(!read_fails(a, BVOX_EFORMAT, "chunk 0.0.0 does not hold"));
     put_chunk(a, "0.0.0", "garbage!", 8, -1);
+    CHECK(!read_fails(a, BVOX_EFORMAT, "chunk 0.0.0: corrupt"));
+    /* Blosc: a valid chunk of the wrong size, a truncated one, a lying header */
+    a = make_array("blosc.zarr", "|u1", "{\"id\": \"blosc\", \"cname\": \"lz4\"}", "0");
+    uint8_t bz[64 + BLOSC_MAX_OVERHEAD];
+    int bn = blosc_compress_ctx(5, BLOSC_BITSHUFFLE, 1, 13, big, bz, sizeof bz, "lz4", 0, 1);
+    CHECK(bn > 0);
+    put_chunk(a, "0.0.0", bz, (size_t)bn, -1);
+    CHECK(!read_fails(a, BVOX_EFORMAT, "chunk 0.0.0 does not hold"));
+    bn = blosc_compress_ctx(5, BLOSC_BITSHUFFLE, 1, 12, big, bz, sizeof bz, "lz4", 0, 1);
+    put_chunk(a, "0.0.0", bz, (size_t)bn - 1, -1);
+    CHECK(!read_fails(a, BVOX_EFORMAT, "chunk 0.0.0: corrupt"));
+    bz[12] = 0xff; /* cbytes claims more than the file holds */
+    put_chunk(a, "0.0.0", bz, (size_t)bn, -1);
     CHECK(!read_fails(a, BVOX_EFORMAT, "chunk 0.0.0: corrupt"));
     /* unknown compressor, dtype, order, filters */
     a = make_array("comp.zarr", "|u1", "{\"id\": \"lz4\"}", "0");
