@@ -9,7 +9,9 @@
  * bvox_volume_set per voxel) for comparison, checked equal to the fast one.
  * Extra keys: threads, simd (the path used). Times are medians of the runs
  * after one untimed warm-up run.
- *   bench_binarize [--quick] [--runs N]   (--quick: 64^3 u8 and 32^3 f32, 3 runs)
+ *   bench_binarize [--quick] [--runs N] [--threads-list 1,2,4,8,16]
+ *   (--quick: 64^3 u8 and 32^3 f32, 3 runs; --threads-list: the threaded
+ *   cases once per count instead of all threads and "_1t")
  * Needs src/ on the include path (private interface io/io.h). */
 #include "io/io.h"
 #include "bench_util.h"
@@ -70,6 +72,7 @@ static bvox_volume *naive_binarize(const uint8_t *d, int n, double threshold)
 int main(int argc, char **argv)
 {
     int n8 = 512, n32 = 256, runs = 7;
+    thread_list tl = {0, {0}};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             n8 = 64;
@@ -79,8 +82,11 @@ int main(int argc, char **argv)
             runs = atoi(argv[++i]);
             if (runs < 1) runs = 1;
             if (runs > MAX_RUNS) runs = MAX_RUNS;
+        } else if (!strcmp(argv[i], "--threads-list") && i + 1 < argc &&
+                   thread_list_parse(argv[i + 1], &tl)) {
+            i++;
         } else {
-            fprintf(stderr, "usage: bench_binarize [--quick] [--runs N]\n");
+            fprintf(stderr, "usage: bench_binarize [--quick] [--runs N] [--threads-list 1,2,4,8,16]\n");
             return 2;
         }
     }
@@ -113,18 +119,23 @@ int main(int argc, char **argv)
     bvox_binarize otsu = {BVOX_BIN_OTSU, 0, 0, 0, 0};
 
     int all = bvox_threads();
+    /* the counts to run at: all threads and one ("_1t"), or --threads-list
+     * (no suffix: the lines differ by "threads") */
+    const int listed = tl.n > 0;
+    if (!listed) tl = (thread_list){2, {all, 1}};
+#define SUFFIX_1T(t) (!listed && (t) == 1 ? "_1t" : "")
     bvox_simd best = bvox_simd_active();
     const bvox_simd levels[] = {BVOX_SIMD_AVX512, BVOX_SIMD_AVX2, BVOX_SIMD_GENERIC};
     char name[64];
     int rc = 0;
     /* names: <case>[_1t][_<path>], the path left out for the default one */
-    for (int t = 0; t < 2; t++) {
-        bvox_set_threads(t ? 1 : all);
+    for (int t = 0; t < tl.n; t++) {
+        bvox_set_threads(tl.t[t]);
         for (int l = 0; l < 3; l++) {
             if (!bvox_simd_supported(levels[l])) continue;
             bvox_simd_set(levels[l]);
             char suffix[32];
-            snprintf(suffix, sizeof suffix, "%s%s%s", t ? "_1t" : "",
+            snprintf(suffix, sizeof suffix, "%s%s%s", SUFFIX_1T(t),
                      levels[l] == best ? "" : "_", levels[l] == best ? "" : bvox_simd_name(levels[l]));
             snprintf(name, sizeof name, "u8_%d%s", n8, suffix);
             rc |= bench_binarize(name, &g8, &th, runs);
@@ -149,8 +160,8 @@ int main(int argc, char **argv)
     size_t slab = (size_t)64 * n8 * n8;
     double ms[MAX_RUNS + 1];
     for (int full = 0; full < 2; full++)
-        for (int t = 0; t < 2; t++) {
-            bvox_set_threads(t ? 1 : all);
+        for (int t = 0; t < tl.n; t++) {
+            bvox_set_threads(tl.t[t]);
             for (int r = -1; r < runs; r++) {
                 double t0 = now_ms();
                 for (int z0 = 0; z0 < n8; z0 += 64)
@@ -158,7 +169,7 @@ int main(int argc, char **argv)
                 if (r >= 0) ms[r] = now_ms() - t0;
             }
             snprintf(name, sizeof name, "unpack_%d%s%s", n8, full ? "_full" : "",
-                     t ? "_1t" : "");
+                     SUFFIX_1T(t));
             report(name, (double)c8, ms, runs);
         }
     bvox_set_threads(all);

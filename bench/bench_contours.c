@@ -84,11 +84,11 @@ static int64_t ref_scan(const bvox_section *sec, int size)
 static void usage(void)
 {
     fprintf(stderr, "usage: bench_contours [--quick] [--runs N] [--sections S] [--size N] "
-                    "[--ratio R] [--threads T] [--save DIR]\n");
+                    "[--ratio R] [--threads T] [--save DIR] [--threads-list 1,2,4,8,16]\n");
     exit(2);
 }
 
-int main(int argc, char **argv)
+static int bench_main(int argc, char **argv)
 {
     int runs = 7, nsec = 70, size = 512, threads = bvox_threads();
     const char *save = NULL;
@@ -196,4 +196,10 @@ int main(int argc, char **argv)
         return 1;
     }
     return 0;
+}
+
+/* --threads-list 1,2,4,8,16: every case once per count (bench_util.h) */
+int main(int argc, char **argv)
+{
+    return run_threads_list(argc, argv, bench_main, "bench_contours");
 }

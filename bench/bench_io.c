@@ -11,6 +11,7 @@
 #define _XOPEN_SOURCE 700
 #include "bvox.h"
 #include "bench_util.h"
+#include "common/json.h"
 
 #include <dirent.h>
 #include <ftw.h>
@@ -32,17 +33,13 @@ static const format_case cases[] = {
     {"png", "specimen_slices", "png"},     {"raw", "specimen.raw", "raw"},
 };
 
-/* A message as a JSON string body (quotes, backslashes, control characters). */
+/* A message as a JSON string (the library's one escaping, common/json.h). */
 static void print_json_string(const char *s)
 {
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') printf("\\%c", c);
-        else if (c < 0x20) printf("\\u%04x", c);
-        else putchar(c);
-    }
-    putchar('"');
+    bvox__strbuf b = {0};
+    bvox__sb_json_string(&b, s);
+    fputs(b.data ? b.data : "\"\"", stdout);
+    bvox__sb_free(&b);
 }
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
@@ -142,14 +139,16 @@ static void bench_format(const format_case *fc, const char *dir, const bvox_volu
     double w = median(tw, runs), rd = median(tr, runs), vox = (double)n * n * n;
     printf("{\"bench\":\"io\",\"format\":\"%s\",\"n\":%d,\"runs\":%d,\"file_bytes\":%lld,"
            "\"bits_per_voxel\":%.4f,\"write_ms\":%.1f,\"read_ms\":%.1f,\"write_MBps\":%.1f,"
-           "\"read_MBps\":%.1f,\"write_Mvoxps\":%.1f,\"read_Mvoxps\":%.1f,\"roundtrip\":%s}\n",
+           "\"read_MBps\":%.1f,\"write_Mvoxps\":%.1f,\"read_Mvoxps\":%.1f,\"roundtrip\":%s,"
+           "\"threads\":%d}\n",
            fc->key, n, runs, bytes, 8.0 * (double)bytes / vox, w, rd, (double)bytes / (w * 1e3),
-           (double)bytes / (rd * 1e3), vox / (w * 1e3), vox / (rd * 1e3), same ? "true" : "false");
+           (double)bytes / (rd * 1e3), vox / (w * 1e3), vox / (rd * 1e3), same ? "true" : "false",
+           bvox_threads());
     fflush(stdout);
     remove_tree(path); /* keep the temporary folder small */
 }
 
-int main(int argc, char **argv)
+static int bench_main(int argc, char **argv)
 {
     int n = 512, runs = 3;
     for (int i = 1; i < argc; i++) {
@@ -157,7 +156,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--n") && i + 1 < argc) n = atoi(argv[++i]);
         else {
-            fprintf(stderr, "usage: bench_io [--quick] [--runs N] [--n SIZE]\n");
+            fprintf(stderr, "usage: bench_io [--quick] [--runs N] [--n SIZE] [--threads-list 1,2,4,8,16]\n");
             return 2;
         }
     }
@@ -182,4 +181,10 @@ int main(int argc, char **argv)
     remove_tree(dir);
     bvox_volume_destroy(vol);
     return 0;
+}
+
+/* --threads-list 1,2,4,8,16: every case once per count (bench_util.h) */
+int main(int argc, char **argv)
+{
+    return run_threads_list(argc, argv, bench_main, "bench_io");
 }

@@ -10,7 +10,7 @@
  * with a note when the file is missing), and "random" (every voxel a coin
  * toss). One JSON line per case; bench/README.md explains every key.
  *
- *   bench_manip [--quick] [--sizes 256,512] [--runs N] [--threads T]
+ *   bench_manip [--quick] [--sizes 256,512] [--runs N] [--threads T | --threads-list L]
  *               [--no-ref] [--save DIR]
  *
  * --save DIR writes each specimen as DIR/<pattern>_<n>.nii (uint8 0/1) for
@@ -21,7 +21,6 @@
 #include "manip_ref.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +32,8 @@ typedef struct options {
     int runs, threads, ref, nsizes;
     int sizes[8];
     const char *save;
+    thread_list tl;         /* --threads-list (or --threads): the lines repeat per count */
+    const char *no_ref_why; /* why the reference is off, when it is */
 } options;
 
 /* The reference is slow: one run, no warm-up. */
@@ -42,9 +43,6 @@ typedef struct options {
         stmt;                                                                          \
         now_ms() - s_;                                                                 \
     })
-
-/* ---- memcpy baseline, split over threads like the library splits work ---- */
-
 
 /* ---- specimens ---- */
 
@@ -124,7 +122,7 @@ static volatile int64_t sink;
 
 static void bench_specimen(const options *o, const char *pattern, int n, bvox_volume *a)
 {
-    const char *note = o->ref ? NULL : "reference disabled (--no-ref)";
+    const char *note = o->ref ? NULL : o->no_ref_why;
     voxref *ra = o->ref ? to_ref(a) : NULL;
     voxref *rr = o->ref ? voxref_create(n, n, n) : NULL;
     if (o->ref && (!ra || !rr)) note = "reference skipped: allocation failed";
@@ -248,13 +246,14 @@ static void bench_specimen(const options *o, const char *pattern, int n, bvox_vo
 static void usage(void)
 {
     fprintf(stderr, "usage: bench_manip [--quick] [--sizes 256,512] [--runs N] "
-                    "[--threads T] [--no-ref] [--save DIR]\n");
+                    "[--threads T | --threads-list 1,2,4,8,16] [--no-ref] [--save DIR]\n");
     exit(2);
 }
 
 static void parse(int argc, char **argv, options *o)
 {
-    *o = (options){5, bvox_threads(), 1, 2, {256, 512}, NULL};
+    *o = (options){5, bvox_threads(), 1, 2, {256, 512}, NULL, thread_list_default(),
+                   "reference disabled (--no-ref)"};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--quick")) {
@@ -268,6 +267,9 @@ static void parse(int argc, char **argv, options *o)
             o->runs = atoi(v), i++;
         } else if (!strcmp(a, "--threads") && v) {
             o->threads = atoi(v), i++;
+            o->tl = (thread_list){1, {o->threads}};
+        } else if (!strcmp(a, "--threads-list") && v) {
+            if (!thread_list_parse(argv[++i], &o->tl)) usage();
         } else if (!strcmp(a, "--save") && v) {
             o->save = v, i++;
         } else if (!strcmp(a, "--sizes") && v) {
@@ -285,7 +287,6 @@ int main(int argc, char **argv)
 {
     options o;
     parse(argc, argv, &o);
-    bvox_set_threads(o.threads);
     bvox_volume *aal = NULL;
     bvox_read_opts ro = BVOX_READ_OPTS_INIT; /* --nonzero: every labelled region */
     const char *aal_note = NULL;
@@ -314,7 +315,16 @@ int main(int argc, char **argv)
                     return 1;
                 }
             }
-            bench_specimen(&o, pattern, n, a);
+            for (int ti = 0; ti < o.tl.n; ti++) { /* the slow reference once */
+                options ot = o;
+                ot.threads = o.tl.t[ti];
+                if (ti && o.ref) {
+                    ot.ref = 0;
+                    ot.no_ref_why = "reference timed on the first thread count's line only";
+                }
+                bvox_set_threads(ot.threads);
+                bench_specimen(&ot, pattern, n, a);
+            }
             bvox_volume_destroy(a);
         }
     }

@@ -12,7 +12,7 @@
  * same case table) counts the triangles for n <= 256: its count must agree.
  * One JSON line per case (bench/README.md).
  *
- *   bench_mesh [--quick] [--sizes 256,512] [--runs N] [--threads T]
+ *   bench_mesh [--quick] [--sizes 256,512] [--runs N] [--threads T] [--threads-list L]
  *              [--no-ref] [--bunny PATH] [--save DIR] [--peers]
  *
  * --save DIR writes DIR/<pattern>_<n>.nii (uint8 0/1), DIR/bunny.stl and
@@ -41,6 +41,7 @@ typedef struct options {
     int runs, threads, ref, nsizes, peers;
     int sizes[8];
     const char *save, *bunny;
+    thread_list tl; /* --threads-list: every line repeats per count */
 } options;
 
 static FILE *jsonl; /* DIR/bvox.jsonl with --save */
@@ -169,7 +170,7 @@ static int parse_sizes(const char *s, options *o)
 
 int main(int argc, char **argv)
 {
-    options o = {5, 0, 1, 2, 0, {256, 512}, NULL, NULL};
+    options o = {5, 0, 1, 2, 0, {256, 512}, NULL, NULL, {0, {0}}};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             o.runs = 1;
@@ -185,6 +186,11 @@ int main(int argc, char **argv)
             if (o.runs < 1) o.runs = 1;
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             o.threads = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--threads-list") && i + 1 < argc) {
+            if (!thread_list_parse(argv[++i], &o.tl)) {
+                fprintf(stderr, "bench_mesh: bad --threads-list\n");
+                return 2;
+            }
         } else if (!strcmp(argv[i], "--no-ref")) {
             o.ref = 0;
         } else if (!strcmp(argv[i], "--bunny") && i + 1 < argc) {
@@ -196,11 +202,12 @@ int main(int argc, char **argv)
         } else {
             fprintf(stderr,
                     "usage: bench_mesh [--quick] [--sizes 256,512] [--runs N] [--threads T] "
-                    "[--no-ref] [--bunny PATH] [--save DIR] [--peers]\n");
+                    "[--threads-list 1,2,4,8,16] [--no-ref] [--bunny PATH] [--save DIR] [--peers]\n");
             return 2;
         }
     }
     if (o.threads > 0) bvox_set_threads(o.threads);
+    if (!o.tl.n) o.tl = thread_list_default();
     char tmpdir[] = "/tmp/bench_mesh.XXXXXX";
     if (o.peers && !o.save) {
         if (!mkdtemp(tmpdir)) return 1;
@@ -222,56 +229,61 @@ int main(int argc, char **argv)
         snprintf(path, sizeof path, "%s/bunny.stl", o.save);
         bvox_mesh_write(path, bunny, NULL, 0);
     }
-    for (int si = 0; si < o.nsizes; si++) {
-        int n = o.sizes[si];
-        bvox_volume *v = make_sphere(n);
-        if (!v) return 1;
-        save(&o, v, "sphere", n);
-        bench_meshing(&o, v, "sphere", n);
-        bvox_volume_destroy(v);
-        if (!bunny) continue;
-        /* voxelizing the bunny at n */
-        bvox_voxelize_opts vo;
-        memset(&vo, 0, sizeof vo);
-        vo.res = n;
-        double t[64];
-        int runs = o.runs > 64 ? 64 : o.runs;
-        bvox_volume *bv = NULL;
-        bvox_mesh_voxelize(bunny, &vo, &bv, NULL);
-        for (int i = 0; i < runs; i++) {
+    for (int ti = 0; ti < o.tl.n; ti++) {
+        bvox_set_threads(o.tl.t[ti]);
+        if (ti) o.ref = 0; /* the reference once, on the first count's lines */
+        for (int si = 0; si < o.nsizes; si++) {
+            int n = o.sizes[si];
+            bvox_volume *v = make_sphere(n);
+            if (!v) return 1;
+            if (!ti) save(&o, v, "sphere", n);
+            bench_meshing(&o, v, "sphere", n);
+            bvox_volume_destroy(v);
+            if (!bunny) continue;
+            /* voxelizing the bunny at n */
+            bvox_voxelize_opts vo;
+            memset(&vo, 0, sizeof vo);
+            vo.res = n;
+            double t[64];
+            int runs = o.runs > 64 ? 64 : o.runs;
+            bvox_volume *bv = NULL;
+            bvox_mesh_voxelize(bunny, &vo, &bv, NULL);
+            for (int i = 0; i < runs; i++) {
+                bvox_volume_destroy(bv);
+                bv = NULL;
+                double s = now_ms();
+                bvox_mesh_voxelize(bunny, &vo, &bv, NULL);
+                t[i] = now_ms() - s;
+            }
+            if (!bv) continue;
+            char line[512];
+            bvox_dims d = bvox_volume_dims(bv);
+            snprintf(line, sizeof line,
+                     "{\"bench\":\"mesh\",\"op\":\"voxelize\",\"pattern\":\"bunny\",\"n\":%d,"
+                     "\"threads\":%d,\"runs\":%d,\"ms\":%.3f,\"dims\":[%d,%d,%d],\"voxels\":%lld,"
+                     "\"triangles_in\":%lld}",
+                     n, bvox_threads(), runs, median(t, runs), d.nx, d.ny, d.nz,
+                     (long long)bvox_volume_count(bv), (long long)bunny->ntriangles);
+            emit(line);
             bvox_volume_destroy(bv);
             bv = NULL;
-            double s = now_ms();
-            bvox_mesh_voxelize(bunny, &vo, &bv, NULL);
-            t[i] = now_ms() - s;
+            /* the volume to mesh: the bunny at n - 2 with a layer of 0s around,
+             * padded to n^3, so that VTK and skimage (which do not close the
+             * surface at the array's border) mesh the same closed object */
+            vo.res = n - 2;
+            if (bvox_mesh_voxelize(bunny, &vo, &bv, NULL) != BVOX_OK) continue;
+            d = bvox_volume_dims(bv);
+            int32_t before[3] = {1, 1, 1}, after[3] = {n - 1 - d.nx, n - 1 - d.ny, n - 1 - d.nz};
+            bvox_volume *cube = NULL;
+            if (bvox_volume_pad(bv, before, after, &cube) == BVOX_OK) {
+                if (!ti) save(&o, cube, "bunny", n);
+                bench_meshing(&o, cube, "bunny", n);
+                bvox_volume_destroy(cube);
+            }
+            bvox_volume_destroy(bv);
         }
-        if (!bv) continue;
-        char line[512];
-        bvox_dims d = bvox_volume_dims(bv);
-        snprintf(line, sizeof line,
-                 "{\"bench\":\"mesh\",\"op\":\"voxelize\",\"pattern\":\"bunny\",\"n\":%d,"
-                 "\"threads\":%d,\"runs\":%d,\"ms\":%.3f,\"dims\":[%d,%d,%d],\"voxels\":%lld,"
-                 "\"triangles_in\":%lld}",
-                 n, bvox_threads(), runs, median(t, runs), d.nx, d.ny, d.nz,
-                 (long long)bvox_volume_count(bv), (long long)bunny->ntriangles);
-        emit(line);
-        bvox_volume_destroy(bv);
-        bv = NULL;
-        /* the volume to mesh: the bunny at n - 2 with a layer of 0s around,
-         * padded to n^3, so that VTK and skimage (which do not close the
-         * surface at the array's border) mesh the same closed object */
-        vo.res = n - 2;
-        if (bvox_mesh_voxelize(bunny, &vo, &bv, NULL) != BVOX_OK) continue;
-        d = bvox_volume_dims(bv);
-        int32_t before[3] = {1, 1, 1}, after[3] = {n - 1 - d.nx, n - 1 - d.ny, n - 1 - d.nz};
-        bvox_volume *cube = NULL;
-        if (bvox_volume_pad(bv, before, after, &cube) == BVOX_OK) {
-            save(&o, cube, "bunny", n);
-            bench_meshing(&o, cube, "bunny", n);
-            bvox_volume_destroy(cube);
-        }
-        bvox_volume_destroy(bv);
     }
+    bvox_set_threads(o.tl.t[0]);
     bvox_mesh_destroy(bunny);
     if (jsonl) fclose(jsonl);
     int rc = 0;

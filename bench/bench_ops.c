@@ -5,14 +5,13 @@
  * of threads) and against the byte-per-voxel reference of tests/ref.
  * One JSON line per case; bench/README.md explains every key.
  *
- *   bench_ops [--quick] [--runs N] [--sizes 256,512,1024] [--threads T]
+ *   bench_ops [--quick] [--runs N] [--sizes 256,512,1024] [--threads T | --threads-list L]
  *             [--simd generic|avx2|avx512] [--no-ref]
  */
 #include "internal.h"
 #include "bench_util.h"
 #include "ref/voxref.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +28,7 @@ typedef struct options {
     int runs, threads, ref, nsizes;
     int sizes[8];
     int simd; /* -1: every supported level */
+    thread_list tl; /* --threads-list (or --threads): the lines repeat per count */
 } options;
 
 static uint64_t rng_state = 0x243f6a8885a308d3ull;
@@ -40,9 +40,6 @@ static uint64_t rnd(void)
     x ^= x << 17;
     return rng_state = x;
 }
-
-/* ---- memcpy baseline, split over threads like the library splits ops ---- */
-
 
 /* ---- specimens ---- */
 
@@ -158,13 +155,14 @@ static const char *time_reference(const options *o, int n, const bvox_volume *a,
 static void usage(void)
 {
     fprintf(stderr, "usage: bench_ops [--quick] [--runs N] [--sizes 256,512,1024] "
-                    "[--threads T] [--simd generic|avx2|avx512] [--no-ref]\n");
+                    "[--threads T | --threads-list 1,2,4,8,16] [--simd generic|avx2|avx512] "
+                    "[--no-ref]\n");
     exit(2);
 }
 
 static void parse(int argc, char **argv, options *o)
 {
-    *o = (options){7, bvox_threads(), 1, 3, {256, 512, 1024}, -1};
+    *o = (options){7, bvox_threads(), 1, 3, {256, 512, 1024}, -1, thread_list_default()};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--quick")) {
@@ -178,6 +176,9 @@ static void parse(int argc, char **argv, options *o)
             o->runs = atoi(v), i++;
         } else if (!strcmp(a, "--threads") && v) {
             o->threads = atoi(v), i++;
+            o->tl = (thread_list){1, {o->threads}};
+        } else if (!strcmp(a, "--threads-list") && v) {
+            if (!thread_list_parse(argv[++i], &o->tl)) usage();
         } else if (!strcmp(a, "--simd") && v) {
             o->simd = !strcmp(v, "generic") ? BVOX_SIMD_GENERIC
                       : !strcmp(v, "avx2")  ? BVOX_SIMD_AVX2
@@ -200,7 +201,6 @@ int main(int argc, char **argv)
 {
     options o;
     parse(argc, argv, &o);
-    bvox_set_threads(o.threads);
     static const char *const patterns[2] = {"random", "blocky"};
     for (int si = 0; si < o.nsizes; si++) {
         int n = o.sizes[si];
@@ -214,39 +214,43 @@ int main(int argc, char **argv)
             size_t bytes = a->nwords * sizeof(uint64_t);
             double ref_ms[NOPS];
             const char *ref_note = time_reference(&o, n, a, b, ref_ms);
-            /* memcpy of one volume's words: bytes read + bytes written */
-            double mc_ms = TIME_MEDIAN(o.runs, parallel_memcpy(d->words, a->words, bytes,
-                                                               o.threads));
-            double mc1_ms = TIME_MEDIAN(o.runs, parallel_memcpy(d->words, a->words, bytes, 1));
-            double mc_gbps = 2.0 * (double)bytes / (mc_ms * 1e6);
-            printf("{\"bench\":\"ops\",\"op\":\"memcpy\",\"n\":%d,\"pattern\":\"%s\","
-                   "\"threads\":%d,\"runs\":%d,\"ms\":%.3f,\"bytes\":%zu,\"GBps\":%.2f,"
-                   "\"GBps_1thread\":%.2f}\n",
-                   n, patterns[p], o.threads, o.runs, mc_ms, 2 * bytes, mc_gbps,
-                   2.0 * (double)bytes / (mc1_ms * 1e6));
-            fflush(stdout);
-            for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512; lv++) {
-                if ((o.simd >= 0 && lv != o.simd) || !bvox_simd_supported((bvox_simd)lv))
-                    continue;
-                bvox_simd_set((bvox_simd)lv);
-                for (int op = 0; op < NOPS; op++) {
-                    memcpy(d->words, a->words, bytes);
-                    double ms = TIME_MEDIAN(o.runs, run_op(op, a, b, d));
-                    double moved = (double)op_streams[op] * (double)bytes;
-                    double gbps = moved / (ms * 1e6);
-                    printf("{\"bench\":\"ops\",\"op\":\"%s\",\"n\":%d,\"pattern\":\"%s\","
-                           "\"simd\":\"%s\",\"threads\":%d,\"runs\":%d,\"ms\":%.3f,"
-                           "\"bytes\":%.0f,\"GBps\":%.2f,\"memcpy_GBps\":%.2f,"
-                           "\"ratio_memcpy\":%.3f,",
-                           op_names[op], n, patterns[p], bvox_simd_name((bvox_simd)lv),
-                           o.threads, o.runs, ms, moved, gbps, mc_gbps, gbps / mc_gbps);
-                    if (ref_note)
-                        printf("\"ref_ms\":null,\"speedup_ref\":null,\"ref_note\":\"%s\"}\n",
-                               ref_note);
-                    else
-                        printf("\"ref_ms\":%.3f,\"speedup_ref\":%.1f}\n", ref_ms[op],
-                               ref_ms[op] / ms);
-                    fflush(stdout);
+            for (int ti = 0; ti < o.tl.n; ti++) {
+                const int threads = o.tl.t[ti];
+                bvox_set_threads(threads);
+                /* memcpy of one volume's words: bytes read + bytes written */
+                double mc_ms = TIME_MEDIAN(o.runs, parallel_memcpy(d->words, a->words, bytes,
+                                                                   threads));
+                double mc1_ms = TIME_MEDIAN(o.runs, parallel_memcpy(d->words, a->words, bytes, 1));
+                double mc_gbps = 2.0 * (double)bytes / (mc_ms * 1e6);
+                printf("{\"bench\":\"ops\",\"op\":\"memcpy\",\"n\":%d,\"pattern\":\"%s\","
+                       "\"threads\":%d,\"runs\":%d,\"ms\":%.3f,\"bytes\":%zu,\"GBps\":%.2f,"
+                       "\"GBps_1thread\":%.2f}\n",
+                       n, patterns[p], threads, o.runs, mc_ms, 2 * bytes, mc_gbps,
+                       2.0 * (double)bytes / (mc1_ms * 1e6));
+                fflush(stdout);
+                for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512; lv++) {
+                    if ((o.simd >= 0 && lv != o.simd) || !bvox_simd_supported((bvox_simd)lv))
+                        continue;
+                    bvox_simd_set((bvox_simd)lv);
+                    for (int op = 0; op < NOPS; op++) {
+                        memcpy(d->words, a->words, bytes);
+                        double ms = TIME_MEDIAN(o.runs, run_op(op, a, b, d));
+                        double moved = (double)op_streams[op] * (double)bytes;
+                        double gbps = moved / (ms * 1e6);
+                        printf("{\"bench\":\"ops\",\"op\":\"%s\",\"n\":%d,\"pattern\":\"%s\","
+                               "\"simd\":\"%s\",\"threads\":%d,\"runs\":%d,\"ms\":%.3f,"
+                               "\"bytes\":%.0f,\"GBps\":%.2f,\"memcpy_GBps\":%.2f,"
+                               "\"ratio_memcpy\":%.3f,",
+                               op_names[op], n, patterns[p], bvox_simd_name((bvox_simd)lv),
+                               threads, o.runs, ms, moved, gbps, mc_gbps, gbps / mc_gbps);
+                        if (ref_note)
+                            printf("\"ref_ms\":null,\"speedup_ref\":null,\"ref_note\":\"%s\"}\n",
+                                   ref_note);
+                        else
+                            printf("\"ref_ms\":%.3f,\"speedup_ref\":%.1f}\n", ref_ms[op],
+                                   ref_ms[op] / ms);
+                        fflush(stdout);
+                    }
                 }
             }
             bvox_volume_destroy(a);

@@ -97,7 +97,7 @@ static void median_ref(const bvox_bitmap *in, int r, bvox_bitmap *out)
         }
 }
 
-int main(int argc, char **argv)
+static int bench_main(int argc, char **argv)
 {
     int quick = 0, runs = 5, threads = 0, n = 70, size = 512;
     const char *save = NULL;
@@ -110,7 +110,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--save") && i + 1 < argc) save = argv[++i];
         else {
             fprintf(stderr, "usage: bench_recon [--quick] [--runs N] [--threads T] [--sections N] "
-                            "[--size S] [--save DIR]\n");
+                            "[--size S] [--save DIR] [--threads-list 1,2,4,8,16]\n");
             return 2;
         }
     }
@@ -193,4 +193,10 @@ int main(int argc, char **argv)
     free(imgs);
     spec_free(&sp);
     return same ? 0 : 1;
+}
+
+/* --threads-list 1,2,4,8,16: every case once per count (bench_util.h) */
+int main(int argc, char **argv)
+{
+    return run_threads_list(argc, argv, bench_main, "bench_recon");
 }

@@ -22,6 +22,10 @@
  * turns), median over several directions.
  *
  *   bench_render [--quick] [--runs N] [--sizes 256,512,1024 | --n N] [--no-ref]
+ *                [--threads-list 1,2,4,8,16] [--case NAME]
+ *
+ * With --threads-list, every case prints one line per count; the runs of the
+ * counts (and of the one thread behind "ms_1thread") are interleaved.
  */
 #include "internal.h"
 #include "bench_util.h"
@@ -148,41 +152,63 @@ static bvox_volume *make_sphere(int n)
 }
 
 typedef struct options {
-    int sizes[8], nsizes, images[2], runs, ref, shade_side, threads;
+    int sizes[8], nsizes, images[2], runs, ref, shade_side;
+    thread_list tl;   /* one line per count; the last column is measured at 1 */
+    const char *only; /* --case: run only this case (NULL: every case) */
 } options;
+
+static int wanted(const options *o, const char *c)
+{
+    return !o->only || !strcmp(o->only, c);
+}
+
+/* The counts of o->tl, then 1 (for "ms_1thread"): the runs of every count are
+ * interleaved, run r at each count before run r + 1, so that the ratios
+ * between counts survive a machine whose load changes. */
+#define NCOUNTS(o) ((o)->tl.n + 1)
+static int count_at(const options *o, int k)
+{
+    return k < o->tl.n ? o->tl.t[k] : 1;
+}
 
 static void bench_axis(const options *o, const bvox_volume *vol, const char *pattern)
 {
     const int n = vol->nx, runs = o->runs;
-    double t[100], last_ref = 0;
+    double t[17][100], last_ref = 0;
     int32_t *rdepth = o->ref ? malloc((size_t)n * n * sizeof *rdepth) : NULL;
     for (int view = 0; view < 6; view++) {
         bvox_preimage *p = NULL;
-        double ms[2];
-        for (int th = 0; th < 2; th++) {
-            bvox_set_threads(th ? 1 : o->threads);
-            for (int r = -1; r < runs; r++) {
+        double ms[17];
+        for (int r = -1; r < runs; r++)
+            for (int k = 0; k < NCOUNTS(o); k++) {
+                bvox_set_threads(count_at(o, k));
                 bvox_preimage_destroy(p);
                 double t0 = now_ms();
                 if (bvox_cast_axis(vol, (bvox_view)view, &p)) die("cast");
-                if (r >= 0) t[r] = now_ms() - t0;
+                if (r >= 0) t[k][r] = now_ms() - t0;
             }
-            ms[th] = median(t, runs);
-        }
-        bvox_set_threads(o->threads);
-        printf("{\"case\": \"axis_view\", \"pattern\": \"%s\", \"view\": \"%s\", \"n\": %d, "
-               "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"ms_1thread\": %.3f",
-               pattern, bvox_view_name((bvox_view)view), n, o->threads, runs, ms[0], ms[1]);
-        if (rdepth && last_ref > REF_BUDGET_MS) {
-            printf(", \"ref_skipped\": \"the previous view's reference took %.0f ms\"", last_ref);
-        } else if (rdepth) {
+        for (int k = 0; k < NCOUNTS(o); k++) ms[k] = median(t[k], runs);
+        double ref_ms = -1;
+        int64_t mism = 0;
+        if (rdepth && last_ref <= REF_BUDGET_MS) {
             double t0 = now_ms();
             ref_axis(vol, (bvox_view)view, rdepth);
-            last_ref = now_ms() - t0;
-            printf(", \"ref_ms\": %.3f, \"speedup\": %.1f, \"mismatch\": %lld", last_ref,
-                   last_ref / ms[0], (long long)mismatch(p->depth, rdepth, (size_t)n * n, 0));
+            ref_ms = last_ref = now_ms() - t0;
+            mism = mismatch(p->depth, rdepth, (size_t)n * n, 0);
         }
-        printf("}\n");
+        for (int k = 0; k < o->tl.n; k++) {
+            printf("{\"case\": \"axis_view\", \"pattern\": \"%s\", \"view\": \"%s\", \"n\": %d, "
+                   "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"ms_1thread\": %.3f",
+                   pattern, bvox_view_name((bvox_view)view), n, o->tl.t[k], runs, ms[k],
+                   ms[o->tl.n]);
+            if (rdepth && ref_ms < 0)
+                printf(", \"ref_skipped\": \"the previous view's reference took %.0f ms\"",
+                       last_ref);
+            else if (rdepth)
+                printf(", \"ref_ms\": %.3f, \"speedup\": %.1f, \"mismatch\": %lld", ref_ms,
+                       ref_ms / ms[k], (long long)mism);
+            printf("}\n");
+        }
         fflush(stdout);
         bvox_preimage_destroy(p);
     }
@@ -198,7 +224,7 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
     static const double dirs[][2] = {{30, 20}, {-60, 35}, {135, -15}, {10, 70}, {200, 5}};
     enum { NDIRS = 5 };
     const int n = vol->nx, runs = o->runs;
-    double t[100], tc[100], per_dir[NDIRS], per_dir1[NDIRS], per_cast[NDIRS], ref_ms = 0;
+    double t[17][100], tc[17][100], per_dir[17][NDIRS], per_cast[17][NDIRS], ref_ms = 0;
     int32_t *vdepth = o->ref ? malloc((size_t)side * side * sizeof *vdepth) : NULL;
     int64_t mism = 0;
     int ref_dirs = 0;
@@ -206,25 +232,25 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
     if (bvox_image_create(side, side, 1, 8, &img)) die("image");
     bvox_light l = BVOX_LIGHT_INIT;
     bvox_lut lut;
-    for (int k = 0; k < NDIRS; k++) {
+    for (int d = 0; d < NDIRS; d++) {
         bvox_projection pr = BVOX_PROJECTION_INIT;
-        pr.azimuth = dirs[k][0], pr.elevation = dirs[k][1], pr.width = pr.height = side;
+        pr.azimuth = dirs[d][0], pr.elevation = dirs[d][1], pr.width = pr.height = side;
         bvox_preimage *p = NULL;
-        for (int th = 0; th < 2; th++) {
-            bvox_set_threads(th ? 1 : o->threads);
-            for (int r = -1; r < runs; r++) {
+        for (int r = -1; r < runs; r++)
+            for (int k = 0; k < NCOUNTS(o); k++) {
+                bvox_set_threads(count_at(o, k));
                 bvox_preimage_destroy(p);
                 double t0 = now_ms();
                 if (bvox_surface_cast(s, &pr, &p)) die("projection");
                 double t1 = now_ms();
                 if (bvox_lut_light(p, &l, &lut)) die("lut");
                 if (bvox_shade_into(p, &lut, img)) die("shade");
-                if (r >= 0) t[r] = now_ms() - t0, tc[r] = t1 - t0;
+                if (r >= 0) t[k][r] = now_ms() - t0, tc[k][r] = t1 - t0;
             }
-            (th ? per_dir1 : per_dir)[k] = median(t, runs);
-            if (!th) per_cast[k] = median(tc, runs);
+        for (int k = 0; k < NCOUNTS(o); k++) {
+            per_dir[k][d] = median(t[k], runs);
+            per_cast[k][d] = median(tc[k], runs);
         }
-        bvox_set_threads(o->threads);
         if (vdepth && ref_ms <= REF_BUDGET_MS) {
             double t0 = now_ms();
             ref_view(vol, p, vdepth);
@@ -234,23 +260,25 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
         }
         bvox_preimage_destroy(p);
     }
-    printf("{\"case\": \"arbitrary_view\", \"pattern\": \"%s\", \"n\": %d, \"image\": %d, "
-           "\"width\": %d, \"height\": %d, \"directions\": %d, \"threads\": %d, \"runs\": %d, "
-           "\"cast_ms\": %.3f, \"ms\": %.3f, \"ms_1thread\": %.3f",
-           pattern, n, side, side, side, NDIRS, o->threads, runs, median(per_cast, NDIRS),
-           median(per_dir, NDIRS), median(per_dir1, NDIRS));
-    if (ref_dirs) {
-        /* The reference gives depth only: compare it with the cast alone. */
-        double cast = median(per_cast, NDIRS), shaded = median(per_dir, NDIRS);
-        printf(", \"ref_ms\": %.3f, \"ref_directions\": %d, \"speedup\": %.1f, "
-               "\"speedup_shaded\": %.1f, \"mismatch\": %lld",
-               ref_ms / ref_dirs, ref_dirs, ref_ms / ref_dirs / cast, ref_ms / ref_dirs / shaded,
-               (long long)mism);
-        if (ref_dirs < NDIRS)
-            printf(", \"ref_skipped\": \"%d of %d directions: over %.0f s\"", NDIRS - ref_dirs,
-                   NDIRS, REF_BUDGET_MS / 1000);
+    double ms1 = median(per_dir[o->tl.n], NDIRS);
+    for (int k = 0; k < o->tl.n; k++) {
+        double cast = median(per_cast[k], NDIRS), shaded = median(per_dir[k], NDIRS);
+        printf("{\"case\": \"arbitrary_view\", \"pattern\": \"%s\", \"n\": %d, \"image\": %d, "
+               "\"width\": %d, \"height\": %d, \"directions\": %d, \"threads\": %d, "
+               "\"runs\": %d, \"cast_ms\": %.3f, \"ms\": %.3f, \"ms_1thread\": %.3f",
+               pattern, n, side, side, side, NDIRS, o->tl.t[k], runs, cast, shaded, ms1);
+        if (ref_dirs) {
+            /* The reference gives depth only: compare it with the cast alone. */
+            printf(", \"ref_ms\": %.3f, \"ref_directions\": %d, \"speedup\": %.1f, "
+                   "\"speedup_shaded\": %.1f, \"mismatch\": %lld",
+                   ref_ms / ref_dirs, ref_dirs, ref_ms / ref_dirs / cast,
+                   ref_ms / ref_dirs / shaded, (long long)mism);
+            if (ref_dirs < NDIRS)
+                printf(", \"ref_skipped\": \"%d of %d directions: over %.0f s\"",
+                       NDIRS - ref_dirs, NDIRS, REF_BUDGET_MS / 1000);
+        }
+        printf("}\n");
     }
-    printf("}\n");
     fflush(stdout);
     bvox_image_destroy(img);
     free(vdepth);
@@ -302,7 +330,7 @@ static int parse_sizes(const char *s, options *o)
 
 int main(int argc, char **argv)
 {
-    options o = {{256, 512, 1024}, 3, {512, 1024}, 7, 1, 1024, 0};
+    options o = {{256, 512, 1024}, 3, {512, 1024}, 7, 1, 1024, thread_list_default(), NULL};
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             o.sizes[0] = 64, o.nsizes = 1, o.runs = 3, o.shade_side = 128;
@@ -313,6 +341,10 @@ int main(int argc, char **argv)
             if (!parse_sizes(argv[++i], &o)) o.runs = 0; /* reported below */
         } else if (!strcmp(argv[i], "--no-ref")) {
             o.ref = 0;
+        } else if (!strcmp(argv[i], "--threads-list") && i + 1 < argc) {
+            if (!thread_list_parse(argv[++i], &o.tl)) o.runs = 0;
+        } else if (!strcmp(argv[i], "--case") && i + 1 < argc) {
+            o.only = argv[++i];
         } else {
             o.runs = 0;
             break;
@@ -320,16 +352,17 @@ int main(int argc, char **argv)
     }
     if (o.runs < 1 || o.runs > 99) {
         fprintf(stderr, "usage: bench_render [--quick] [--runs N (1..99)] "
-                        "[--sizes 256,512,1024 | --n N (8..2048)] [--no-ref]\n");
+                        "[--sizes 256,512,1024 | --n N (8..2048)] [--no-ref]\n"
+                        "       [--threads-list 1,2,4,8,16] "
+                        "[--case reshade|axis_view|surface_build|arbitrary_view]\n");
         return 2;
     }
-    o.threads = bvox_threads();
 
     bvox_volume *aal = NULL;
     bvox_read_opts ro = BVOX_READ_OPTS_INIT; /* --nonzero: every labelled region */
     if (bvox_read(AAL_PATH, &ro, &aal) != BVOX_OK) aal = NULL;
 
-    bench_reshade(&o);
+    if (wanted(&o, "reshade")) bench_reshade(&o);
     for (int si = 0; si < o.nsizes; si++) {
         const int n = o.sizes[si];
         for (int pat = 0; pat < 2; pat++) {
@@ -342,22 +375,26 @@ int main(int argc, char **argv)
             }
             bvox_volume *vol = pat ? resample(aal, n) : make_sphere(n);
             if (!vol) die("aal resampling");
-            bench_axis(&o, vol, pattern);
+            if (wanted(&o, "axis_view")) bench_axis(&o, vol, pattern);
 
-            double t[100];
+            double t[16][100];
             bvox_surface *s = NULL;
-            for (int r = -1; r < o.runs; r++) {
-                bvox_surface_destroy(s);
-                double t0 = now_ms();
-                if (bvox_surface_build(vol, &s)) die("surface");
-                if (r >= 0) t[r] = now_ms() - t0;
-            }
-            printf("{\"case\": \"surface_build\", \"pattern\": \"%s\", \"n\": %d, "
-                   "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld}\n",
-                   pattern, n, o.threads, o.runs, median(t, o.runs),
-                   (long long)bvox_surface_count(s));
+            for (int r = -1; r < o.runs; r++)
+                for (int k = 0; k < o.tl.n; k++) {
+                    bvox_set_threads(o.tl.t[k]);
+                    bvox_surface_destroy(s);
+                    double t0 = now_ms();
+                    if (bvox_surface_build(vol, &s)) die("surface");
+                    if (r >= 0) t[k][r] = now_ms() - t0;
+                }
+            for (int k = 0; wanted(&o, "surface_build") && k < o.tl.n; k++)
+                printf("{\"case\": \"surface_build\", \"pattern\": \"%s\", \"n\": %d, "
+                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld}\n",
+                       pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),
+                       (long long)bvox_surface_count(s));
             fflush(stdout);
-            for (int k = 0; k < 2; k++) bench_arbitrary(&o, vol, s, pattern, o.images[k]);
+            for (int k = 0; wanted(&o, "arbitrary_view") && k < 2; k++)
+                bench_arbitrary(&o, vol, s, pattern, o.images[k]);
             bvox_surface_destroy(s);
             bvox_volume_destroy(vol);
         }

@@ -11,7 +11,7 @@
 
 #include "internal.h"
 
-#include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -73,33 +73,94 @@ static inline int parse_size_list(char *s, int *sizes, int max, int *n)
     return 1;
 }
 
+/* "--threads-list 1,2,4,8,16": the thread counts a benchmark runs at, in
+ * order (each at most 64, at most 16 of them). Every benchmark takes it and
+ * prints its lines once per count, with that count as "threads", so one run
+ * shows the scaling. Without it: the library's count (BVOX_THREADS or every
+ * online CPU), or "--threads T" where a benchmark has that. */
+typedef struct thread_list {
+    int n, t[16];
+} thread_list;
+
+static inline thread_list thread_list_default(void)
+{
+    return (thread_list){1, {bvox_threads()}};
+}
+
+/* 0 if s is not a list of counts in 1..64. */
+static inline int thread_list_parse(const char *s, thread_list *l)
+{
+    char buf[256];
+    int n = 0;
+    if (strlen(s) >= sizeof buf) return 0;
+    strcpy(buf, s);
+    if (!parse_size_list(buf, l->t, 16, &n) || n < 1) return 0;
+    for (int i = 0; i < n; i++)
+        if (l->t[i] < 1 || l->t[i] > 64) return 0;
+    l->n = n;
+    return 1;
+}
+
+/* For a benchmark whose cases are all in one main: takes "--threads-list L"
+ * out of argv and runs main_fn once per count, after bvox_set_threads(count)
+ * (main_fn's "threads" keys read bvox_threads()); without it, main_fn once.
+ * 2 (usage) for a bad list. */
+static inline int run_threads_list(int argc, char **argv, int (*main_fn)(int, char **),
+                                   const char *name)
+{
+    thread_list tl = {0, {0}};
+    char **args = malloc(((size_t)argc + 1) * sizeof *args);
+    int n = 0;
+    if (!args) return 1;
+    for (int i = 0; i < argc; i++) {
+        if (i > 0 && !strcmp(argv[i], "--threads-list")) {
+            if (i + 1 >= argc || !thread_list_parse(argv[i + 1], &tl)) {
+                fprintf(stderr, "%s: --threads-list takes counts in 1..64, e.g. 1,2,4,8,16\n",
+                        name);
+                free(args);
+                return 2;
+            }
+            i++;
+            continue;
+        }
+        args[n++] = argv[i];
+    }
+    args[n] = NULL;
+    int rc = 0;
+    if (!tl.n) rc = main_fn(n, args);
+    for (int k = 0; k < tl.n && !rc; k++) {
+        bvox_set_threads(tl.t[k]);
+        rc = main_fn(n, args);
+        fflush(stdout);
+    }
+    free(args);
+    return rc;
+}
+
 /* ---- memcpy baseline ---- */
 
-typedef struct copy_part {
+typedef struct copy_job {
     uint8_t *dst;
     const uint8_t *src;
     size_t n;
-} copy_part;
+} copy_job;
 
-static inline void *copy_run(void *p)
+static inline void copy_range(void *p, int64_t b, int64_t e)
 {
-    copy_part *c = p;
-    memcpy(c->dst, c->src, c->n);
-    return NULL;
+    const copy_job *c = p;
+    memcpy(c->dst + b, c->src + b, (size_t)(e - b));
 }
 
+/* memcpy of n bytes split over `threads` threads exactly as the library
+ * splits its work (bvox__parallel_for: its pool, never wider than the CPUs),
+ * so the baseline and the operations pay the same threading costs. */
 static inline void parallel_memcpy(void *dst, const void *src, size_t n, int threads)
 {
-    copy_part parts[64];
-    pthread_t tid[64];
-    if (threads > 64) threads = 64;
-    for (int t = 0; t < threads; t++) {
-        size_t a = n * (size_t)t / (size_t)threads, b = n * (size_t)(t + 1) / (size_t)threads;
-        parts[t] = (copy_part){(uint8_t *)dst + a, (const uint8_t *)src + a, b - a};
-    }
-    for (int t = 1; t < threads; t++) pthread_create(&tid[t], NULL, copy_run, &parts[t]);
-    copy_run(&parts[0]);
-    for (int t = 1; t < threads; t++) pthread_join(tid[t], NULL);
+    int saved = bvox_threads();
+    copy_job c = {dst, src, n};
+    bvox_set_threads(threads);
+    bvox__parallel_for((int64_t)n, 4096, copy_range, &c);
+    bvox_set_threads(saved);
 }
 
 /* ---- specimens ---- */

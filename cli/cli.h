@@ -80,8 +80,8 @@ void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, con
 void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format);
 /* The keys of cli_print_info_json, written into an object the caller has
  * opened (commands that report more, like measure, start with them). */
-struct cli_json;
-void cli_info_json_fields(struct cli_json *j, const bvox_info *info, const char *source,
+struct bvox__json; /* cli_json (json.h) */
+void cli_info_json_fields(struct bvox__json *j, const bvox_info *info, const char *source,
                           const char *format);
 
 #endif

@@ -7,10 +7,10 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "common/names.h"
 
 #include <stdio.h>
 #include <string.h>
-#include <strings.h>
 
 typedef struct contours_args {
     const char *in, *out, *output_format;
@@ -53,12 +53,6 @@ const cli_spec cli_spec_contours = {
                 "  bvox contours model.nii.gz --axis x -o sagittal/\n",
 };
 
-static int ends_with_json(const char *s)
-{
-    size_t n = strlen(s);
-    return n >= 5 && strcasecmp(s + n - 5, ".json") == 0;
-}
-
 int cmd_contours(int argc, char **argv)
 {
     const char *cmd = "contours";
@@ -78,7 +72,7 @@ int cmd_contours(int argc, char **argv)
     if (bvox_volume_to_contours(vol, axis, &stack)) {
         rc = cli_fail();
     } else {
-        bvox_status st = ends_with_json(out) ? bvox_stack_write_json(out, stack)
+        bvox_status st = bvox__ends_with_ci(out, ".json") ? bvox_stack_write_json(out, stack)
                                              : bvox_stack_write_svg_dir(out, stack);
         if (st) {
             rc = cli_fail();

@@ -5,9 +5,9 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "common/names.h"
 
 #include <string.h>
-#include <strings.h>
 
 typedef struct mosaic_args {
     const char *in, *out;
@@ -99,8 +99,7 @@ int cmd_mosaic(int argc, char **argv)
     const char *in = a.in, *out = a.out;
     if (!in) return cli_usage_error(cmd, "needs IN");
     if (!out || !*out) return cli_usage_error(cmd, "needs -o OUT.png");
-    size_t n = strlen(out);
-    if (n < 4 || strcasecmp(out + n - 4, ".png"))
+    if (!bvox__ends_with_ci(out, ".png"))
         return cli_usage_error(cmd, "%s: the output must end in .png", out);
 
     bvox_volume *vol = NULL;

@@ -8,13 +8,13 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "common/names.h"
 #include "json.h"
 #include "opts.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <unistd.h>
 
 typedef struct recon_args {
@@ -373,12 +373,6 @@ static int save_report(const char *path, const bvox_recon_report *r, const bvox_
     return st ? cli_fail() : CLI_OK;
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && !strcasecmp(s + n - m, suffix);
-}
-
 int cmd_reconstruct(int argc, char **argv)
 {
     const char *cmd = "reconstruct";
@@ -430,7 +424,7 @@ int cmd_reconstruct(int argc, char **argv)
             fprintf(stderr, "bvox: warning: %s\n", rep->sections[i].message);
     if (out && bvox_write(out, vol, &a.wo)) rc = cli_fail();
     if (!rc && save) {
-        st = ends_with(save, ".json") ? bvox_stack_write_json(save, stack)
+        st = bvox__ends_with_ci(save, ".json") ? bvox_stack_write_json(save, stack)
                                       : bvox_stack_write_svg_dir(save, stack);
         if (st) rc = cli_fail();
     }

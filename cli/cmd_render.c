@@ -9,10 +9,10 @@
 #include "cli.h"
 #include "manip.h"
 #include "opts.h"
+#include "common/names.h"
 
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 typedef struct render_args {
     const char *in, *out, *depth;
@@ -126,12 +126,6 @@ static int parse_list(const char *s, int n, double *out)
     return 0;
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && !strcasecmp(s + n - k, suffix);
-}
-
 static int take_view(const char *cmd, const cli_opt *o, const char *v, void *target)
 {
     if (!bvox_render_parse_view(v, target)) return CLI_OPT_OK;
@@ -207,9 +201,9 @@ int cmd_render(int argc, char **argv)
     if (depth && (turntable || sheet || o.stereo))
         return cli_usage_error(cmd, "--depth needs a single view (no --turntable, --sheet, "
                                     "--stereo)");
-    if (depth && !ends_with(depth, ".png"))
+    if (depth && !bvox__ends_with_ci(depth, ".png"))
         return cli_usage_error(cmd, "--depth: '%s' must end in .png", depth);
-    if (!ends_with(out, ".png") && !(turntable && ends_with(out, ".gif")))
+    if (!bvox__ends_with_ci(out, ".png") && !(turntable && bvox__ends_with_ci(out, ".gif")))
         return cli_usage_error(cmd, "%s: the output must end in .png%s", out,
                                turntable ? " or .gif" : "");
 

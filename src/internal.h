@@ -86,6 +86,10 @@ static inline uint64_t bvox__extract_bits(const uint64_t *col, size_t nwords, in
 /* Set (value) or clear bits z0..z1-1 of one column. */
 void bvox__column_fill(uint64_t *col, int32_t z0, int32_t z1, int value);
 
+/* ---- volume_box.c ---- */
+/* b clipped to the volume (each bound into 0..n; it may come out empty). */
+bvox_box bvox__box_clip(const bvox_volume *v, bvox_box b);
+
 /* ---- components.c: the count alone (no statistics, no copy of the words) ----
  * The number of conn-components of vol's 1-voxels; with merge_border, those
  * touching the volume's border are not counted (for the background of a
@@ -94,10 +98,26 @@ bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_b
                                    int64_t *count);
 
 /* ---- parallel.c: split a range over the worker threads ---- */
-/* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n). Runs inline
- * when n < min_per_thread * 2 or one thread is configured. fn must not fail. */
+/* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n): T chunks
+ * [n t / T, n (t + 1) / T), T = bvox__parallelism() capped at
+ * n / min_per_thread. Runs inline when T <= 1. fn must not fail. */
 typedef void (*bvox__range_fn)(void *ctx, int64_t begin, int64_t end);
 void bvox__parallel_for(int64_t n, int64_t min_per_thread, bvox__range_fn fn, void *ctx);
+/* The most worker threads bvox_threads() ever reports: per-thread arrays
+ * may be sized by it. */
+#define BVOX__MAX_THREADS 64
+/* ---- parallel_dynamic.c: the same, dynamically scheduled ----
+ * Calls fn(ctx, b, min(b + grain, n)) for b = 0, grain, 2 grain, ... < n, one
+ * task per thread taking the next block until none is left, so that a thread
+ * slowed down (uneven work, a busy core) takes fewer blocks. Inline when one
+ * thread is configured or n <= grain. fn must not fail; results must not
+ * depend on which thread runs a block. */
+void bvox__parallel_for_dynamic(int64_t n, int64_t grain, bvox__range_fn fn, void *ctx);
+/* How many threads can run at once: bvox_threads(), at most the CPUs the
+ * process may use (BVOX_CPUS overrides those; the tests set it high).
+ * bvox__parallel_for splits into at most this many chunks; kernels that size
+ * their own split or per-thread scratch use it instead of bvox_threads(). */
+int bvox__parallelism(void);
 
 /* ---- simd/dispatch.c: word kernels chosen at run time ---- */
 typedef struct bvox__kernels {

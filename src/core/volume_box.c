@@ -19,7 +19,7 @@ void bvox__column_fill(uint64_t *col, int32_t z0, int32_t z1, int value)
     }
 }
 
-static bvox_box clip(const bvox_volume *v, bvox_box b)
+bvox_box bvox__box_clip(const bvox_volume *v, bvox_box b)
 {
     if (b.x0 < 0) b.x0 = 0;
     if (b.y0 < 0) b.y0 = 0;
@@ -34,7 +34,7 @@ static bool box_empty(bvox_box b) { return b.x0 >= b.x1 || b.y0 >= b.y1 || b.z0 
 
 void bvox_volume_fill_box(bvox_volume *vol, bvox_box box, int value)
 {
-    box = clip(vol, box);
+    box = bvox__box_clip(vol, box);
     if (box_empty(box)) return;
     for (int32_t y = box.y0; y < box.y1; y++)
         for (int32_t x = box.x0; x < box.x1; x++)
@@ -76,7 +76,7 @@ bvox_status bvox_volume_crop(const bvox_volume *vol, bvox_box box, bvox_volume *
 {
     BVOX_CHECK_VOLUME(vol);
     *out = NULL;
-    box = clip(vol, box);
+    box = bvox__box_clip(vol, box);
     if (box_empty(box))
         return bvox__fail(BVOX_EINVAL, "crop box does not overlap the %ldx%ldx%ld volume",
                           (long)vol->nx, (long)vol->ny, (long)vol->nz);

@@ -39,12 +39,6 @@ void bvox__gray_release(bvox__gray *g)
     bvox__gray_init(g);
 }
 
-size_t bvox__sample_size(bvox_dtype dt)
-{
-    static const unsigned char size[BVOX_DT_COUNT] = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
-    return (unsigned)dt < BVOX_DT_COUNT ? size[dt] : 0;
-}
-
 /* ------------------------------------------------ raw values as ordered keys */
 
 /* Every non-NaN raw value has a key (a uint64) such that keys order like the
@@ -63,7 +57,7 @@ static bool is_signed(bvox_dtype dt)
 
 static void key_range(bvox_dtype dt, uint64_t *kmin, uint64_t *kmax)
 {
-    unsigned bits = 8 * (unsigned)bvox__sample_size(dt);
+    unsigned bits = 8 * (unsigned)bvox_dtype_size(dt);
     if (dt == BVOX_DT_F32) {
         *kmin = 0x007FFFFFull; /* -inf */
         *kmax = 0xFF800000ull; /* +inf */
@@ -184,7 +178,7 @@ static bvox_status make_predicate(const bvox__gray *g, const bvox_binarize *how,
         BVOX__BK_INT32, BVOX__BK_INT64, BVOX__BK_INT64, BVOX__BK_F32,   BVOX__BK_F64};
     memset(p, 0, sizeof *p);
     p->kind = kinds[g->dtype];
-    p->swap = g->byteswap && bvox__sample_size(g->dtype) > 1;
+    p->swap = g->byteswap && bvox_dtype_size(g->dtype) > 1;
 
     int lower_op = OP_GE;
     double lower = 0, upper = 0;
@@ -381,7 +375,7 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
     }
     if (res == ALL_ONE) bvox_volume_fill(v, 1);
     if (res == USE_PRED) {
-        pack_ctx c = {.data = g->data, .size = bvox__sample_size(g->dtype),
+        pack_ctx c = {.data = g->data, .size = bvox_dtype_size(g->dtype),
                       .nx = (size_t)v->nx, .ny = (size_t)v->ny, .nz = (size_t)v->nz,
                       .wpc = v->wpc, .words = v->words, .pred = pred,
                       .blocks = choose_blocks()};

@@ -16,6 +16,7 @@
 #define BVOX_BINARIZE_KERNELS_H
 
 #include "io.h"
+#include "common/bits.h" /* bvox__transpose64 */
 
 /* Sample class: the integer width, or the float type. */
 typedef enum bvox__bin_kind {
@@ -47,32 +48,6 @@ void bvox__bin_blocks_generic(const void *src, size_t nblocks, const bvox__binpr
 /* NULL when this build has no such path (not x86-64). */
 extern const bvox__bin_blocks_fn bvox__bin_blocks_avx2;
 extern const bvox__bin_blocks_fn bvox__bin_blocks_avx512;
-
-/* In-place transpose of a 64x64 bit matrix: afterwards bit c of m[r] is what
- * bit r of m[c] was (bit 0 = least significant). Six rounds of masked swaps
- * of ever smaller sub-blocks (Hacker's Delight, 2nd ed., 7-3), each round
- * written with a constant shift so that the compiler unrolls it and runs the
- * wide rounds on vector registers. */
-#define BVOX__TRANSPOSE_ROUND(m, J, MASK)                                                  \
-    for (unsigned k_ = 0; k_ < 64; k_ += 2 * (J))                                          \
-        for (unsigned i_ = k_; i_ < k_ + (J); i_++) {                                      \
-            uint64_t t_ = ((m[i_] >> (J)) ^ m[i_ + (J)]) & (MASK);                         \
-            m[i_] ^= t_ << (J);                                                            \
-            m[i_ + (J)] ^= t_;                                                             \
-        }
-static inline void bvox__transpose64(uint64_t m[64])
-{
-    BVOX__TRANSPOSE_ROUND(m, 32, 0x00000000FFFFFFFFull)
-    BVOX__TRANSPOSE_ROUND(m, 16, 0x0000FFFF0000FFFFull)
-    BVOX__TRANSPOSE_ROUND(m, 8, 0x00FF00FF00FF00FFull)
-    BVOX__TRANSPOSE_ROUND(m, 4, 0x0F0F0F0F0F0F0F0Full)
-    BVOX__TRANSPOSE_ROUND(m, 2, 0x3333333333333333ull)
-    BVOX__TRANSPOSE_ROUND(m, 1, 0x5555555555555555ull)
-}
-
-/* Bytes per sample of a dtype (0 if invalid); kept here rather than calling
- * bvox_dtype_size so that the binarizer has no link dependency on format.c. */
-size_t bvox__sample_size(bvox_dtype dtype);
 
 /* The real value of a raw sample, exactly as documented in io.h (slope is
  * already "0 means 1"-resolved). Written once so that every caller rounds the

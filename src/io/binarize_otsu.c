@@ -37,7 +37,7 @@ typedef struct hist_ctx {
 /* Samples [i, i+k) of the volume as doubles (integers exactly up to 2^53). */
 static void to_double(const hist_ctx *c, size_t i, size_t k, double *out)
 {
-    const unsigned char *s = c->data + i * bvox__sample_size(c->dt);
+    const unsigned char *s = c->data + i * bvox_dtype_size(c->dt);
 #define CONVERT(T, U, SWAP)                                                                \
     for (size_t j = 0; j < k; j++) {                                                       \
         U u;                                                                               \
@@ -96,7 +96,7 @@ static void hist_range(void *ctx, int64_t begin, int64_t end)
         chunk_bounds(c, k, &b, &e);
         if (c->exact) {
             /* bin = raw bits with the sign bit flipped for signed types */
-            size_t size = bvox__sample_size(c->dt);
+            size_t size = bvox_dtype_size(c->dt);
             unsigned flip = c->dt == BVOX_DT_I8 ? 0x80 : c->dt == BVOX_DT_I16 ? 0x8000 : 0;
             const unsigned char *s = c->data + b * size;
             if (size == 1) {
@@ -172,10 +172,10 @@ bvox_status bvox__otsu_threshold(const bvox__gray *g, double slope, double inter
     *found = false;
     hist_ctx c = {.data = g->data, .dt = g->dtype, .swap = g->byteswap};
     c.n = (size_t)g->dims.nx * (size_t)g->dims.ny * (size_t)g->dims.nz;
-    size_t size = bvox__sample_size(g->dtype);
+    size_t size = bvox_dtype_size(g->dtype);
     c.exact = size <= 2 && g->dtype != BVOX_DT_F32 && g->dtype != BVOX_DT_F64;
     c.nbins = c.exact ? (size_t)1 << (8 * size) : 256;
-    int64_t threads = bvox_threads();
+    int64_t threads = bvox__parallelism();
     c.nchunks = (int64_t)(c.n >> 20) + 1; /* about a million samples each */
     if (c.nchunks > threads) c.nchunks = threads;
 

@@ -23,25 +23,13 @@
  * missing runs and bytes after the last run are all BVOX_EFORMAT.
  */
 #include "io.h"
+#include "common/bits.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define MAX_HEADER_LINE 256
-
-/* In-place transpose of a 64x64 bit matrix: bit j of a[i] <-> bit i of a[j]. */
-static void transpose64(uint64_t a[64])
-{
-    uint64_t m = 0x00000000FFFFFFFFull;
-    for (unsigned j = 32; j != 0; j >>= 1, m ^= m << j) {
-        for (unsigned k = 0; k < 64; k = ((k | j) + 1) & ~j) {
-            uint64_t t = ((a[k] >> j) ^ a[k | j]) & m;
-            a[k] ^= t << j;
-            a[k | j] ^= t;
-        }
-    }
-}
 
 static int binvox_sniff(const uint8_t *data, size_t size)
 {
@@ -187,7 +175,7 @@ static void band_flush(band *b, bvox_volume *v)
     uint64_t t[64];
     for (size_t k = 0; k < b->nyw; k++) {
         for (int zz = 0; zz < 64; zz++) t[zz] = b->rows[(size_t)zz * b->nyw + k];
-        transpose64(t);
+        bvox__transpose64(t);
         int32_t y0 = (int32_t)(k * 64);
         int32_t n = v->ny - y0 < 64 ? v->ny - y0 : 64;
         for (int32_t i = 0; i < n; i++)
@@ -438,7 +426,7 @@ static bvox_status binvox_write_path(const char *path, const bvox_volume *vol,
                 int32_t n = vol->ny - y0 < 64 ? vol->ny - y0 : 64;
                 for (int32_t i = 0; i < n; i++) t[i] = bvox__column_c(vol, x, y0 + i)[w];
                 for (int32_t i = n; i < 64; i++) t[i] = 0;
-                transpose64(t);
+                bvox__transpose64(t);
                 for (int zz = 0; zz < 64; zz++) rows[(size_t)zz * nyw + k] = t[zz];
             }
             int32_t nz = vol->nz - (int32_t)(w * 64) < 64 ? vol->nz - (int32_t)(w * 64) : 64;

@@ -4,6 +4,7 @@
  * forced format name, else by extension, else (reading) by content.
  */
 #include "io.h"
+#include "common/names.h"
 
 #include <string.h>
 #include <strings.h>
@@ -27,12 +28,6 @@ static const bvox__format *by_name(const char *name)
     return NULL;
 }
 
-static bool ends_with_ci(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && !strcasecmp(s + n - m, suffix);
-}
-
 static const bvox__format *by_extension(const char *path)
 {
     size_t len = strlen(path);
@@ -43,7 +38,7 @@ static const bvox__format *by_extension(const char *path)
     trimmed[len] = '\0';
     for (size_t i = 0; i < NFORMATS; i++)
         for (const char *const *e = formats[i]->extensions; e && *e; e++)
-            if (ends_with_ci(trimmed, *e)) return formats[i];
+            if (bvox__ends_with_ci(trimmed, *e)) return formats[i];
     return NULL;
 }
 
@@ -158,34 +153,4 @@ bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_writ
     if (!f->write_path)
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: writing %s is not supported", path, f->name);
     return f->write_path(path, vol, opts);
-}
-
-/* ---------------------------------------------------------- dtypes */
-
-static const struct {
-    const char *name, *alias1, *alias2;
-    size_t size;
-} dtypes[BVOX_DT_COUNT] = {
-    [BVOX_DT_U8] = {"u8", "uint8", "ubyte", 1},    [BVOX_DT_I8] = {"i8", "int8", "byte", 1},
-    [BVOX_DT_U16] = {"u16", "uint16", "ushort", 2}, [BVOX_DT_I16] = {"i16", "int16", "short", 2},
-    [BVOX_DT_U32] = {"u32", "uint32", "uint", 4},  [BVOX_DT_I32] = {"i32", "int32", "int", 4},
-    [BVOX_DT_U64] = {"u64", "uint64", "ulong", 8}, [BVOX_DT_I64] = {"i64", "int64", "long", 8},
-    [BVOX_DT_F32] = {"f32", "float32", "float", 4}, [BVOX_DT_F64] = {"f64", "float64", "double", 8},
-};
-
-const char *bvox_dtype_name(bvox_dtype t)
-{
-    return (unsigned)t < BVOX_DT_COUNT ? dtypes[t].name : "?";
-}
-
-size_t bvox_dtype_size(bvox_dtype t) { return (unsigned)t < BVOX_DT_COUNT ? dtypes[t].size : 0; }
-
-int bvox_dtype_parse(const char *name)
-{
-    if (!name) return -1;
-    for (int i = 0; i < BVOX_DT_COUNT; i++)
-        if (!strcasecmp(name, dtypes[i].name) || !strcasecmp(name, dtypes[i].alias1) ||
-            !strcasecmp(name, dtypes[i].alias2))
-            return i;
-    return -1;
 }

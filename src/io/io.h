@@ -159,14 +159,16 @@ bool bvox__path_has_gz(const char *path);
 int bvox__ome_parse(const char *desc, double spacing[3], char unit[16], bool have[3]);
 int bvox__ome_describe(const bvox_volume *vol, char *buf, size_t cap);
 
-/* Natural ("human") order of file names: "s2.png" < "s10.png". */
-int bvox__natural_compare(const char *a, const char *b);
-
 /* For writers (unpack.c): slices z0 .. z0+n-1 (z0 a multiple of 64, 1 <= n
  * <= 64, z0 + n <= nz) as bytes, x fastest, then y, then z:
  * dst[((z - z0) * ny + y) * nx + x] = voxel ? one : 0. Word-wise, through
  * 64x64 bit transposes; dst holds n * nx * ny bytes. */
 void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t one,
                          uint8_t *dst);
+/* Write header (header_size bytes; none when 0), then every slice as bytes
+ * 0/1 in that order, to path through a sink (gz: gzip-compressed): the whole
+ * file or, on failure, nothing. */
+bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
+                                    const void *header, size_t header_size);
 
 #endif

@@ -17,6 +17,7 @@
  * the sform when sform_code > 0, else the qform, else pixdim only.
  */
 #include "io.h"
+#include "common/names.h"
 
 #include <math.h>
 #include <string.h>
@@ -507,8 +508,7 @@ void bvox__nifti_header(const bvox_volume *vol, int datatype, int bitpix, double
 
 bool bvox__path_has_gz(const char *path)
 {
-    size_t n = strlen(path);
-    return n >= 3 && (path[n - 3] == '.') && (path[n - 2] | 32) == 'g' && (path[n - 1] | 32) == 'z';
+    return bvox__ends_with_ci(path, ".gz");
 }
 
 static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
@@ -522,28 +522,7 @@ static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
                           path, (long)vol->nx, (long)vol->ny, (long)vol->nz);
     uint8_t h[MIN_VOX_OFFSET];
     bvox__nifti_header(vol, DT_UINT8, 8, 1.0, 0, "binary volume", h);
-    int32_t chunk = vol->nz < 64 ? vol->nz : 64;
-    size_t slice = (size_t)vol->nx * (size_t)vol->ny, bytes;
-    if (!bvox__mul_size(slice, (size_t)chunk, &bytes))
-        return bvox__fail(BVOX_ETOOBIG, "%s: slices too large", path);
-    bvox_status st;
-    uint8_t *buf = bvox__alloc(bytes, false, "slice buffer", &st);
-    if (!buf) {
-        bvox__error_prefix(path);
-        return st;
-    }
-    bvox__sink s;
-    st = bvox__sink_open(path, bvox__path_has_gz(path), &s);
-    if (st == BVOX_OK) st = bvox__sink_write(&s, h, sizeof h);
-    for (int32_t z0 = 0; st == BVOX_OK && z0 < vol->nz; z0 += 64) {
-        int32_t n = vol->nz - z0 < 64 ? vol->nz - z0 : 64;
-        bvox__unpack_slices(vol, z0, n, 1, buf);
-        st = bvox__sink_write(&s, buf, slice * (size_t)n);
-    }
-    bvox__free(buf, bytes);
-    if (st == BVOX_OK) return bvox__sink_commit(&s);
-    bvox__sink_abort(&s);
-    return st;
+    return bvox__write_byte_slices(path, vol, bvox__path_has_gz(path), h, sizeof h);
 }
 
 static const char *const nifti_extensions[] = {".nii.gz", ".nii", NULL};

@@ -12,50 +12,26 @@
  * first slice's pHYs chunk when its unit is the metre (then in mm, z spacing
  * = x spacing, since PNG has no z).
  *
- * libpng reports errors by longjmp: each decode/encode owns its png structs
- * and frees them on both paths; our own buffers are allocated outside the
- * setjmp region, so nothing leaks and every libpng error is BVOX_EFORMAT.
+ * PNG decoding and encoding go through the libpng wrapper
+ * (src/common/png.h): every libpng error while reading is BVOX_EFORMAT.
  *
  * Writing makes a folder of slice_0000.png ... (more digits beyond 10000
  * slices), 8-bit gray 0/255 with pHYs when the unit is metric, inside a
  * temporary folder renamed over the target on success (bvox__dir_sink_*).
  */
 #include "io.h"
+#include "common/names.h"
+#include "common/png.h"
 
-#include <dirent.h>
 #include <errno.h>
-#include <png.h>
-#include <zlib.h>
-#include <setjmp.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 
-typedef struct png_ctx {
-    const uint8_t *data;
-    size_t size, pos;
-    char msg[200];
-} png_ctx;
-
-static void on_error(png_structp png, png_const_charp msg)
+static int png_sniff(const uint8_t *d, size_t n)
 {
-    png_ctx *c = png_get_error_ptr(png);
-    snprintf(c->msg, sizeof c->msg, "%s", msg);
-    png_longjmp(png, 1);
+    return n >= 8 && !memcmp(d, "\x89PNG\r\n\x1a\n", 8);
 }
-
-static void on_warning(png_structp png, png_const_charp msg) {}
-
-static void read_cb(png_structp png, png_bytep out, size_t n)
-{
-    png_ctx *c = png_get_io_ptr(png);
-    if (n > c->size - c->pos) png_error(png, "the file is truncated");
-    memcpy(out, c->data + c->pos, n);
-    c->pos += n;
-}
-
-static int png_sniff(const uint8_t *d, size_t n) { return n >= 8 && !png_sig_cmp(d, 0, 8); }
 
 /* ----------------------------------------------------------------- decoding */
 
@@ -65,79 +41,40 @@ typedef struct slice_info {
     uint32_t ppm[2];    /* pixels per metre from pHYs, 0 if none */
 } slice_info;
 
-/* Decode one PNG. With dst NULL only the header is read into *info;
- * otherwise the image must be want->w x want->h (else an error naming both
- * files) and is written to dst as want->bytes-byte native samples. */
-static bvox_status decode_with(png_ctx *ctx, const char *name, slice_info *info,
-                               const slice_info *want, const char *first, uint8_t *dst)
+typedef struct slice_dest {
+    slice_info *info;
+    const slice_info *want;
+    const char *name, *first;
+    uint8_t *dst;
+} slice_dest;
+
+static bvox_status slice_rows(void *ctx, const bvox__png_info *pi, uint8_t **rows)
 {
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
-    png_infop pi = png ? png_create_info_struct(png) : NULL;
-    if (!pi) {
-        png_destroy_read_struct(&png, NULL, NULL);
-        return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_read_struct(&png, &pi, NULL);
-        return bvox__fail(BVOX_EFORMAT, "%s: %s", name, ctx->msg);
-    }
-    png_set_read_fn(png, ctx, read_cb);
-    png_set_user_limits(png, BVOX_MAX_DIM, BVOX_MAX_DIM);
-    png_set_chunk_malloc_max(png, (png_alloc_size_t)8 << 20); /* text, ICC profiles */
-    png_read_info(png, pi);
-    png_uint_32 w, h, rx = 0, ry = 0;
-    int depth, color, unit = -1;
-    png_get_IHDR(png, pi, &w, &h, &depth, &color, NULL, NULL, NULL);
-    memset(info, 0, sizeof *info);
-    info->w = w;
-    info->h = h;
-    info->bytes = depth == 16 ? 2 : 1;
-    if (png_get_pHYs(png, pi, &rx, &ry, &unit) && unit == PNG_RESOLUTION_METER && rx && ry) {
-        info->ppm[0] = rx;
-        info->ppm[1] = ry;
-    }
-    if (!dst) {
-        png_destroy_read_struct(&png, &pi, NULL);
-        return BVOX_OK;
-    }
-    if (w != want->w || h != want->h) {
-        png_destroy_read_struct(&png, &pi, NULL);
-        return bvox__fail(BVOX_EFORMAT, "%s is %u x %u pixels, but %s is %u x %u", name,
-                          (unsigned)w, (unsigned)h, first, want->w, want->h);
-    }
-    if (color == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
-    if (color == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
-    if ((color & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, pi, PNG_INFO_tRNS))
-        png_set_strip_alpha(png);
-    if (color & PNG_COLOR_MASK_COLOR) png_set_rgb_to_gray_fixed(png, 1, -1, -1); /* luminance */
-    if (want->bytes == 1 && depth == 16) png_set_scale_16(png);
-    if (want->bytes == 2) {
-        if (depth < 16) png_set_expand_16(png);
-        const uint16_t probe = 1;
-        if (*(const uint8_t *)&probe) png_set_swap(png); /* PNG is big-endian */
-    }
-    int passes = png_set_interlace_handling(png);
-    png_read_update_info(png, pi);
-    size_t row = (size_t)w * (size_t)want->bytes;
-    if (png_get_channels(png, pi) != 1 || png_get_rowbytes(png, pi) != row)
-        png_error(png, "unexpected sample layout after conversion to gray");
-    for (int p = 0; p < passes; p++)
-        for (png_uint_32 y = 0; y < h; y++) png_read_row(png, dst + (size_t)y * row, NULL);
-    png_read_end(png, NULL); /* a file cut after its pixels is still truncated */
-    png_destroy_read_struct(&png, &pi, NULL);
+    slice_dest *d = ctx;
+    memset(d->info, 0, sizeof *d->info);
+    d->info->w = pi->width;
+    d->info->h = pi->height;
+    d->info->bytes = pi->depth == 16 ? 2 : 1;
+    memcpy(d->info->ppm, pi->ppm, sizeof d->info->ppm);
+    if (d->dst && (pi->width != d->want->w || pi->height != d->want->h))
+        return bvox__fail(BVOX_EFORMAT, "%s is %u x %u pixels, but %s is %u x %u", d->name,
+                          (unsigned)pi->width, (unsigned)pi->height, d->first, d->want->w,
+                          d->want->h);
+    *rows = d->dst;
     return BVOX_OK;
 }
 
-/* The context lives here, outside the function that calls setjmp, so that
- * its changes survive the longjmp (C11 7.13.2.1). */
+/* Decode one PNG. With dst NULL only the header is read into *info;
+ * otherwise the image must be want->w x want->h (else an error naming both
+ * files) and is written to dst as want->bytes-byte native gray samples (RGB
+ * by luminance). */
 static bvox_status decode_png(const uint8_t *data, size_t size, const char *name,
                               slice_info *info, const slice_info *want, const char *first,
                               uint8_t *dst)
 {
-    if (size < 8 || png_sig_cmp(data, 0, 8))
-        return bvox__fail(BVOX_EFORMAT, "%s: not a PNG file", name);
-    png_ctx ctx = {data, size, 0, {0}};
-    return decode_with(&ctx, name, info, want, first, dst);
+    const bvox__png_read_opts o = {BVOX_MAX_DIM, 1, dst ? want->bytes : 0};
+    slice_dest d = {info, want, name, first, dst};
+    return bvox__png_decode(data, size, name, &o, slice_rows, &d);
 }
 
 static void set_geometry(const slice_info *info, bvox_geometry *g)
@@ -188,113 +125,46 @@ static bvox_status png_read_memory(const uint8_t *data, size_t size, const char 
 
 /* ------------------------------------------------------------------ folders */
 
-static int cmp_names(const void *a, const void *b)
+/* The regular *.png files of the folder (not sub-folders named x.png). */
+static bool keep_png(const char *dir, const char *name, void *ctx)
 {
-    return bvox__natural_compare(*(char *const *)a, *(char *const *)b);
-}
-
-static void free_names(char **names, size_t n)
-{
-    for (size_t i = 0; i < n; i++) free(names[i]);
-    free(names);
-}
-
-static char *join(const char *dir, const char *file)
-{
-    size_t ld = strlen(dir), lf = strlen(file);
-    char *p = bvox__mem_alloc(ld + lf + 2);
-    if (!p) return NULL;
-    memcpy(p, dir, ld);
-    p[ld] = '/';
-    memcpy(p + ld + 1, file, lf + 1);
-    return p;
-}
-
-/* The *.png regular files of dir, in natural order. */
-static bvox_status list_pngs(const char *dir, char ***out, size_t *count)
-{
-    DIR *d = opendir(dir);
-    if (!d) return bvox__fail(BVOX_EIO, "%s: cannot open the folder: %s", dir, strerror(errno));
-    char **names = NULL;
-    size_t n = 0, cap = 0;
-    bvox_status st = BVOX_OK;
-    struct dirent *e;
-    while (!st && (e = readdir(d)) != NULL) {
-        size_t len = strlen(e->d_name);
-        if (e->d_name[0] == '.' || len < 5 || strcasecmp(e->d_name + len - 4, ".png") != 0)
-            continue;
-        char *full = join(dir, e->d_name);
-        struct stat sb;
-        bool regular = full && stat(full, &sb) == 0 && S_ISREG(sb.st_mode);
-        free(full);
-        if (!full) st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
-        if (st || !regular) continue;
-        if (n == BVOX_MAX_DIM) {
-            st = bvox__fail(BVOX_ETOOBIG, "%s: more than %d PNG slices", dir, BVOX_MAX_DIM);
-            break;
-        }
-        if (n == cap) {
-            cap = cap ? cap * 2 : 64;
-            char **grown = bvox__mem_resize(names, cap * sizeof *names);
-            if (!grown) {
-                st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
-                break;
-            }
-            names = grown;
-        }
-        if (!(names[n] = bvox__mem_strdup(e->d_name)))
-            st = bvox__fail(BVOX_ENOMEM, "out of memory listing %s", dir);
-        else
-            n++;
-    }
-    closedir(d);
-    if (!st && n == 0) st = bvox__fail(BVOX_EFORMAT, "%s: the folder holds no .png files", dir);
-    if (st) {
-        free_names(names, n);
-        return st;
-    }
-    qsort(names, n, sizeof *names, cmp_names);
-    *out = names;
-    *count = n;
-    return BVOX_OK;
+    (void)ctx;
+    if (strlen(name) < 5 || !bvox__ends_with_ci(name, ".png")) return false;
+    char full[4096];
+    struct stat sb;
+    int len = snprintf(full, sizeof full, "%s/%s", dir, name);
+    return len > 0 && (size_t)len < sizeof full && stat(full, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
 static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox_volume **out)
 {
-    char **names = NULL;
+    char **paths = NULL;
     size_t n = 0;
-    bvox_status st = list_pngs(dir, &names, &n);
+    bvox_status st = bvox__list_dir(dir, keep_png, NULL, BVOX_MAX_DIM, "PNG slices", &paths, &n);
+    if (!st && n == 0) st = bvox__fail(BVOX_EFORMAT, "%s: the folder holds no .png files", dir);
     if (st) return st;
     bvox__gray g;
     bvox__gray_init(&g);
     slice_info first;
-    char *first_path = join(dir, names[0]);
+    const char *first_path = paths[0];
     size_t slice_bytes = 0;
-    if (!first_path) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     for (size_t i = 0; i < n && !st; i++) {
-        char *path = i ? join(dir, names[i]) : first_path;
-        if (!path) {
-            st = bvox__fail(BVOX_ENOMEM, "out of memory");
-            break;
-        }
         bvox__bytes b;
-        st = bvox__read_file(path, &b);
+        st = bvox__read_file(paths[i], &b);
         if (!st) {
             slice_info info;
             if (i == 0) {
-                st = decode_png(b.data, b.size, path, &first, NULL, NULL, NULL);
+                st = decode_png(b.data, b.size, paths[i], &first, NULL, NULL, NULL);
                 if (!st) st = gray_alloc(&g, &first, (int32_t)n, dir);
                 slice_bytes = (size_t)first.w * first.h * (size_t)first.bytes;
             }
             if (!st)
-                st = decode_png(b.data, b.size, path, &info, &first, first_path,
+                st = decode_png(b.data, b.size, paths[i], &info, &first, first_path,
                                 (uint8_t *)g.owned + i * slice_bytes);
             bvox__bytes_release(&b);
         }
-        if (i) free(path);
     }
-    free(first_path);
-    free_names(names, n);
+    bvox__free_paths(paths, n);
     if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, dir, out);
     bvox__gray_release(&g);
     return st;
@@ -329,32 +199,9 @@ static double metres_per_unit(const char *u)
     return 0;
 }
 
-static bvox_status write_with(png_ctx *ctx, FILE *f, const char *file, const uint8_t *pixels,
-                              uint32_t w, uint32_t h, const uint32_t ppm[2])
+static bvox_status file_write(void *f, const void *data, size_t n)
 {
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, ctx, on_error, on_warning);
-    png_infop pi = png ? png_create_info_struct(png) : NULL;
-    if (!pi) {
-        png_destroy_write_struct(&png, NULL);
-        return bvox__fail(BVOX_ENOMEM, "%s: out of memory", file);
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &pi);
-        return bvox__fail(BVOX_EIO, "%s: %s", file, ctx->msg);
-    }
-    png_init_io(png, f);
-    png_set_IHDR(png, pi, w, h, 8, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    if (ppm[0]) png_set_pHYs(png, pi, ppm[0], ppm[1], PNG_RESOLUTION_METER);
-    /* Masks of 0/255 compress well unfiltered with run-length matching, and
-     * filter search and deeper matching are slow for no gain. */
-    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
-    png_set_compression_strategy(png, Z_RLE);
-    png_write_info(png, pi);
-    for (uint32_t y = 0; y < h; y++) png_write_row(png, pixels + (size_t)y * w);
-    png_write_end(png, pi);
-    png_destroy_write_struct(&png, &pi);
-    return BVOX_OK;
+    return fwrite(data, 1, n, f) == n ? BVOX_OK : BVOX_EIO;
 }
 
 static bvox_status write_slice(const char *file, const uint8_t *pixels, uint32_t w, uint32_t h,
@@ -362,8 +209,8 @@ static bvox_status write_slice(const char *file, const uint8_t *pixels, uint32_t
 {
     FILE *f = fopen(file, "wb");
     if (!f) return bvox__fail(BVOX_EIO, "%s: cannot create: %s", file, strerror(errno));
-    png_ctx ctx = {NULL, 0, 0, {0}};
-    bvox_status st = write_with(&ctx, f, file, pixels, w, h, ppm);
+    const bvox__png_write_opts o = {1, 8, {ppm[0], ppm[1]}, 1};
+    bvox_status st = bvox__png_encode(w, h, pixels, &o, file_write, f, file);
     if ((ferror(f) | fclose(f)) && !st)
         st = bvox__fail(BVOX_EIO, "%s: write failed: %s", file, strerror(errno));
     return st;

@@ -73,27 +73,7 @@ static bvox_status raw_write_path(const char *path, const bvox_volume *vol,
         return bvox__fail(BVOX_EUNSUPPORTED,
                           "%s: raw output is one byte per voxel (raw_bits 8), not %d", path,
                           opts->raw_bits);
-    int32_t chunk = vol->nz < 64 ? vol->nz : 64;
-    size_t slice = (size_t)vol->nx * (size_t)vol->ny, bytes;
-    if (!bvox__mul_size(slice, (size_t)chunk, &bytes))
-        return bvox__fail(BVOX_ETOOBIG, "%s: slices too large", path);
-    bvox_status st;
-    uint8_t *buf = bvox__alloc(bytes, false, "slice buffer", &st);
-    if (!buf) {
-        bvox__error_prefix(path);
-        return st;
-    }
-    bvox__sink s;
-    st = bvox__sink_open(path, 0, &s);
-    for (int32_t z0 = 0; st == BVOX_OK && z0 < vol->nz; z0 += 64) {
-        int32_t n = vol->nz - z0 < 64 ? vol->nz - z0 : 64;
-        bvox__unpack_slices(vol, z0, n, 1, buf);
-        st = bvox__sink_write(&s, buf, slice * (size_t)n);
-    }
-    bvox__free(buf, bytes);
-    if (st == BVOX_OK) return bvox__sink_commit(&s);
-    bvox__sink_abort(&s);
-    return st;
+    return bvox__write_byte_slices(path, vol, false, NULL, 0);
 }
 
 static const char *const raw_extensions[] = {".raw", NULL};

@@ -16,10 +16,10 @@
  * TIFF caps the file at 4 GiB: beyond it the write fails with ETOOBIG.
  */
 #include "io.h"
+#include "common/names.h"
 
 #include <math.h>
 #include <string.h>
-#include <strings.h>
 
 enum { T_ASCII = 2, T_SHORT = 3, T_LONG = 4, T_RATIONAL = 5 };
 #define IFD0_ENTRIES 14
@@ -105,8 +105,8 @@ bvox_status bvox__tiff_write(const char *path, const bvox_volume *v, const bvox_
     /* NAME.ome.tif: OME-XML (Bio-Formats, napari, QuPath read its physical
      * sizes); otherwise ImageJ's description */
     size_t plen = strlen(path);
-    int ome = (plen > 8 && !strcasecmp(path + plen - 8, ".ome.tif")) ||
-              (plen > 9 && !strcasecmp(path + plen - 9, ".ome.tiff"));
+    int ome = (plen > 8 && bvox__ends_with_ci(path, ".ome.tif")) ||
+              (plen > 9 && bvox__ends_with_ci(path, ".ome.tiff"));
     int dl = ome ? bvox__ome_describe(v, desc, sizeof desc) : imagej_description(v, desc, sizeof desc);
     if (dl < 0 || (size_t)dl >= sizeof desc)
         return bvox__fail(BVOX_EINVAL, "%s: cannot format the TIFF description", path);

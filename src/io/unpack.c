@@ -7,8 +7,12 @@
  * bytes eight at a time through a 256-entry table (byte b -> eight bytes 0/1,
  * times `one`: no carries since each byte is 0 or 1). Rows of y are
  * independent, so they are split over the worker threads.
+ *
+ * bvox__write_byte_slices: the whole volume as such bytes after a header,
+ * through the sink (NIfTI and raw writers), 64 slices at a time.
  */
-#include "binarize_kernels.h"
+#include "io.h"
+#include "common/bits.h"
 
 #include <string.h>
 
@@ -74,4 +78,31 @@ void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t 
     /* a thread is worth starting for about a million voxels */
     int64_t per_row = (int64_t)vol->nx * n;
     bvox__parallel_for(vol->ny, ((int64_t)1 << 20) / per_row + 1, unpack_rows, &c);
+}
+
+bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
+                                    const void *header, size_t header_size)
+{
+    int32_t chunk = vol->nz < 64 ? vol->nz : 64;
+    size_t slice = (size_t)vol->nx * (size_t)vol->ny, bytes;
+    if (!bvox__mul_size(slice, (size_t)chunk, &bytes))
+        return bvox__fail(BVOX_ETOOBIG, "%s: slices too large", path);
+    bvox_status st;
+    uint8_t *buf = bvox__alloc(bytes, false, "slice buffer", &st);
+    if (!buf) {
+        bvox__error_prefix(path);
+        return st;
+    }
+    bvox__sink s;
+    st = bvox__sink_open(path, gz, &s);
+    if (st == BVOX_OK && header_size) st = bvox__sink_write(&s, header, header_size);
+    for (int32_t z0 = 0; st == BVOX_OK && z0 < vol->nz; z0 += 64) {
+        int32_t n = vol->nz - z0 < 64 ? vol->nz - z0 : 64;
+        bvox__unpack_slices(vol, z0, n, 1, buf);
+        st = bvox__sink_write(&s, buf, slice * (size_t)n);
+    }
+    bvox__free(buf, bytes);
+    if (st == BVOX_OK) return bvox__sink_commit(&s);
+    bvox__sink_abort(&s);
+    return st;
 }

@@ -382,7 +382,7 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
         return bvox__fail(BVOX_ETOOBIG, "volume too large to mesh");
     c.zero = bvox__mem_zalloc(g->wpc + 1, sizeof(uint64_t));
     c.rows = bvox__mem_zalloc((size_t)g->ny + 2, sizeof(rowinfo));
-    int nch = bvox_threads() * 4;
+    int nch = bvox__parallelism() * 4;
     if (nch > g->ny + 1) nch = g->ny + 1;
     c.nchunks = nch;
     c.chunks = bvox__mem_zalloc((size_t)nch, sizeof(cchunk));

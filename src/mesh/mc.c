@@ -24,6 +24,7 @@
 #include "mesh_private.h"
 
 #include <stdatomic.h>
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -395,41 +396,6 @@ HOT static void tri_chunks(void *ctx, int64_t begin, int64_t end)
     }
 }
 
-/* ---- dynamic scheduling: one task per thread, each takes the next block
- * of the range until none is left, so that a thread slowed down (uneven
- * surface, or a core busy with something else) takes fewer blocks. The
- * blocks' results do not depend on which thread runs them. ---- */
-
-typedef struct dyn {
-    bvox__range_fn fn;
-    void *ctx;
-    int64_t n, grain;
-    int64_t next; /* atomic */
-} dyn;
-
-static void dyn_worker(void *ctx, int64_t begin, int64_t end)
-{
-    dyn *d = ctx;
-    (void)begin;
-    (void)end;
-    for (;;) {
-        int64_t b = __atomic_fetch_add(&d->next, d->grain, __ATOMIC_RELAXED);
-        if (b >= d->n) return;
-        d->fn(d->ctx, b, b + d->grain < d->n ? b + d->grain : d->n);
-    }
-}
-
-static void dyn_for(int64_t n, int64_t grain, bvox__range_fn fn, void *ctx)
-{
-    int threads = bvox_threads();
-    if (threads < 2 || n <= grain) {
-        fn(ctx, 0, n);
-        return;
-    }
-    dyn d = {fn, ctx, n, grain, 0};
-    bvox__parallel_for(threads, 1, dyn_worker, &d);
-}
-
 static void mc_release(mc *c)
 {
     for (int k = 0; k < 3; k++) {
@@ -505,7 +471,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         mc_release(&c);
         return st;
     }
-    dyn_for((int64_t)g->ny + 1, 4, count_rows, &c);
+    bvox__parallel_for_dynamic((int64_t)g->ny + 1, 4, count_rows, &c);
     /* row totals -> row bases; kind totals -> kind bases */
     int64_t total = 0;
     for (int k = 0; k < 3; k++) {
@@ -524,8 +490,8 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         return bvox__fail(BVOX_ETOOBIG, "the mesh would have %lld vertices (at most %d)",
                           (long long)total, INT32_MAX);
     }
-    int threads = bvox_threads();
-    int nch = threads * 16; /* blocks for dyn_for: small enough to balance */
+    int threads = bvox__parallelism();
+    int nch = threads * 16; /* blocks for the dynamic for: small enough to balance */
     if (nch > g->ny + 1) nch = g->ny + 1;
     c.nchunks = nch;
     c.chunks = bvox__mem_zalloc((size_t)nch, sizeof(chunk));
@@ -571,7 +537,7 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         off += c.chunks[i].region_cap;
     }
     c.verts = m->vertices;
-    dyn_for(nch, 1, tri_chunks, &c);
+    bvox__parallel_for_dynamic(nch, 1, tri_chunks, &c);
     m->nvertices = total; /* kept if the array grows for the centres */
     int64_t ntri = 0, ncent = 0;
     int spilled = 0;

@@ -136,7 +136,7 @@ void bvox__adjacency_release(bvox__adjacency *a);
 bvox_status bvox__mesh_edge_stats(const bvox_mesh *m, int64_t *edges, int64_t *boundary,
                                   int64_t *nonmanifold, int64_t *inconsistent);
 
-/* ---- volume -> mesh ---- */
+/* ---- volume -> mesh (mc.c, cuberille.c; dispatched by mesh_from_volume.c) ---- */
 bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m);
 bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m);
 
@@ -146,7 +146,7 @@ bvox_status bvox__mesh_read_obj(const uint8_t *d, size_t n, const char *name, bv
 bvox_status bvox__mesh_read_ply(const uint8_t *d, size_t n, const char *name, bvox_mesh *m);
 bvox_status bvox__mesh_read_off(const uint8_t *d, size_t n, const char *name, bvox_mesh *m);
 
-/* ---- text tokenizer (mesh_read.c) ---- */
+/* ---- text tokenizer (mesh_text.c) ---- */
 typedef struct bvox__text {
     const char *p, *end;
     const char *name;

@@ -335,10 +335,10 @@ static void merge_component(bvox_component *dst, const bvox_component *src)
  * the threads, each summing into its own array, merged at the end. */
 static bvox_status sum_statistics(bvox_components *c, const uint32_t *labels)
 {
-    int64_t nchunks = bvox_threads();
+    int64_t nchunks = bvox__parallelism();
     if ((int64_t)c->ncol < nchunks * 1024) nchunks = 1;
-    bvox_component *partial[64] = {c->items};
-    if (nchunks > 64) nchunks = 64;
+    bvox_component *partial[BVOX__MAX_THREADS] = {c->items};
+    if (nchunks > BVOX__MAX_THREADS) nchunks = BVOX__MAX_THREADS;
     bvox_status st = BVOX_OK;
     for (int64_t s = 1; s < nchunks && !st; s++) {
         partial[s] = bvox__mem_zalloc((size_t)c->count ? (size_t)c->count : 1, sizeof **partial);
@@ -466,7 +466,7 @@ static bvox_status label_runs(const uint64_t *words, size_t wpc, size_t nx, size
         return st;
     }
     labeller L = {words, wpc, nx, ny, col_start, parent, conn, 1};
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     /* slabs of at least 16 rows: the seam pass redoes one row per slab */
     int64_t max_slabs = (int64_t)ny / 16;
     L.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);

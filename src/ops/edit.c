@@ -104,12 +104,7 @@ static void box_rows(void *ctx, int64_t begin, int64_t end)
 
 static bvox_box clip_box(const bvox_volume *v, bvox_box b)
 {
-    if (b.x0 < 0) b.x0 = 0;
-    if (b.y0 < 0) b.y0 = 0;
-    if (b.z0 < 0) b.z0 = 0;
-    if (b.x1 > v->nx) b.x1 = v->nx;
-    if (b.y1 > v->ny) b.y1 = v->ny;
-    if (b.z1 > v->nz) b.z1 = v->nz;
+    b = bvox__box_clip(v, b);
     if (b.x0 >= b.x1 || b.y0 >= b.y1 || b.z0 >= b.z1) memset(&b, 0, sizeof b);
     return b;
 }

@@ -172,7 +172,7 @@ static bvox_status box26(const bvox_volume *in, bool erode, bvox_volume **out)
     (*out)->geom = in->geom;
     box26_job j = {in, *out, NULL, 1, (size_t)in->nx * in->wpc};
     /* one chunk of rows per thread; each chunk recomputes 2 rows of zx */
-    int threads = bvox_threads();
+    int threads = bvox__parallelism();
     j.nchunks = in->ny / 8 < threads ? in->ny / 8 : threads;
     if (j.nchunks < 1) j.nchunks = 1;
     size_t bytes;

@@ -7,6 +7,8 @@
 #define BVOX_CONTOUR_INTERNAL_H
 
 #include "internal.h"
+#include "common/json.h"
+#include "common/strbuf.h"
 
 /* Limits on what a file (or a caller) may put into a stack. */
 #define BVOX__MAX_SECTIONS 65535
@@ -51,25 +53,17 @@ void bvox__signed_edt(const uint64_t *bits, size_t wpr, int32_t nx, int32_t ny, 
 /* Nesting depth limit of the JSON and XML readers. */
 #define BVOX__MAX_DEPTH 64
 
-/* A growable text buffer (malloc). On an allocation failure `failed` is set
- * and further appends are ignored; check it once at the end. */
-typedef struct bvox__strbuf {
-    char *data;
-    size_t len, cap;
-    bool failed;
-} bvox__strbuf;
-void bvox__sb_append(bvox__strbuf *b, const char *s, size_t n);
-void bvox__sb_puts(bvox__strbuf *b, const char *s);
-void bvox__sb_printf(bvox__strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* The shortest of %.15g/%.16g/%.17g that reads back as v (finite v). */
-void bvox__sb_double(bvox__strbuf *b, double v);
-/* A JSON string literal (quotes, escapes) / XML attribute text (escaped). */
-void bvox__sb_json_string(bvox__strbuf *b, const char *s);
+/* Text buffers: src/common/strbuf.h; JSON string literals:
+ * src/common/json.h (bvox__sb_json_string). XML attribute text (escaped): */
 void bvox__sb_xml_text(bvox__strbuf *b, const char *s);
-void bvox__sb_free(bvox__strbuf *b);
 /* Write the buffer to path atomically (bvox__sink). */
 bvox_status bvox__sb_write_file(const bvox__strbuf *b, const char *path);
 
+/* The checks every *_memory reader makes of its text: data NULL with a size
+ * (EINVAL "FN: no data"), over BVOX__MAX_TEXT_BYTES (ETOOBIG); *name NULL
+ * becomes "<memory>". */
+bvox_status bvox__text_input_check(const char *fn, const char *data, size_t size,
+                                   const char **name);
 /* 1-based line and column of byte pos of text. */
 void bvox__line_col(const char *text, size_t pos, int64_t *line, int64_t *col);
 /* Append code point c (at most 0x10FFFF) as UTF-8, 1 to 4 bytes, at

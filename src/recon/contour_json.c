@@ -518,13 +518,10 @@ bvox_status bvox_stack_read_json_memory(const char *data, size_t size, const cha
     bvox__clear_error();
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_json_memory: out is NULL");
     *out = NULL;
-    if (!data && size) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_json_memory: no data");
-    if (!name) name = "<memory>";
-    if (size > BVOX__MAX_TEXT_BYTES)
-        return bvox__fail(BVOX_ETOOBIG, "%s: %zu bytes, over the limit of a contour file", name,
-                          size);
+    bvox_status st = bvox__text_input_check("bvox_stack_read_json_memory", data, size, &name);
+    if (st) return st;
     bvox_contour_stack *s = NULL;
-    bvox_status st = bvox_stack_create(&s);
+    st = bvox_stack_create(&s);
     if (st) return st;
     const char *text = data ? data : "";
     lex L = {.start = text, .p = text, .end = text + size, .name = name};

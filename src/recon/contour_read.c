@@ -9,70 +9,51 @@
  *   anything else   by content: '{' JSON, <svg SVG, <Series a series,
  *                   <Section one Reconstruct section.
  */
+#include "common/names.h"
 #include "contour_internal.h"
 #include "io/io.h"
 
 #include <ctype.h>
-#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcasecmp(s + n - m, suffix) == 0;
-}
+/* The folder's .svg files are kept; a lone Reconstruct .ser file is noted. */
+typedef struct folder_scan {
+    char *ser;
+    int nser;
+    bool failed;
+} folder_scan;
 
-static int cmp_natural(const void *a, const void *b)
+static bool keep_svg(const char *dir, const char *name, void *ctx)
 {
-    return bvox__natural_compare(*(char *const *)a, *(char *const *)b);
+    (void)dir;
+    folder_scan *f = ctx;
+    if (bvox__ends_with_ci(name, ".ser")) {
+        f->nser++;
+        free(f->ser);
+        if (!(f->ser = bvox__mem_strdup(name))) f->failed = true;
+        return false;
+    }
+    return bvox__ends_with_ci(name, ".svg");
 }
 
 static bvox_status read_folder(const char *path, const char *select, bvox_contour_stack **out)
 {
-    DIR *d = opendir(path);
-    if (!d) return bvox__fail(BVOX_EIO, "%s: cannot list the folder", path);
-    char **names = NULL, *ser = NULL;
-    size_t n = 0, cap = 0;
-    int nser = 0;
-    bvox_status st = BVOX_OK;
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        if (e->d_name[0] == '.') continue;
-        if (ends_with(e->d_name, ".ser")) {
-            nser++;
-            free(ser);
-            ser = bvox__mem_strdup(e->d_name);
-            continue;
-        }
-        if (!ends_with(e->d_name, ".svg")) continue;
-        if (n >= BVOX__MAX_SECTIONS) {
-            st = bvox__fail(BVOX_ETOOBIG, "%s: more than %d .svg files", path, BVOX__MAX_SECTIONS);
-            break;
-        }
-        if (!bvox__grow((void **)&names, sizeof *names, n + 1, &cap, "file names")) {
-            st = BVOX_ENOMEM;
-            break;
-        }
-        size_t len = strlen(path) + strlen(e->d_name) + 2;
-        names[n] = bvox__mem_alloc(len);
-        if (!names[n]) {
-            st = bvox__fail(BVOX_ENOMEM, "out of memory");
-            break;
-        }
-        snprintf(names[n], len, "%s/%s", path, e->d_name);
-        n++;
-    }
-    closedir(d);
-    if (!st && n == 0 && nser == 1) {
-        size_t len = strlen(path) + strlen(ser) + 2;
+    char **names = NULL;
+    size_t n = 0;
+    folder_scan f = {NULL, 0, false};
+    bvox_status st =
+        bvox__list_dir(path, keep_svg, &f, BVOX__MAX_SECTIONS, ".svg files", &names, &n);
+    if (st == BVOX_EIO) st = bvox__fail(BVOX_EIO, "%s: cannot list the folder", path);
+    if (!st && f.failed) st = bvox__fail(BVOX_ENOMEM, "out of memory");
+    if (!st && n == 0 && f.nser == 1) {
+        size_t len = strlen(path) + strlen(f.ser) + 2;
         char *full = bvox__mem_alloc(len);
         if (!full) {
             st = bvox__fail(BVOX_ENOMEM, "out of memory");
         } else {
-            snprintf(full, len, "%s/%s", path, ser);
+            snprintf(full, len, "%s/%s", path, f.ser);
             st = bvox__stack_read_reconstruct_series(full, out);
             free(full);
         }
@@ -81,12 +62,10 @@ static bvox_status read_folder(const char *path, const char *select, bvox_contou
                         "%s: the folder has no .svg files (nor a single Reconstruct .ser file)",
                         path);
     } else if (!st) {
-        qsort(names, n, sizeof *names, cmp_natural);
         st = bvox__svg_read_files((const char *const *)names, (int32_t)n, select, out);
     }
-    for (size_t i = 0; i < n; i++) free(names[i]);
-    free(names);
-    free(ser);
+    bvox__free_paths(names, n);
+    free(f.ser);
     return st;
 }
 
@@ -121,16 +100,16 @@ bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *o
         bvox_status st = read_folder(path, select, out);
         return st ? st : check_selection(path, select, out);
     }
-    if (ends_with(path, ".ser")) return bvox__stack_read_reconstruct_series(path, out);
+    if (bvox__ends_with_ci(path, ".ser")) return bvox__stack_read_reconstruct_series(path, out);
     char *text;
     size_t size;
     bvox_status st = bvox__read_text(path, &text, &size);
     if (st) return st;
     const char *p = text;
     while (*p && isspace((unsigned char)*p)) p++;
-    if (ends_with(path, ".json") || *p == '{') {
+    if (bvox__ends_with_ci(path, ".json") || *p == '{') {
         st = bvox_stack_read_json_memory(text, size, path, out);
-    } else if (ends_with(path, ".svg") || strstr(text, "<svg") || strstr(text, ":svg")) {
+    } else if (bvox__ends_with_ci(path, ".svg") || strstr(text, "<svg") || strstr(text, ":svg")) {
         st = bvox__svg_read(text, size, path, 0, select, out);
         if (!st) st = check_selection(path, select, out);
     } else if (strstr(text, "<Series")) {

@@ -704,12 +704,9 @@ bvox_status bvox__svg_read(const char *data, size_t size, const char *name, doub
                            const char *select, bvox_contour_stack **stack)
 {
     if (!stack) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_svg_memory: stack is NULL");
-    if (!data && size) return bvox__fail(BVOX_EINVAL, "bvox_stack_read_svg_memory: no data");
-    if (!name) name = "<memory>";
-    if (size > BVOX__MAX_TEXT_BYTES)
-        return bvox__fail(BVOX_ETOOBIG, "%s: %zu bytes, over the limit of a contour file", name, size);
+    bvox_status st = bvox__text_input_check("bvox_stack_read_svg_memory", data, size, &name);
+    if (st) return st;
     bvox_contour_stack *s = *stack, *made = NULL;
-    bvox_status st;
     if (!s) {
         if ((st = bvox_stack_create(&made))) return st;
         s = made;

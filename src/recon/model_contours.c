@@ -27,7 +27,7 @@
  * (height = ceil(h sv/su)); only square pixels round-trip voxel for voxel.
  */
 #include "contour_internal.h"
-#include "io/binarize_kernels.h" /* bvox__transpose64 */
+#include "common/bits.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -326,7 +326,7 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
         st = bvox_stack_add_section(s, g->origin[axis] + k * g->spacing[axis], NULL, NULL);
     mc_ctx c = {vol, axis, w, h, nslices, 1, vscale, s, NULL, NULL};
     int32_t units = axis == 2 ? (nslices + 63) / 64 : nslices;
-    c.ntasks = bvox_threads();
+    c.ntasks = bvox__parallelism();
     if (c.ntasks > units) c.ntasks = units;
     /* a thread is worth it for about a million pixels */
     if ((int64_t)w * h * nslices < ((int64_t)1 << 20)) c.ntasks = 1;

@@ -9,16 +9,15 @@
  * interpolation to the output slice spacing).
  */
 #include "section_internal.h"
+#include "common/names.h"
 #include "contour_internal.h"
 #include "io/io.h"
 
 #include <ctype.h>
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 
@@ -103,6 +102,12 @@ typedef struct run_ctx {
     int find_markers;
 } run_ctx;
 
+static int is_image_name(const char *s)
+{
+    return bvox__ends_with_ci(s, ".png") || bvox__ends_with_ci(s, ".tif") ||
+           bvox__ends_with_ci(s, ".tiff");
+}
+
 /* opts->save_steps: DIR/NAME.K_what.png (NAME without an image extension). */
 static bvox_status save_step(const bvox_recon_opts *o, const sec_work *w, const char *what,
                              const bvox_image *img, const bvox_bitmap *bm)
@@ -111,8 +116,7 @@ static bvox_status save_step(const bvox_recon_opts *o, const sec_work *w, const 
     char name[256], path[4096];
     snprintf(name, sizeof name, "%s", w->name);
     char *dot = strrchr(name, '.');
-    if (dot && (!strcasecmp(dot, ".png") || !strcasecmp(dot, ".tif") || !strcasecmp(dot, ".tiff")))
-        *dot = '\0';
+    if (dot && is_image_name(dot)) *dot = '\0';
     for (char *c = name; *c; c++)
         if (*c == '/' || *c == ' ') *c = '_';
     snprintf(path, sizeof path, "%s/%s.%s.png", o->save_steps, name, what);
@@ -477,7 +481,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opt
     }
     int find_markers = !mfile && o->markers.count > 0;
     /* per-section work in batches (progress between them) */
-    int32_t batch = bvox_threads() * 2;
+    int32_t batch = bvox__parallelism() * 2;
     if (batch < 1) batch = 1;
     double t_sections = now_ms();
     for (int32_t first = 0; first < n; first += batch) {
@@ -647,72 +651,24 @@ bvox_status bvox_stack_align(bvox_contour_stack *stack, const bvox_recon_opts *o
     return st;
 }
 
-static int has_ext(const char *s, const char *ext)
+/* Keeps the section images of a folder; notes whether it holds .svg files. */
+static bool keep_image(const char *dir, const char *name, void *svg)
 {
-    size_t n = strlen(s), m = strlen(ext);
-    if (n < m) return 0;
-    for (size_t i = 0; i < m; i++) {
-        char c = s[n - m + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != ext[i]) return 0;
-    }
-    return 1;
-}
-
-static int is_image_name(const char *s)
-{
-    return has_ext(s, ".png") || has_ext(s, ".tif") || has_ext(s, ".tiff");
-}
-
-static int cmp_natural(const void *a, const void *b)
-{
-    return bvox__natural_compare(*(char *const *)a, *(char *const *)b);
+    (void)dir;
+    if (bvox__ends_with_ci(name, ".svg")) *(int *)svg = 1;
+    return is_image_name(name);
 }
 
 /* The image files of dir in natural order (*out: malloc'd paths); *svg set
  * when the folder holds .svg files instead. */
 static bvox_status list_dir(const char *dir, char ***out, int32_t *n, int *svg)
 {
-    *out = NULL;
-    *n = 0;
     *svg = 0;
-    DIR *d = opendir(dir);
-    if (!d) return bvox__fail(BVOX_ENOTFOUND, "%s: cannot open the folder", dir);
-    char **names = NULL;
-    int32_t cap = 0, m = 0;
-    struct dirent *e;
-    bvox_status st = BVOX_OK;
-    while ((e = readdir(d))) {
-        if (e->d_name[0] == '.') continue;
-        if (has_ext(e->d_name, ".svg")) *svg = 1;
-        if (!is_image_name(e->d_name)) continue;
-        if (m == cap) {
-            cap = cap ? cap * 2 : 64;
-            char **nn = bvox__mem_resize(names, (size_t)cap * sizeof *names);
-            if (!nn) {
-                st = bvox__fail(BVOX_ENOMEM, "out of memory");
-                break;
-            }
-            names = nn;
-        }
-        size_t len = strlen(dir) + strlen(e->d_name) + 2;
-        if (!(names[m] = bvox__mem_alloc(len))) {
-            st = bvox__fail(BVOX_ENOMEM, "out of memory");
-            break;
-        }
-        snprintf(names[m], len, "%s/%s", dir, e->d_name);
-        m++;
-    }
-    closedir(d);
-    if (st) {
-        for (int32_t i = 0; i < m; i++) free(names[i]);
-        free(names);
-        return st;
-    }
-    if (m > 1) qsort(names, (size_t)m, sizeof *names, cmp_natural);
-    *out = names;
-    *n = m;
-    return BVOX_OK;
+    size_t m = 0;
+    bvox_status st = bvox__list_dir(dir, keep_image, svg, INT32_MAX, "section images", out, &m);
+    if (st == BVOX_EIO) return bvox__fail(BVOX_ENOTFOUND, "%s: cannot open the folder", dir);
+    *n = (int32_t)m;
+    return st;
 }
 
 /* The options' pixel, spacing and unit override the file's. Sections whose
@@ -888,7 +844,6 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
 done:
     free_work(w, n);
     bvox_image_destroy(background);
-    for (int32_t i = 0; i < nlisted; i++) free(listed[i]);
-    free(listed);
+    bvox__free_paths(listed, (size_t)nlisted);
     return st;
 }

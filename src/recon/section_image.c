@@ -1,10 +1,11 @@
 /*
- * section_image.c — the gray steps of a section: reading (PNG), gray
- * conversion, background estimate (a quadratic surface fitted robustly to
+ * section_image.c — the gray steps of a section: reading (PNG or TIFF, then
+ * gray: section_gray.c), background estimate (a quadratic surface fitted robustly to
  * the background's samples), background subtraction, Otsu's threshold and
  * thresholding with the object's polarity into a bitmap.
  */
 #include "section_internal.h"
+#include "common/names.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -17,44 +18,10 @@ static bvox_status check_gray(const bvox_image *img, const char *what)
     return BVOX_OK;
 }
 
-bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out)
-{
-    *out = NULL;
-    if (!img || (img->channels != 1 && img->channels != 3))
-        return bvox__fail(BVOX_EINVAL, "a section image must be gray or RGB");
-    if (img->channels == 1) return bvox_image_copy(img, out);
-    bvox_status st = bvox_image_create(img->width, img->height, 1, img->bits, out);
-    if (st) return st;
-    size_t n = (size_t)img->width * (size_t)img->height;
-    for (size_t i = 0; i < n; i++) {
-        double r, g, b;
-        if (img->bits == 8) {
-            r = img->pixels[3 * i], g = img->pixels[3 * i + 1], b = img->pixels[3 * i + 2];
-            (*out)->pixels[i] = (uint8_t)(0.299 * r + 0.587 * g + 0.114 * b + 0.5);
-        } else {
-            r = img->pixels16[3 * i], g = img->pixels16[3 * i + 1], b = img->pixels16[3 * i + 2];
-            (*out)->pixels16[i] = (uint16_t)(0.299 * r + 0.587 * g + 0.114 * b + 0.5);
-        }
-    }
-    return BVOX_OK;
-}
-
-static int has_suffix(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    if (n < m) return 0;
-    for (size_t i = 0; i < m; i++) {
-        char c = s[n - m + i];
-        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-        if (c != suffix[i]) return 0;
-    }
-    return 1;
-}
-
 bvox_status bvox_section_read(const char *path, bvox_image **out)
 {
     *out = NULL;
-    if (has_suffix(path, ".tif") || has_suffix(path, ".tiff"))
+    if (bvox__ends_with_ci(path, ".tif") || bvox__ends_with_ci(path, ".tiff"))
         return bvox__section_tiff_read(path, out);
     bvox_image *img = NULL;
     bvox_status st = bvox_image_read_png(path, &img);

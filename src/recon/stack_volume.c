@@ -21,7 +21,7 @@
  *     columns' z words, rows split over the threads.
  */
 #include "contour_internal.h"
-#include "io/binarize_kernels.h" /* bvox__transpose64 */
+#include "common/bits.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -398,7 +398,7 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
         }
         s.dist = bvox__alloc(s.dist_bytes, false, "distance maps", &st);
         if (!s.dist) goto fail;
-        s.ntasks = bvox_threads();
+        s.ntasks = bvox__parallelism();
         if (s.ntasks > s.nmaps) s.ntasks = s.nmaps;
         /* EDT scratch plus room for a shifted copy of the box's bits */
         s.scratch_doubles = bvox__edt_scratch_doubles(s.rnx, s.rny) +

@@ -11,15 +11,22 @@
  * (no holes when zoomed in, no fat silhouettes), and thick sections project
  * thick because the boxes have the real voxel size.
  *
- * The z-buffer holds 64-bit keys (float depth bits << 32 | voxel number), so
- * the minimum is the nearest voxel with ties broken by voxel order: the
- * result does not depend on the order of the splats, which lets each worker
- * thread splat a share of the voxels into its own z-buffer and the buffers be
- * merged by a minimum at the end.
+ * The z-buffer holds 64-bit keys (float depth bits << 32 | neighbour bits),
+ * so the minimum is the nearest voxel with ties broken by the neighbour bits:
+ * the result does not depend on the order of the splats. Threads own
+ * disjoint bands of rows, never a whole z-buffer each (that cost one
+ * image-sized buffer per thread to allocate, clear and merge every frame and
+ * made views slower with more threads): the front-facing entries are first
+ * bucketed by the bands their projection touches (a counting sort over fixed
+ * chunks of entries, so the buckets do not depend on the thread count), then
+ * each band is splatted alone, clipped to its rows, into a band-sized
+ * z-buffer that stays in cache, and turned into depths and codes. One thread
+ * has nothing to share: one band, the whole image, no bucketing.
  */
 #include "render.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -93,8 +100,17 @@ typedef struct splat_ctx {
     int nranges;
     int64_t total;                /* entries in those ranges */
     int32_t w, hgt;
-    uint64_t **zbuf;              /* one per share */
-    int shares;
+    int32_t band_rows, nbands;    /* the image in bands of band_rows rows */
+    int band_shift;               /* band_rows = 1 << band_shift */
+    int64_t nchunks;              /* the entries in chunks, for the bucketing */
+    int64_t *bucket_at;           /* [band * nchunks + chunk]: count, then offset */
+    uint64_t *bucket;             /* the entries of each band, band after band */
+    bvox_preimage *pre;
+    bvox__cue cue;
+    uint64_t *scratch[64];         /* band z-buffers, one per concurrent task */
+    atomic_int scratch_busy[64];
+    int nscratch;
+    double fv_x, fv_y, fv_z, fv_0; /* fv of a voxel, straight from its indices */
 } splat_ctx;
 
 /* floor for values well inside the int32 range, without a libm call */
@@ -115,27 +131,40 @@ static inline int32_t floor_in(double x, int32_t n)
     return x < 0 ? -1 : x >= n - 1 ? n - 1 : ifloor(x);
 }
 
-/* Splat voxel entries [i0, i1) into the z-buffer zb. */
-static void splat_range(const splat_ctx *c, uint64_t *zb, int64_t i0, int64_t i1)
+/* The candidate pixels of entry e: its projection's bounding box, clipped to
+ * the image; 0 if it is empty. fu, fv: projected centre; wc: its depth. */
+static inline int project(const splat_ctx *c, uint64_t e, double *fu, double *fv, double *wc,
+                          int32_t box[4])
 {
     const bvox_surface *s = c->s;
-    const double *r = c->f.r, *dn = c->f.dn, *d = c->f.d;
+    double p[3] = {SURF_X(e) * s->spacing[0] - c->c[0], SURF_Y(e) * s->spacing[1] - c->c[1],
+                   SURF_Z(e) * s->spacing[2] - c->c[2]};
+    *fu = dot(c->f.r, p) * c->scale + c->half_w - 0.5;
+    *fv = dot(c->f.dn, p) * c->scale + c->half_h - 0.5;
+    *wc = dot(c->f.d, p) + c->rho;
+    box[0] = ceil_in(*fu - c->hu, c->w), box[1] = floor_in(*fu + c->hu, c->w);
+    box[2] = ceil_in(*fv - c->hv, c->hgt), box[3] = floor_in(*fv + c->hv, c->hgt);
+    return box[0] <= box[1] && box[2] <= box[3];
+}
+
+/* Splat entries list[0..n) into zb, the z-buffer of rows [row0, row1):
+ * keys (float depth bits << 32 | neighbour bits), ~0 where nothing is hit. */
+static void splat_list(const splat_ctx *c, const uint64_t *list, int64_t n, int32_t row0,
+                       int32_t row1, uint64_t *zb)
+{
+    const double *r = c->f.r, *dn = c->f.dn;
     const double inv = 1.0 / c->scale;
     const int any_parallel = c->parallel[0] | c->parallel[1] | c->parallel[2];
-    for (int64_t i = i0; i < i1; i++) {
-        uint64_t e = s->entries[i];
-        double p[3] = {SURF_X(e) * s->spacing[0] - c->c[0], SURF_Y(e) * s->spacing[1] - c->c[1],
-                       SURF_Z(e) * s->spacing[2] - c->c[2]};
-        double fu = dot(r, p) * c->scale + c->half_w - 0.5;
-        double fv = dot(dn, p) * c->scale + c->half_h - 0.5;
-        double wc = dot(d, p) + c->rho;
-        /* candidate pixels: centres within the projection's bounding box */
-        int32_t px0 = ceil_in(fu - c->hu, c->w), px1 = floor_in(fu + c->hu, c->w);
-        int32_t py0 = ceil_in(fv - c->hv, c->hgt), py1 = floor_in(fv + c->hv, c->hgt);
+    for (int64_t i = 0; i < n; i++) {
+        uint64_t e = list[i];
+        double fu, fv, wc;
+        int32_t box[4];
+        if (!project(c, e, &fu, &fv, &wc, box)) continue;
+        int32_t py0 = box[2] > row0 ? box[2] : row0, py1 = box[3] < row1 - 1 ? box[3] : row1 - 1;
         const uint64_t nb = SURF_NB(e);
         for (int32_t py = py0; py <= py1; py++) {
             double dv = py - fv;
-            for (int32_t px = px0; px <= px1; px++) {
+            for (int32_t px = box[0]; px <= box[1]; px++) {
                 double du = px - fu;
                 double tmin = -INFINITY, tmax = INFINITY;
                 for (int a = 0; a < 3; a++) {
@@ -151,59 +180,121 @@ static void splat_range(const splat_ctx *c, uint64_t *zb, int64_t i0, int64_t i1
                             double q = (du * r[a] + dv * dn[a]) * inv;
                             hit &= q >= -c->h[a] && q < c->h[a];
                         }
-                float depth = (float)((wc + tmin) * c->scale);
-                depth = depth > 0 ? depth : 0;
+                float df = (float)((wc + tmin) * c->scale);
+                df = df > 0 ? df : 0;
                 uint32_t bits;
-                memcpy(&bits, &depth, sizeof bits);
+                memcpy(&bits, &df, sizeof bits);
                 /* ties of depth go to the smaller neighbour bits: the output
                  * (depth, code) is then the same in any splat order */
                 uint64_t key = hit ? (uint64_t)bits << 32 | nb : ~0ull;
-                size_t at = (size_t)py * (size_t)c->w + (size_t)px;
+                size_t at = (size_t)(py - row0) * (size_t)c->w + (size_t)px;
                 zb[at] = key < zb[at] ? key : zb[at];
             }
         }
     }
 }
 
-/* Share k of the front-facing entries (their ranges laid end to end). */
-static void splat_share(void *arg, int64_t s0, int64_t s1)
+/* Runs the statements that follow (...) with e set to each of the entries
+ * [g0, g1) of the front-facing ranges laid end to end. */
+#define FOR_FRONT_ENTRIES(c, g0, g1, e, ...)                                          \
+    do {                                                                               \
+        int64_t off_ = 0;                                                              \
+        for (int rg_ = 0; rg_ < (c)->nranges; rg_++) {                                 \
+            int64_t len_ = (c)->range_hi[rg_] - (c)->range_lo[rg_];                    \
+            int64_t a0_ = (g0) - off_ > 0 ? (g0) - off_ : 0;                           \
+            int64_t a1_ = (g1) - off_ < len_ ? (g1) - off_ : len_;                     \
+            for (int64_t i_ = a0_; i_ < a1_; i_++) {                                   \
+                uint64_t e = (c)->s->entries[(c)->range_lo[rg_] + i_];                  \
+                __VA_ARGS__                                                            \
+            }                                                                          \
+            off_ += len_;                                                              \
+        }                                                                              \
+    } while (0)
+
+/* The bands entry e may touch, [*b0, *b1]; 0 if none. A cheaper form of
+ * project()'s rows, widened by a small margin so that rounding can only add a
+ * band (where the exact test in splat_list then finds nothing), never lose
+ * one. */
+static inline int entry_bands(const splat_ctx *c, uint64_t e, int32_t *b0, int32_t *b1)
 {
-    const splat_ctx *c = arg;
-    for (int64_t share = s0; share < s1; share++) {
-        int64_t g0 = c->total * share / c->shares, g1 = c->total * (share + 1) / c->shares;
-        int64_t off = 0; /* position of range rg in the concatenation */
-        for (int rg = 0; rg < c->nranges; rg++) {
-            int64_t len = c->range_hi[rg] - c->range_lo[rg];
-            int64_t a0 = g0 - off > 0 ? g0 - off : 0, a1 = g1 - off < len ? g1 - off : len;
-            if (a0 < a1) splat_range(c, c->zbuf[share], c->range_lo[rg] + a0, c->range_lo[rg] + a1);
-            off += len;
-        }
+    double fv = SURF_X(e) * c->fv_x + SURF_Y(e) * c->fv_y + SURF_Z(e) * c->fv_z + c->fv_0;
+    int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
+    *b0 = py0 >> c->band_shift, *b1 = py1 >> c->band_shift;
+    return py0 <= py1;
+}
+
+static inline int64_t chunk_begin(const splat_ctx *c, int64_t k)
+{
+    return c->total * k / c->nchunks;
+}
+
+/* Bucketing, first pass: per chunk, how many entries touch each band. */
+static void count_chunks(void *arg, int64_t k0, int64_t k1)
+{
+    splat_ctx *c = arg;
+    for (int64_t k = k0; k < k1; k++) {
+        int64_t *at = c->bucket_at + k;
+        FOR_FRONT_ENTRIES(c, chunk_begin(c, k), chunk_begin(c, k + 1), e, {
+            int32_t b0, b1;
+            if (!entry_bands(c, e, &b0, &b1)) continue;
+            for (int32_t b = b0; b <= b1; b++) at[b * c->nchunks]++;
+        });
     }
 }
 
-typedef struct merge_ctx {
-    const splat_ctx *c;
-    bvox_preimage *pre;
-    bvox__cue cue;
-} merge_ctx;
-
-static void merge_rows(void *arg, int64_t y0, int64_t y1)
+/* Second pass: each chunk copies its entries into its place in each band. */
+static void fill_chunks(void *arg, int64_t k0, int64_t k1)
 {
-    const merge_ctx *m = arg;
-    const splat_ctx *c = m->c;
-    const int32_t range = m->pre->depth_range;
-    for (size_t at = (size_t)y0 * (size_t)c->w; at < (size_t)y1 * (size_t)c->w; at++) {
-        uint64_t key = c->zbuf[0][at];
-        for (int k = 1; k < c->shares; k++)
-            if (c->zbuf[k][at] < key) key = c->zbuf[k][at];
-        if (key == ~0ull) continue;
-        uint32_t bits = (uint32_t)(key >> 32);
-        float depth;
-        memcpy(&depth, &bits, sizeof depth);
-        int32_t di = depth < (float)range ? (int32_t)depth : range - 1;
-        m->pre->depth[at] = di;
-        m->pre->code[at] = bvox__code((unsigned)key & 63, di, &m->cue);
+    splat_ctx *c = arg;
+    for (int64_t k = k0; k < k1; k++) {
+        int64_t *at = c->bucket_at + k;
+        FOR_FRONT_ENTRIES(c, chunk_begin(c, k), chunk_begin(c, k + 1), e, {
+            int32_t b0, b1;
+            if (!entry_bands(c, e, &b0, &b1)) continue;
+            for (int32_t b = b0; b <= b1; b++) c->bucket[at[b * c->nchunks]++] = e;
+        });
     }
+}
+
+/* Per band: splat its entries into a band z-buffer, then write its rows of
+ * the pre-image. The z-buffer is one of the scratch set: at most nscratch
+ * calls of this run at once (one per task), so one is always free. */
+static void splat_bands(void *arg, int64_t b0, int64_t b1)
+{
+    splat_ctx *c = arg;
+    int k = 0;
+    for (;; k = (k + 1) % c->nscratch)
+        if (!atomic_exchange(&c->scratch_busy[k], 1)) break;
+    uint64_t *zb = c->scratch[k];
+    const int32_t range = c->pre->depth_range;
+    for (int64_t b = b0; b < b1; b++) {
+        /* after fill_chunks, bucket_at[b * nchunks + k] is the end of chunk k's
+         * entries in band b: band b is [end of band b - 1, end of its last chunk) */
+        int32_t row0 = (int32_t)b * c->band_rows;
+        int32_t row1 = row0 + c->band_rows < c->hgt ? row0 + c->band_rows : c->hgt;
+        size_t npix = (size_t)(row1 - row0) * (size_t)c->w, base = (size_t)row0 * (size_t)c->w;
+        memset(zb, 0xff, npix * sizeof *zb);
+        if (c->bucket) {
+            int64_t lo = b ? c->bucket_at[b * c->nchunks - 1] : 0;
+            int64_t hi = c->bucket_at[(b + 1) * c->nchunks - 1];
+            splat_list(c, c->bucket + lo, hi - lo, row0, row1, zb);
+        } else { /* one band, the whole image: every front-facing entry */
+            for (int rg = 0; rg < c->nranges; rg++)
+                splat_list(c, c->s->entries + c->range_lo[rg], c->range_hi[rg] - c->range_lo[rg],
+                           row0, row1, zb);
+        }
+        for (size_t i = 0; i < npix; i++) {
+            uint64_t key = zb[i];
+            if (key == ~0ull) continue; /* no hit: -1, background code */
+            uint32_t bits = (uint32_t)(key >> 32);
+            float depth;
+            memcpy(&depth, &bits, sizeof depth);
+            int32_t di = depth < (float)range ? (int32_t)depth : range - 1;
+            c->pre->depth[base + i] = di;
+            c->pre->code[base + i] = bvox__code((unsigned)key & 63, di, &c->cue);
+        }
+    }
+    atomic_store(&c->scratch_busy[k], 0);
 }
 
 bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *proj,
@@ -287,28 +378,54 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
         pre->origin[a] = c.c[a] + (0.5 - c.half_w) / c.scale * c.f.r[a] +
                          (0.5 - c.half_h) / c.scale * c.f.dn[a] - c.rho * c.f.d[a];
 
-    /* one z-buffer per share, as many shares as threads within a memory cap */
-    size_t zbytes = (size_t)c.w * (size_t)c.hgt * sizeof(uint64_t);
-    int shares = bvox_threads();
-    if (c.total < 65536) shares = 1;
-    while (shares > 1 && zbytes * (size_t)shares > ((size_t)256 << 20)) shares--;
-    uint64_t *zb[64];
-    c.zbuf = zb;
-    c.shares = 0;
-    for (int k = 0; k < shares; k++) {
-        zb[k] = bvox__alloc(zbytes, false, "z-buffer", &st);
-        if (!zb[k]) break;
-        memset(zb[k], 0xff, zbytes);
-        c.shares++;
+    /* Bands of about 16 K pixels (a band's keys stay in cache while it is
+     * splatted); chunks of about 16 K entries; both independent of the thread
+     * count. An entry's projection is at most 2 hv + 1 rows high, so it lands
+     * in a few bands; the bucket array is counted exactly before it is made.
+     * With one thread (or few entries) there is nothing to share: one band,
+     * the whole image, and no bucketing. */
+    c.pre = pre;
+    bvox__cue_init(&c.cue, pre->depth_range);
+    const int threads = bvox__parallelism();
+    const int bucketed = threads > 1 && c.total >= 16384;
+    while (bucketed && c.band_shift < 14 && (c.w << (c.band_shift + 1)) <= 16384) c.band_shift++;
+    c.band_rows = bucketed ? 1 << c.band_shift : c.hgt;
+    c.nbands = (c.hgt + c.band_rows - 1) / c.band_rows;
+    c.fv_x = c.f.dn[0] * sp[0] * c.scale, c.fv_y = c.f.dn[1] * sp[1] * c.scale;
+    c.fv_z = c.f.dn[2] * sp[2] * c.scale;
+    c.fv_0 = c.half_h - 0.5 - dot(c.f.dn, c.c) * c.scale;
+    c.nchunks = c.total / 16384 + 1;
+    if (c.nchunks > 1024) c.nchunks = 1024;
+    size_t at_bytes = (size_t)c.nbands * (size_t)c.nchunks * sizeof(int64_t), bucket_bytes = 0;
+    st = BVOX_OK;
+    if (bucketed) {
+        c.bucket_at = bvox__alloc(at_bytes, true, "view bands", &st);
+        if (c.bucket_at) {
+            bvox__parallel_for(c.nchunks, 1, count_chunks, &c);
+            int64_t sum = 0; /* counts into starts: band-major, chunks in order */
+            for (size_t k = 0; k < (size_t)c.nbands * (size_t)c.nchunks; k++) {
+                int64_t n = c.bucket_at[k];
+                c.bucket_at[k] = sum;
+                sum += n;
+            }
+            bucket_bytes = (size_t)(sum ? sum : 1) * sizeof(uint64_t);
+            c.bucket = bvox__alloc(bucket_bytes, false, "view buckets", &st);
+        }
     }
-    if (c.shares == shares) {
-        bvox__parallel_for(c.shares, 1, splat_share, &c);
-        merge_ctx m = {&c, pre, {{0}}};
-        bvox__cue_init(&m.cue, pre->depth_range);
-        bvox__parallel_for(c.hgt, 64, merge_rows, &m);
-        st = BVOX_OK;
+    size_t zb_bytes = (size_t)c.band_rows * (size_t)c.w * sizeof(uint64_t);
+    int want = threads < c.nbands ? threads : c.nbands;
+    if (!st)
+        for (c.nscratch = 0; c.nscratch < want; c.nscratch++) {
+            c.scratch[c.nscratch] = bvox__alloc(zb_bytes, false, "view z-buffer", &st);
+            if (!c.scratch[c.nscratch]) break;
+        }
+    if (!st) {
+        if (c.bucket) bvox__parallel_for(c.nchunks, 1, fill_chunks, &c); /* starts become ends */
+        bvox__parallel_for(c.nbands, 1, splat_bands, &c);
     }
-    for (int k = 0; k < c.shares; k++) bvox__free(zb[k], zbytes);
+    for (int k = 0; k < c.nscratch; k++) bvox__free(c.scratch[k], zb_bytes);
+    bvox__free(c.bucket, bucket_bytes);
+    bvox__free(c.bucket_at, at_bytes);
     if (st) {
         bvox_preimage_destroy(pre);
         return st;

@@ -11,6 +11,7 @@
 #define BVOX_RENDER_H
 
 #include "internal.h"
+#include "common/image.h"
 
 enum { NB_XM = 1, NB_XP = 2, NB_YM = 4, NB_YP = 8, NB_ZM = 16, NB_ZP = 32 };
 
@@ -83,19 +84,6 @@ void bvox__cut_normal_eye(const bvox_preimage *pre, const double m[3], double n[
  * Used in assert() only (compiled out in release builds). */
 int bvox__preimage_ok(const bvox_preimage *pre);
 
-/* Image sample access for ops that handle both depths. */
-static inline uint32_t bvox__img_get(const bvox_image *im, size_t i)
-{
-    return im->bits == 8 ? im->pixels[i] : im->pixels16[i];
-}
-static inline void bvox__img_put(bvox_image *im, size_t i, uint32_t v)
-{
-    if (im->bits == 8) im->pixels[i] = (uint8_t)v;
-    else im->pixels16[i] = (uint16_t)v;
-}
-/* BVOX_EINVAL unless img is a valid image (non-NULL, sane fields). */
-bvox_status bvox__image_check(const bvox_image *img, const char *what);
-
 /* For the tests: number of casts (axis and projection) made in this process. */
 long bvox__render_cast_count(void);
 void bvox__render_count_cast(void);
@@ -132,6 +120,13 @@ static inline void bvox__surface_neighbours(const bvox_volume *v, int32_t x, int
     nb[3] = y + 1 < v->ny ? col[w + row] : 0;
     nb[4] = word << 1 | (w > 0 ? col[w - 1] >> 63 : 0);
     nb[5] = word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0);
+}
+
+/* The NB_* bits of the voxel at bit k of the neighbour words nb. */
+static inline uint64_t bvox__surface_nb_bits(const uint64_t nb[6], unsigned k)
+{
+    return (nb[0] >> k & 1) * NB_XM | (nb[1] >> k & 1) * NB_XP | (nb[2] >> k & 1) * NB_YM |
+           (nb[3] >> k & 1) * NB_YP | (nb[4] >> k & 1) * NB_ZM | (nb[5] >> k & 1) * NB_ZP;
 }
 
 #endif

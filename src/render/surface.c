@@ -43,9 +43,7 @@ static void build_rows(void *arg, int64_t y0, int64_t y1)
                 while (b) {
                     unsigned k = (unsigned)__builtin_ctzll(b);
                     b &= b - 1;
-                    uint64_t bits = (nb[0] >> k & 1) * NB_XM | (nb[1] >> k & 1) * NB_XP |
-                                    (nb[2] >> k & 1) * NB_YM | (nb[3] >> k & 1) * NB_YP |
-                                    (nb[4] >> k & 1) * NB_ZM | (nb[5] >> k & 1) * NB_ZP;
+                    uint64_t bits = bvox__surface_nb_bits(nb, k);
                     if (!c->entries) {
                         at[bits]++;
                         continue;

@@ -7,23 +7,17 @@
  */
 #include "gif.h"
 #include "scene.h"
+#include "common/names.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 #include <unistd.h>
-
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && !strcasecmp(s + n - k, suffix);
-}
 
 /* path without ".png", then _NNN.png (4 digits from 1001 frames; n <= 3600). */
 static char *frame_name(const char *path, int i, int n)
 {
-    size_t stem = strlen(path) - (ends_with(path, ".png") ? 4 : 0);
+    size_t stem = strlen(path) - (bvox__ends_with_ci(path, ".png") ? 4 : 0);
     char num[16];
     snprintf(num, sizeof num, n > 1000 ? "%04d" : "%03d", i % 10000);
     size_t size = stem + strlen(num) + 8;
@@ -51,7 +45,7 @@ bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_render_opts
     bvox_status st = bvox__scene_open(vol, opts, &sc);
     if (st) return st;
     bvox__clear_error();
-    const int gif = ends_with(path, ".gif");
+    const int gif = bvox__ends_with_ci(path, ".gif");
     int delay = (400 + n / 2) / n; /* a turn in about 4 s */
     delay = delay < 2 ? 2 : delay > 100 ? 100 : delay;
     bvox__gif *g = NULL;

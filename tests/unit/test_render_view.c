@@ -192,6 +192,75 @@ TEST(projection_front_equals_axis_view)
     return 0;
 }
 
+/* The banded path (several threads, enough front-facing voxels to bucket)
+ * against the brute-force reference directly, not only through the
+ * single-thread cast: a random blob of about 21 000 1-voxels, 3 and 16
+ * threads, a fitted view and a zoomed one (the reference's depth tolerance
+ * needs pixels no larger than voxels). */
+TEST(projection_banded_matches_reference)
+{
+    const double iso[3] = {1, 1, 1};
+    voxref *rnd = voxref_create(40, 38, 40);
+    voxref_random(rnd, 35, 100, harness_rand);
+    bvox_volume *vol = voxref_to_volume(rnd);
+    bvox_surface *s;
+    CHECK_OK(bvox_surface_build(vol, &s));
+    CHECK(bvox_surface_count(s) > 20000); /* enough to bucket (16384 front-facing) */
+    bvox_surface_destroy(s);
+    bvox_volume_destroy(vol);
+    int saved = bvox_threads();
+    bvox_set_threads(3);
+    CHECK_EQ(compare_with_ref(rnd, iso, 30, 20, 70, 72, 0), 0);
+    bvox_set_threads(16);
+    CHECK_EQ(compare_with_ref(rnd, iso, -110, 55, 48, 40, 2.5), 0);
+    bvox_set_threads(saved);
+    voxref_destroy(rnd);
+    return 0;
+}
+
+/* Casts s with every projection of a list at 1 thread (one z-buffer, every
+ * entry splatted in turn: the path projection_matches_reference checks) and
+ * at 2, 3 and 16 threads (entries bucketed by bands of rows, each band
+ * splatted alone): the pre-images must be identical. */
+static int cast_thread_independent(const bvox_surface *s)
+{
+    static const struct { double az, el, scale; int w, h, matrix; } views[] = {
+        {33, 21, 0, 150, 130, 0},   {0, 0, 0, 97, 301, 0},   {-120, 64, 0, 1024, 40, 0},
+        {200, -35, 3.7, 200, 180, 0}, {45, 35.264, 0, 7, 5, 0}, {0, 0, 0, 128, 128, 1},
+        {10, 80, 0.4, 333, 257, 0}};
+    const int threads[] = {2, 3, 16};
+    int saved = bvox_threads();
+    for (size_t k = 0; k < sizeof views / sizeof *views; k++) {
+        bvox_projection pr = BVOX_PROJECTION_INIT;
+        pr.azimuth = views[k].az, pr.elevation = views[k].el, pr.scale = views[k].scale;
+        pr.width = views[k].w, pr.height = views[k].h;
+        if (views[k].matrix) { /* view along x, rows along z: parallel axes */
+            const double m[9] = {0, 0, 1, 0, 1, 0, 1, 0, 0};
+            pr.use_matrix = 1;
+            memcpy(pr.matrix, m, sizeof m);
+        }
+        size_t n = (size_t)pr.width * (size_t)pr.height;
+        bvox_preimage *a, *b;
+        bvox_set_threads(1);
+        CHECK_OK(bvox_surface_cast(s, &pr, &a));
+        int64_t hits = 0;
+        for (size_t i = 0; i < n; i++) hits += a->depth[i] >= 0;
+        CHECK(hits > 0);
+        for (size_t t = 0; t < sizeof threads / sizeof *threads; t++) {
+            bvox_set_threads(threads[t]);
+            CHECK_OK(bvox_surface_cast(s, &pr, &b));
+            if (memcmp(a->depth, b->depth, n * 4) || memcmp(a->code, b->code, n)) {
+                fprintf(stderr, "view %zu, %d threads: pre-images differ\n", k, threads[t]);
+                return 1;
+            }
+            bvox_preimage_destroy(b);
+        }
+        bvox_preimage_destroy(a);
+    }
+    bvox_set_threads(saved);
+    return 0;
+}
+
 TEST(projection_thread_independent)
 {
     voxref *r = voxref_create(64, 70, 66);
@@ -201,19 +270,34 @@ TEST(projection_thread_independent)
     bvox_surface *s;
     CHECK_OK(bvox_surface_build(vol, &s));
     CHECK(bvox_surface_count(s) > 65536);
-    bvox_projection pr = BVOX_PROJECTION_INIT;
-    pr.azimuth = 33, pr.elevation = 21, pr.width = 150, pr.height = 130;
-    int saved = bvox_threads();
-    bvox_preimage *a, *b;
-    bvox_set_threads(1);
-    CHECK_OK(bvox_surface_cast(s, &pr, &a));
-    bvox_set_threads(3);
-    CHECK_OK(bvox_surface_cast(s, &pr, &b));
-    bvox_set_threads(saved);
-    CHECK(memcmp(a->depth, b->depth, 150 * 130 * 4) == 0);
-    CHECK(memcmp(a->code, b->code, 150 * 130) == 0);
-    bvox_preimage_destroy(a);
-    bvox_preimage_destroy(b);
+    CHECK_EQ(cast_thread_independent(s), 0);
+    bvox_surface_destroy(s);
+    /* thick sections: a sphere of anisotropic voxels */
+    bvox_volume_destroy(vol);
+    CHECK_OK(bvox_volume_create((bvox_dims){90, 80, 40}, &vol));
+    bvox_geometry g = *bvox_volume_geometry(vol);
+    g.spacing[2] = 2.5;
+    CHECK_OK(bvox_volume_set_geometry(vol, &g));
+    bvox_shape sph = {BVOX_SHAPE_ELLIPSOID, {45, 40, 20}, {40, 36, 18}, {0, 0, 0}, 0, 0, 0};
+    CHECK_OK(bvox_shape_draw(vol, &sph, BVOX_CSG_UNION));
+    CHECK_OK(bvox_surface_build(vol, &s));
+    CHECK_EQ(cast_thread_independent(s), 0);
+    bvox_surface_destroy(s);
+    bvox_volume_destroy(vol);
+    return 0;
+}
+
+/* The AAL atlas (mricron-data): a real object, bucketed over threads, gives
+ * the single-threaded pre-image. */
+TEST(realdata_projection_thread_independent)
+{
+    bvox_read_opts ro = BVOX_READ_OPTS_INIT;
+    bvox_volume *vol;
+    CHECK_OK(bvox_read("/usr/share/mricron/templates/aal.nii.gz", &ro, &vol));
+    bvox_surface *s;
+    CHECK_OK(bvox_surface_build(vol, &s));
+    CHECK(bvox_surface_count(s) > 65536);
+    CHECK_EQ(cast_thread_independent(s), 0);
     bvox_surface_destroy(s);
     bvox_volume_destroy(vol);
     return 0;

@@ -1,17 +1,28 @@
 /*
- * natural_sort.c — "human" order of file names for folders of slices:
+ * names.c — file names (names.h): the case-insensitive suffix test, and the
+ * "human" order of file names for folders of slices:
  * "s2.png" < "s10.png", because microscopes and export scripts rarely pad
  * their slice numbers. Runs of digits compare by numeric value (of any
  * length, without overflow), other characters case-insensitively; ties are
  * broken so that the order is total and deterministic (qsort needs that).
  */
-#include "io.h"
+#include "names.h"
 
 #include <string.h>
 
 static int is_digit(char c) { return c >= '0' && c <= '9'; }
 
 static int lower(unsigned char c) { return (c >= 'A' && c <= 'Z') ? c + ('a' - 'A') : c; }
+
+bool bvox__ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    if (n < m) return false;
+    s += n - m;
+    for (size_t i = 0; i < m; i++)
+        if (lower((unsigned char)s[i]) != lower((unsigned char)suffix[i])) return false;
+    return true;
+}
 
 int bvox__natural_compare(const char *a, const char *b)
 {

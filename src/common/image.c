@@ -4,7 +4,7 @@
  * the budgeted allocator, so a caller who scribbles on width or height cannot
  * make the release miscount the budget.
  */
-#include "render.h"
+#include "image.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,8 +1,14 @@
-/* test_natural_sort.c — natural order of slice file names: digit runs by
- * value (of any length), letters case-insensitively, a total and
- * antisymmetric order so qsort gives one answer. */
+/* test_names.c — src/common/names.c and dirlist.c: natural order of slice
+ * file names (digit runs by value, of any length; letters
+ * case-insensitively; a total and antisymmetric order so qsort gives one
+ * answer), the case-insensitive suffix test, and a folder listed in that
+ * order. */
 #include "harness.h"
-#include "io/io.h"
+#include "common/names.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <sys/stat.h>
 
 #include <stdlib.h>
 #include <string.h>
@@ -78,5 +84,74 @@ TEST(total_order_on_random_names)
                     CHECK(bvox__natural_compare(names[i], names[k]) < 0);
             }
         }
+    return 0;
+}
+
+TEST(ends_with_ci)
+{
+    CHECK(bvox__ends_with_ci("a.png", ".png"));
+    CHECK(bvox__ends_with_ci("A.PNG", ".png"));
+    CHECK(bvox__ends_with_ci("x.Tiff", ".TIFF"));
+    CHECK(bvox__ends_with_ci(".png", ".png"));   /* the whole string */
+    CHECK(bvox__ends_with_ci("anything", ""));   /* the empty suffix */
+    CHECK(!bvox__ends_with_ci("png", ".png"));   /* shorter than the suffix */
+    CHECK(!bvox__ends_with_ci("a.pngx", ".png"));
+    CHECK(!bvox__ends_with_ci("a.apng", ".tif"));
+    CHECK(!bvox__ends_with_ci("a_png", ".png")); /* '_' is not '.' */
+    CHECK(!bvox__ends_with_ci("a.p@g", ".png")); /* '@' | 32 is '`', not 'n' */
+    return 0;
+}
+
+static bool keep_png(const char *dir, const char *name, void *ctx)
+{
+    (void)dir;
+    (*(int *)ctx)++;
+    return bvox__ends_with_ci(name, ".png");
+}
+
+static void touch(const char *path)
+{
+    FILE *f = fopen(path, "wb");
+    if (f) fclose(f);
+}
+
+TEST(list_dir_natural_order_and_filter)
+{
+    const char *dir = harness_tmpdir();
+    const char *files[] = {"s10.png", "s2.PNG", ".hidden.png", "notes.txt", "s1.png"};
+    for (int i = 0; i < 5; i++) touch(harness_path(files[i]));
+    char **paths = NULL;
+    size_t n = 0;
+    int seen = 0;
+    CHECK_OK(bvox__list_dir(dir, keep_png, &seen, 100, "PNG files", &paths, &n));
+    CHECK_EQ(seen, 4); /* every name but the hidden one went through the filter */
+    CHECK_EQ(n, 3);
+    const char *want[] = {"s1.png", "s2.PNG", "s10.png"};
+    for (size_t i = 0; i < n; i++) {
+        char full[4096];
+        snprintf(full, sizeof full, "%s/%s", dir, want[i]);
+        CHECK(strcmp(paths[i], full) == 0);
+    }
+    bvox__free_paths(paths, n);
+
+    /* over the limit: ETOOBIG naming what was counted, nothing returned */
+    CHECK_STATUS(bvox__list_dir(dir, keep_png, &seen, 2, "PNG files", &paths, &n),
+                 BVOX_ETOOBIG);
+    CHECK(paths == NULL && n == 0);
+    CHECK(strstr(bvox_errmsg(), "more than 2 PNG files") != NULL);
+    return 0;
+}
+
+TEST(list_dir_missing_folder)
+{
+    char **paths = (char **)1;
+    size_t n = 7;
+    int seen = 0;
+    CHECK_STATUS(bvox__list_dir(harness_path("no-such-folder"), keep_png, &seen, 10, "files",
+                                &paths, &n),
+                 BVOX_EIO);
+    CHECK_EQ(errno, ENOENT);
+    CHECK(paths == NULL && n == 0);
+    CHECK(strstr(bvox_errmsg(), "cannot open the folder") != NULL);
     return 0;
 }

@@ -1,0 +1,2 @@
+/* fixture: includes sub/a.h, which includes this file */
+#include "sub/a.h"

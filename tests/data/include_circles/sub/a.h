@@ -1,0 +1,2 @@
+/* fixture for lint.include_circles_found: a header circle */
+#include "../b.h"
