@@ -29,8 +29,6 @@
 #include <blosc.h>
 #include <zlib.h>
 
-bool bvox__zarr_have_blosc(void) { return true; }
-
 /* Blosc chunk -> exactly n bytes: 0 ok, -1 corrupt, -2 wrong size. The
  * header is validated against the buffer before decoding (a lying header
  * must not make Blosc read or write out of bounds). */

@@ -14,13 +14,13 @@
 
 /* ---- zarr_json.c: a bounded JSON tree ---- */
 
-typedef enum bvox__json_type {
-    BVOX__JSON_NULL, BVOX__JSON_FALSE, BVOX__JSON_TRUE, BVOX__JSON_NUMBER,
-    BVOX__JSON_STRING, BVOX__JSON_ARRAY, BVOX__JSON_OBJECT
-} bvox__json_type;
+typedef enum bvox__jtype {
+    BVOX__JT_NULL, BVOX__JT_FALSE, BVOX__JT_TRUE, BVOX__JT_NUMBER,
+    BVOX__JT_STRING, BVOX__JT_ARRAY, BVOX__JT_OBJECT
+} bvox__jtype;
 
-typedef struct bvox__json_node {
-    bvox__json_type type;
+typedef struct bvox__jnode {
+    bvox__jtype type;
     double num;          /* NUMBER */
     bool is_int;         /* NUMBER written without fraction or exponent */
     const char *str;     /* STRING: decoded, NUL-terminated (may hold NULs: len) */
@@ -29,26 +29,26 @@ typedef struct bvox__json_node {
     int32_t first_child; /* ARRAY/OBJECT: index of the first element, -1 none */
     int32_t next;        /* next sibling, -1 none */
     int32_t count;       /* ARRAY/OBJECT: number of elements */
-} bvox__json_node;
+} bvox__jnode;
 
-typedef struct bvox__json {
-    bvox__json_node *nodes; /* nodes[0] is the root */
+typedef struct bvox__jtree {
+    bvox__jnode *nodes; /* nodes[0] is the root */
     int32_t n, cap;
     char *text;             /* decoded copy of the input the strings point into */
-} bvox__json;
+} bvox__jtree;
 
 /* Limits: metadata files are small; anything larger is refused. */
-#define BVOX__JSON_MAX_BYTES ((size_t)1 << 20)
-#define BVOX__JSON_MAX_DEPTH 64
+#define BVOX__JTREE_MAX_BYTES ((size_t)1 << 20)
+#define BVOX__JTREE_MAX_DEPTH 64 /* (common/json.h is the writer; this is a reader) */
 
 /* Parse strict JSON (RFC 8259). Errors are BVOX_EFORMAT "NAME: line L: what". */
-bvox_status bvox__json_parse(const char *text, size_t size, const char *name, bvox__json *out);
-void bvox__json_release(bvox__json *j);
+bvox_status bvox__jtree_parse(const char *text, size_t size, const char *name, bvox__jtree *out);
+void bvox__jtree_release(bvox__jtree *j);
 /* Member `key` of object node i, or NULL (also when i is not an object). */
-const bvox__json_node *bvox__json_get(const bvox__json *j, const bvox__json_node *obj,
+const bvox__jnode *bvox__jtree_get(const bvox__jtree *j, const bvox__jnode *obj,
                                       const char *key);
 /* Element k of an array node, or NULL. */
-const bvox__json_node *bvox__json_at(const bvox__json *j, const bvox__json_node *arr, int32_t k);
+const bvox__jnode *bvox__jtree_at(const bvox__jtree *j, const bvox__jnode *arr, int32_t k);
 
 /* ---- zarr_meta.c ---- */
 
@@ -68,10 +68,6 @@ typedef struct bvox__zarr_meta {
     char sep;           /* '.' or '/' */
 } bvox__zarr_meta;
 
-/* 1 if this build reads and writes Blosc chunks (zarr.c). */
-bool bvox__zarr_have_blosc(void);
-/* 1 if path is a folder holding .zarray or .zgroup (a Zarr array or group). */
-bool bvox__zarr_is_dir(const char *path);
 
 /* Parse and validate a .zarray (3-D, C order, no filters, a known dtype and
  * compressor, chunks >= 1). name names the file in messages. */

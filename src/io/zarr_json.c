@@ -5,7 +5,7 @@
  * is copied once; strings are decoded in place in that copy (an escape never
  * decodes longer than it is written), so nodes point into it. Nodes live in
  * one growing array, children linked by index. Input over
- * BVOX__JSON_MAX_BYTES or nested deeper than BVOX__JSON_MAX_DEPTH is refused.
+ * BVOX__JTREE_MAX_BYTES or nested deeper than BVOX__JTREE_MAX_DEPTH is refused.
  * The contour reader (recon/contour_json.c) is a schema-directed pull parser
  * for large files; this one serves small documents read by key.
  */
@@ -20,7 +20,7 @@
 typedef struct parser {
     char *p, *end, *start;
     const char *name;
-    bvox__json *j;
+    bvox__jtree *j;
 } parser;
 
 static bvox_status pfail(const parser *P, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -42,9 +42,9 @@ static void ws(parser *P)
         P->p++;
 }
 
-static int32_t new_node(parser *P, bvox__json_type t)
+static int32_t new_node(parser *P, bvox__jtype t)
 {
-    bvox__json *j = P->j;
+    bvox__jtree *j = P->j;
     if (j->n == j->cap) {
         int32_t cap = j->cap ? j->cap * 2 : 16;
         void *q = bvox__mem_resize(j->nodes, (size_t)cap * sizeof *j->nodes);
@@ -52,7 +52,7 @@ static int32_t new_node(parser *P, bvox__json_type t)
         j->nodes = q;
         j->cap = cap;
     }
-    bvox__json_node *n = &j->nodes[j->n];
+    bvox__jnode *n = &j->nodes[j->n];
     memset(n, 0, sizeof *n);
     n->type = t;
     n->first_child = n->next = -1;
@@ -221,7 +221,7 @@ static bvox_status container(parser *P, int depth, int32_t self, char close)
         int32_t child;
         bvox_status st = value(P, depth + 1, &child);
         if (st) return st;
-        bvox__json_node *nodes = P->j->nodes;
+        bvox__jnode *nodes = P->j->nodes;
         nodes[child].key = key;
         if (last < 0) nodes[self].first_child = child;
         else nodes[last].next = child;
@@ -244,26 +244,26 @@ static bvox_status container(parser *P, int depth, int32_t self, char close)
 
 static bvox_status value(parser *P, int depth, int32_t *out)
 {
-    if (depth > BVOX__JSON_MAX_DEPTH)
-        return pfail(P, "nested deeper than %d levels", BVOX__JSON_MAX_DEPTH);
+    if (depth > BVOX__JTREE_MAX_DEPTH)
+        return pfail(P, "nested deeper than %d levels", BVOX__JTREE_MAX_DEPTH);
     ws(P);
     if (P->p >= P->end) return pfail(P, "unexpected end of text");
     char c = *P->p;
-    bvox__json_type t;
-    if (c == '{') t = BVOX__JSON_OBJECT;
-    else if (c == '[') t = BVOX__JSON_ARRAY;
-    else if (c == '"') t = BVOX__JSON_STRING;
-    else if (c == 'n') t = BVOX__JSON_NULL;
-    else if (c == 't') t = BVOX__JSON_TRUE;
-    else if (c == 'f') t = BVOX__JSON_FALSE;
-    else t = BVOX__JSON_NUMBER;
+    bvox__jtype t;
+    if (c == '{') t = BVOX__JT_OBJECT;
+    else if (c == '[') t = BVOX__JT_ARRAY;
+    else if (c == '"') t = BVOX__JT_STRING;
+    else if (c == 'n') t = BVOX__JT_NULL;
+    else if (c == 't') t = BVOX__JT_TRUE;
+    else if (c == 'f') t = BVOX__JT_FALSE;
+    else t = BVOX__JT_NUMBER;
     int32_t self = new_node(P, t);
     if (self < 0) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", P->name);
     *out = self;
     switch (t) {
-    case BVOX__JSON_OBJECT: return container(P, depth, self, '}');
-    case BVOX__JSON_ARRAY: return container(P, depth, self, ']');
-    case BVOX__JSON_STRING: {
+    case BVOX__JT_OBJECT: return container(P, depth, self, '}');
+    case BVOX__JT_ARRAY: return container(P, depth, self, ']');
+    case BVOX__JT_STRING: {
         const char *s;
         size_t len;
         bvox_status st = string(P, &s, &len);
@@ -272,9 +272,9 @@ static bvox_status value(parser *P, int depth, int32_t *out)
         P->j->nodes[self].len = len;
         return BVOX_OK;
     }
-    case BVOX__JSON_NULL: return literal(P, "null") ? BVOX_OK : pfail(P, "unexpected word");
-    case BVOX__JSON_TRUE: return literal(P, "true") ? BVOX_OK : pfail(P, "unexpected word");
-    case BVOX__JSON_FALSE: return literal(P, "false") ? BVOX_OK : pfail(P, "unexpected word");
+    case BVOX__JT_NULL: return literal(P, "null") ? BVOX_OK : pfail(P, "unexpected word");
+    case BVOX__JT_TRUE: return literal(P, "true") ? BVOX_OK : pfail(P, "unexpected word");
+    case BVOX__JT_FALSE: return literal(P, "false") ? BVOX_OK : pfail(P, "unexpected word");
     default: {
         double v = 0;
         bool is_int = false;
@@ -287,13 +287,13 @@ static bvox_status value(parser *P, int depth, int32_t *out)
     }
 }
 
-bvox_status bvox__json_parse(const char *text, size_t size, const char *name, bvox__json *out)
+bvox_status bvox__jtree_parse(const char *text, size_t size, const char *name, bvox__jtree *out)
 {
     memset(out, 0, sizeof *out);
     if (!name) name = "input";
-    if (size > BVOX__JSON_MAX_BYTES)
+    if (size > BVOX__JTREE_MAX_BYTES)
         return bvox__fail(BVOX_ETOOBIG, "%s: %zu bytes of JSON metadata, more than the %zu "
-                          "allowed", name, size, BVOX__JSON_MAX_BYTES);
+                          "allowed", name, size, BVOX__JTREE_MAX_BYTES);
     out->text = bvox__mem_alloc(size + 1);
     if (!out->text) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
     if (size) memcpy(out->text, text, size);
@@ -307,30 +307,30 @@ bvox_status bvox__json_parse(const char *text, size_t size, const char *name, bv
         ws(&P);
         if (P.p != P.end) st = pfail(&P, "text after the JSON value");
     }
-    if (st) bvox__json_release(out);
+    if (st) bvox__jtree_release(out);
     return st;
 }
 
-void bvox__json_release(bvox__json *j)
+void bvox__jtree_release(bvox__jtree *j)
 {
     free(j->nodes);
     free(j->text);
     memset(j, 0, sizeof *j);
 }
 
-const bvox__json_node *bvox__json_get(const bvox__json *j, const bvox__json_node *obj,
+const bvox__jnode *bvox__jtree_get(const bvox__jtree *j, const bvox__jnode *obj,
                                       const char *key)
 {
-    if (!obj || obj->type != BVOX__JSON_OBJECT) return NULL;
-    const bvox__json_node *found = NULL;
+    if (!obj || obj->type != BVOX__JT_OBJECT) return NULL;
+    const bvox__jnode *found = NULL;
     for (int32_t i = obj->first_child; i >= 0; i = j->nodes[i].next)
         if (!strcmp(j->nodes[i].key, key)) found = &j->nodes[i]; /* last duplicate wins */
     return found;
 }
 
-const bvox__json_node *bvox__json_at(const bvox__json *j, const bvox__json_node *arr, int32_t k)
+const bvox__jnode *bvox__jtree_at(const bvox__jtree *j, const bvox__jnode *arr, int32_t k)
 {
-    if (!arr || arr->type != BVOX__JSON_ARRAY || k < 0 || k >= arr->count) return NULL;
+    if (!arr || arr->type != BVOX__JT_ARRAY || k < 0 || k >= arr->count) return NULL;
     int32_t i = arr->first_child;
     while (k-- > 0) i = j->nodes[i].next;
     return &j->nodes[i];

@@ -16,12 +16,12 @@ static bvox_status bad(const char *name, const char *what)
 }
 
 /* 3 positive integers <= max each. */
-static bool triple(const bvox__json *j, const bvox__json_node *a, int64_t max, int64_t out[3])
+static bool triple(const bvox__jtree *j, const bvox__jnode *a, int64_t max, int64_t out[3])
 {
-    if (!a || a->type != BVOX__JSON_ARRAY || a->count != 3) return false;
+    if (!a || a->type != BVOX__JT_ARRAY || a->count != 3) return false;
     for (int i = 0; i < 3; i++) {
-        const bvox__json_node *e = bvox__json_at(j, a, i);
-        if (e->type != BVOX__JSON_NUMBER || !e->is_int || e->num < 1 || e->num > (double)max)
+        const bvox__jnode *e = bvox__jtree_at(j, a, i);
+        if (e->type != BVOX__JT_NUMBER || !e->is_int || e->num < 1 || e->num > (double)max)
             return false;
         out[i] = (int64_t)e->num;
     }
@@ -64,21 +64,21 @@ bvox_status bvox__zarr_meta_parse(const char *text, size_t size, const char *nam
 {
     memset(out, 0, sizeof *out);
     out->sep = '.';
-    bvox__json j;
-    bvox_status st = bvox__json_parse(text, size, name, &j);
+    bvox__jtree j;
+    bvox_status st = bvox__jtree_parse(text, size, name, &j);
     if (st) return st;
-    const bvox__json_node *root = &j.nodes[0], *n;
-    if (root->type != BVOX__JSON_OBJECT) {
+    const bvox__jnode *root = &j.nodes[0], *n;
+    if (root->type != BVOX__JT_OBJECT) {
         st = bad(name, "not a JSON object");
         goto done;
     }
-    n = bvox__json_get(&j, root, "zarr_format");
-    if (!n || n->type != BVOX__JSON_NUMBER || n->num != 2) {
+    n = bvox__jtree_get(&j, root, "zarr_format");
+    if (!n || n->type != BVOX__JT_NUMBER || n->num != 2) {
         st = bvox__fail(BVOX_EUNSUPPORTED, "%s: zarr_format must be 2 (Zarr v2)", name);
         goto done;
     }
-    n = bvox__json_get(&j, root, "shape");
-    if (!n || n->type != BVOX__JSON_ARRAY || n->count != 3) {
+    n = bvox__jtree_get(&j, root, "shape");
+    if (!n || n->type != BVOX__JT_ARRAY || n->count != 3) {
         st = bvox__fail(BVOX_EUNSUPPORTED, "%s: \"shape\" must have 3 dimensions (z, y, x)",
                         name);
         goto done;
@@ -88,37 +88,37 @@ bvox_status bvox__zarr_meta_parse(const char *text, size_t size, const char *nam
                         BVOX_MAX_DIM);
         goto done;
     }
-    if (!triple(&j, bvox__json_get(&j, root, "chunks"), BVOX_MAX_DIM, out->chunks)) {
+    if (!triple(&j, bvox__jtree_get(&j, root, "chunks"), BVOX_MAX_DIM, out->chunks)) {
         st = bad(name, "\"chunks\" must be 3 integers in 1..65535");
         goto done;
     }
-    n = bvox__json_get(&j, root, "dtype");
-    if (!n || n->type != BVOX__JSON_STRING || !parse_dtype(n->str, out)) {
+    n = bvox__jtree_get(&j, root, "dtype");
+    if (!n || n->type != BVOX__JT_STRING || !parse_dtype(n->str, out)) {
         st = bvox__fail(BVOX_EUNSUPPORTED,
                         "%s: dtype %s%s%s is not supported (integers, floats or bool, e.g. "
                         "\"|u1\", \"<i2\", \"<f4\")",
-                        name, n && n->type == BVOX__JSON_STRING ? "\"" : "",
-                        n && n->type == BVOX__JSON_STRING ? n->str : "(missing)",
-                        n && n->type == BVOX__JSON_STRING ? "\"" : "");
+                        name, n && n->type == BVOX__JT_STRING ? "\"" : "",
+                        n && n->type == BVOX__JT_STRING ? n->str : "(missing)",
+                        n && n->type == BVOX__JT_STRING ? "\"" : "");
         goto done;
     }
-    n = bvox__json_get(&j, root, "order");
-    if (!n || n->type != BVOX__JSON_STRING || strcmp(n->str, "C")) {
+    n = bvox__jtree_get(&j, root, "order");
+    if (!n || n->type != BVOX__JT_STRING || strcmp(n->str, "C")) {
         st = bvox__fail(BVOX_EUNSUPPORTED, "%s: only order \"C\" is supported", name);
         goto done;
     }
-    n = bvox__json_get(&j, root, "filters");
-    if (n && !(n->type == BVOX__JSON_NULL ||
-               (n->type == BVOX__JSON_ARRAY && n->count == 0))) {
+    n = bvox__jtree_get(&j, root, "filters");
+    if (n && !(n->type == BVOX__JT_NULL ||
+               (n->type == BVOX__JT_ARRAY && n->count == 0))) {
         st = bvox__fail(BVOX_EUNSUPPORTED, "%s: filters are not supported", name);
         goto done;
     }
-    n = bvox__json_get(&j, root, "compressor");
-    if (!n || n->type == BVOX__JSON_NULL) {
+    n = bvox__jtree_get(&j, root, "compressor");
+    if (!n || n->type == BVOX__JT_NULL) {
         out->codec = BVOX__ZARR_RAW;
     } else {
-        const bvox__json_node *id = bvox__json_get(&j, n, "id");
-        if (!id || id->type != BVOX__JSON_STRING) {
+        const bvox__jnode *id = bvox__jtree_get(&j, n, "id");
+        if (!id || id->type != BVOX__JT_STRING) {
             st = bad(name, "compressor without an \"id\"");
             goto done;
         }
@@ -127,39 +127,34 @@ bvox_status bvox__zarr_meta_parse(const char *text, size_t size, const char *nam
         else if (!strcmp(id->str, "blosc")) out->codec = BVOX__ZARR_BLOSC;
         else {
             st = bvox__fail(BVOX_EUNSUPPORTED,
-                            "%s: unknown compressor \"%.40s\" (supported: zlib, gzip%s)", name,
-                            id->str, bvox__zarr_have_blosc() ? ", blosc" : "");
-            goto done;
-        }
-        if (out->codec == BVOX__ZARR_BLOSC && !bvox__zarr_have_blosc()) {
-            st = bvox__fail(BVOX_EUNSUPPORTED, "%s: compressor blosc: this bvox was built "
-                            "without Blosc", name);
+                            "%s: unknown compressor \"%.40s\" (supported: zlib, gzip, blosc)",
+                            name, id->str);
             goto done;
         }
     }
-    n = bvox__json_get(&j, root, "fill_value");
-    if (n && n->type == BVOX__JSON_NUMBER) {
+    n = bvox__jtree_get(&j, root, "fill_value");
+    if (n && n->type == BVOX__JT_NUMBER) {
         out->has_fill = true;
         out->fill = n->num;
-    } else if (n && n->type == BVOX__JSON_STRING &&
+    } else if (n && n->type == BVOX__JT_STRING &&
                (!strcmp(n->str, "NaN") || !strcmp(n->str, "Infinity") ||
                 !strcmp(n->str, "-Infinity"))) {
         out->has_fill = true;
         out->fill = !strcmp(n->str, "NaN") ? NAN : n->str[0] == '-' ? -INFINITY : INFINITY;
-    } else if (n && (n->type == BVOX__JSON_FALSE || n->type == BVOX__JSON_TRUE)) {
+    } else if (n && (n->type == BVOX__JT_FALSE || n->type == BVOX__JT_TRUE)) {
         out->has_fill = true;
-        out->fill = n->type == BVOX__JSON_TRUE;
+        out->fill = n->type == BVOX__JT_TRUE;
     }
-    n = bvox__json_get(&j, root, "dimension_separator");
+    n = bvox__jtree_get(&j, root, "dimension_separator");
     if (n) {
-        if (n->type != BVOX__JSON_STRING || (strcmp(n->str, ".") && strcmp(n->str, "/"))) {
+        if (n->type != BVOX__JT_STRING || (strcmp(n->str, ".") && strcmp(n->str, "/"))) {
             st = bad(name, "dimension_separator must be \".\" or \"/\"");
             goto done;
         }
         out->sep = n->str[0];
     }
 done:
-    bvox__json_release(&j);
+    bvox__jtree_release(&j);
     return st;
 }
 
@@ -168,23 +163,23 @@ bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *na
 {
     memset(out, 0, sizeof *out);
     out->spacing[0] = out->spacing[1] = out->spacing[2] = 1.0;
-    bvox__json j;
-    bvox_status st = bvox__json_parse(text, size, name, &j);
+    bvox__jtree j;
+    bvox_status st = bvox__jtree_parse(text, size, name, &j);
     if (st) return st;
-    const bvox__json_node *ms = bvox__json_get(&j, &j.nodes[0], "multiscales");
-    const bvox__json_node *m0 = bvox__json_at(&j, ms, 0);
+    const bvox__jnode *ms = bvox__jtree_get(&j, &j.nodes[0], "multiscales");
+    const bvox__jnode *m0 = bvox__jtree_at(&j, ms, 0);
     if (!m0) goto done; /* a plain group: no NGFF metadata */
-    const bvox__json_node *axes = bvox__json_get(&j, m0, "axes");
+    const bvox__jnode *axes = bvox__jtree_get(&j, m0, "axes");
     /* the last three axes are z, y, x (NGFF puts time and channel first) */
-    int32_t naxes = axes && axes->type == BVOX__JSON_ARRAY ? axes->count : 0;
+    int32_t naxes = axes && axes->type == BVOX__JT_ARRAY ? axes->count : 0;
     if (naxes && naxes != 3) {
         st = bvox__fail(BVOX_EUNSUPPORTED, "%s: %d axes; bvox reads 3-D (z, y, x) images",
                         name, (int)naxes);
         goto done;
     }
     for (int32_t a = 0; a < naxes; a++) {
-        const bvox__json_node *u = bvox__json_get(&j, bvox__json_at(&j, axes, a), "unit");
-        if (u && u->type == BVOX__JSON_STRING) {
+        const bvox__jnode *u = bvox__jtree_get(&j, bvox__jtree_at(&j, axes, a), "unit");
+        if (u && u->type == BVOX__JT_STRING) {
             const char *s = u->str;
             /* NGFF units are UDUNITS names; bvox's are the short forms */
             if (!strcmp(s, "micrometer")) s = "um";
@@ -195,9 +190,9 @@ bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *na
             snprintf(out->unit, sizeof out->unit, "%s", s);
         }
     }
-    const bvox__json_node *ds = bvox__json_at(&j, bvox__json_get(&j, m0, "datasets"), 0);
-    const bvox__json_node *path = bvox__json_get(&j, ds, "path");
-    if (path && path->type == BVOX__JSON_STRING) {
+    const bvox__jnode *ds = bvox__jtree_at(&j, bvox__jtree_get(&j, m0, "datasets"), 0);
+    const bvox__jnode *path = bvox__jtree_get(&j, ds, "path");
+    if (path && path->type == BVOX__JT_STRING) {
         if (path->len == 0 || path->len >= sizeof out->path || strstr(path->str, "..") ||
             path->str[0] == '/' || memchr(path->str, '\0', path->len)) {
             st = bad(name, "multiscales dataset path is empty, too long or leaves the folder");
@@ -205,19 +200,19 @@ bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *na
         }
         memcpy(out->path, path->str, path->len + 1);
     }
-    const bvox__json_node *ct = bvox__json_get(&j, ds, "coordinateTransformations");
+    const bvox__jnode *ct = bvox__jtree_get(&j, ds, "coordinateTransformations");
     for (int32_t k = 0; ct && k < ct->count; k++) {
-        const bvox__json_node *t = bvox__json_at(&j, ct, k);
-        const bvox__json_node *type = bvox__json_get(&j, t, "type");
-        if (!type || type->type != BVOX__JSON_STRING || strcmp(type->str, "scale")) continue;
-        const bvox__json_node *sc = bvox__json_get(&j, t, "scale");
-        if (!sc || sc->type != BVOX__JSON_ARRAY || sc->count != 3) {
+        const bvox__jnode *t = bvox__jtree_at(&j, ct, k);
+        const bvox__jnode *type = bvox__jtree_get(&j, t, "type");
+        if (!type || type->type != BVOX__JT_STRING || strcmp(type->str, "scale")) continue;
+        const bvox__jnode *sc = bvox__jtree_get(&j, t, "scale");
+        if (!sc || sc->type != BVOX__JT_ARRAY || sc->count != 3) {
             st = bad(name, "scale transform must have 3 entries (z, y, x)");
             goto done;
         }
         for (int a = 0; a < 3; a++) {
-            const bvox__json_node *e = bvox__json_at(&j, sc, a);
-            if (e->type != BVOX__JSON_NUMBER || !(e->num > 0)) {
+            const bvox__jnode *e = bvox__jtree_at(&j, sc, a);
+            if (e->type != BVOX__JT_NUMBER || !(e->num > 0)) {
                 st = bad(name, "scale entries must be positive numbers");
                 goto done;
             }
@@ -226,6 +221,6 @@ bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *na
         out->have_scale = true;
     }
 done:
-    bvox__json_release(&j);
+    bvox__jtree_release(&j);
     return st;
 }

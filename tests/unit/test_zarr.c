@@ -290,32 +290,32 @@ TEST(failed_write_leaves_nothing)
 
 TEST(json_parser)
 {
-    bvox__json j;
+    bvox__jtree j;
     const char *ok = " {\"a\": [1, -2.5e3, true, false, null], \"s\": \"x\\u00e9\\n\\ud83d\\ude00\","
                      " \"o\": {}, \"e\": []} ";
-    CHECK_OK(bvox__json_parse(ok, strlen(ok), "t", &j));
-    const bvox__json_node *a = bvox__json_get(&j, &j.nodes[0], "a");
+    CHECK_OK(bvox__jtree_parse(ok, strlen(ok), "t", &j));
+    const bvox__jnode *a = bvox__jtree_get(&j, &j.nodes[0], "a");
     CHECK(a && a->count == 5);
-    CHECK(bvox__json_at(&j, a, 0)->is_int);
-    CHECK_EQ(bvox__json_at(&j, a, 1)->num, -2500.0);
-    CHECK(!bvox__json_at(&j, a, 1)->is_int);
-    CHECK(bvox__json_at(&j, a, 5) == NULL);
-    const bvox__json_node *s = bvox__json_get(&j, &j.nodes[0], "s");
+    CHECK(bvox__jtree_at(&j, a, 0)->is_int);
+    CHECK_EQ(bvox__jtree_at(&j, a, 1)->num, -2500.0);
+    CHECK(!bvox__jtree_at(&j, a, 1)->is_int);
+    CHECK(bvox__jtree_at(&j, a, 5) == NULL);
+    const bvox__jnode *s = bvox__jtree_get(&j, &j.nodes[0], "s");
     CHECK(s && !strcmp(s->str, "x\xc3\xa9\n\xf0\x9f\x98\x80"));
-    CHECK(bvox__json_get(&j, &j.nodes[0], "missing") == NULL);
-    bvox__json_release(&j);
+    CHECK(bvox__jtree_get(&j, &j.nodes[0], "missing") == NULL);
+    bvox__jtree_release(&j);
     static const char *const bad[] = {
         "", "{", "[1,]", "{\"a\" 1}", "{\"a\":1,}", "01", "1.", "-", "nul", "\"\\x\"",
         "\"\\ud800\"", "[1] 2", "NaN", "\"a\nb\"", "{1: 2}", "1e999",
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        CHECK_STATUS(bvox__json_parse(bad[i], strlen(bad[i]), "t", &j), BVOX_EFORMAT);
+        CHECK_STATUS(bvox__jtree_parse(bad[i], strlen(bad[i]), "t", &j), BVOX_EFORMAT);
         CHECK(j.nodes == NULL && j.text == NULL);
     }
     /* depth limit */
     char deep[200];
     memset(deep, '[', sizeof deep);
-    CHECK_STATUS(bvox__json_parse(deep, sizeof deep, "t", &j), BVOX_EFORMAT);
+    CHECK_STATUS(bvox__jtree_parse(deep, sizeof deep, "t", &j), BVOX_EFORMAT);
     CHECK(strstr(bvox_errmsg(), "deeper") != NULL);
     return 0;
 }
