@@ -453,8 +453,9 @@ static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
                     /* bit-shuffled 0/1 bytes: 7 of every 8 bit planes are zero */
                     int k = blosc_compress_ctx(5, BLOSC_BITSHUFFLE, 1, chunk_bytes, chunk, z,
                                                zbound, "lz4", 0, 1);
-                    if (k <= 0) {
-                        st = bvox__fail(BVOX_ENOMEM, "%s: Blosc failed", path);
+                    if (k <= 0) { /* Blosc 1 takes at most 2 GiB per buffer */
+                        st = bvox__fail(BVOX_ETOOBIG, "%s: Blosc could not compress a chunk of "
+                                        "%zu bytes (use smaller --chunks)", path, chunk_bytes);
                         break;
                     }
                     zn = (uLongf)k;
