@@ -86,6 +86,8 @@ static void print_json(const bvox_components *c)
     cli_json_begin_object(&j);
     cli_json_key(&j, "count");
     cli_json_int(&j, n);
+    cli_json_key(&j, "component_count"); /* = count, the name measure shares */
+    cli_json_int(&j, n);
     cli_json_key(&j, "components");
     cli_json_begin_array(&j);
     for (int64_t i = 0; i < n; i++) {

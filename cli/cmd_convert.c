@@ -77,6 +77,10 @@ int cmd_convert(int argc, char **argv)
     /* Refuse before reading a possibly large input. */
     if (cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
 
+    /* ... and when the header alone shows that the output cannot hold it */
+    bvox_dims dims;
+    if (bvox_read_dims(in, &a.ra.opts, &dims) == BVOX_OK && bvox_write_check(out, dims, &a.wo))
+        return cli_fail();
     bvox_volume *vol = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st = bvox_write(out, vol, &a.wo);

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static const char *const outputs[] = {"specimen.nii.gz", "specimen.tif"};
 
@@ -46,7 +47,61 @@ const cli_spec cli_spec_demo = {
     .examples = "  bvox demo -o out && bvox info out/specimen.nii.gz\n",
 };
 
+/* The outermost folder of dir that does not exist yet (what -o creates),
+ * or NULL if dir exists; free it. */
+static char *first_missing(const char *dir)
+{
+    char *p = strdup(dir);
+    struct stat sb;
+    for (char *s = p ? p + 1 : NULL; s; s++) {
+        if (*s != '/' && *s != '\0') continue;
+        char c = *s;
+        *s = '\0';
+        if (stat(p, &sb) != 0) return p;
+        *s = c;
+        if (!c) break;
+    }
+    free(p);
+    return NULL;
+}
+
+/* After a failure: remove what this run wrote into the folders it created,
+ * then those folders (from dir up to top), so a failed demo leaves nothing. */
+static void undo_outputs(const char *dir, const char *top)
+{
+    static const char *const pictures[] = {"picture1.png", "picture2.png", "picture3.png",
+                                           "picture4.png"};
+    char path[4096];
+    for (size_t k = 0; k < 2; k++)
+        if (snprintf(path, sizeof path, "%s/%s", dir, outputs[k]) < (int)sizeof path)
+            unlink(path);
+    for (size_t k = 0; k < 4; k++)
+        if (snprintf(path, sizeof path, "%s/%s", dir, pictures[k]) < (int)sizeof path)
+            unlink(path);
+    snprintf(path, sizeof path, "%s", dir);
+    size_t top_len = strlen(top);
+    for (;;) {
+        size_t n = strlen(path);
+        while (n > 1 && path[n - 1] == '/') path[--n] = '\0';
+        if (n < top_len || rmdir(path) != 0 || n == top_len) break;
+        char *slash = strrchr(path, '/');
+        if (!slash) break;
+        *slash = '\0';
+    }
+}
+
+static int write_some(const char *dir, const bvox_volume *vol);
+
 static int write_outputs(const char *dir, const bvox_volume *vol)
+{
+    char *top = first_missing(dir);
+    int rc = write_some(dir, vol);
+    if (rc != CLI_OK && top) undo_outputs(dir, top);
+    free(top);
+    return rc;
+}
+
+static int write_some(const char *dir, const bvox_volume *vol)
 {
     int err = cli_make_dirs(dir);
     if (err) {

@@ -142,6 +142,8 @@ static void print_json(const bvox_info *info, const bvox_measures *m, const char
     else cli_json_double(&j, m->sphericity);
     cli_json_key(&j, "components");
     cli_json_int(&j, m->components);
+    cli_json_key(&j, "component_count"); /* the name `components --json` shares */
+    cli_json_int(&j, m->components);
     cli_json_key(&j, "cavities");
     cli_json_int(&j, m->cavities);
     cli_json_key(&j, "cavities_6"); /* the same: the background's connectivity named */

@@ -77,6 +77,8 @@ int cmd_meshinfo(int argc, char **argv)
         cli_json_double(&j, info.volume);
         cli_json_key(&j, "area");
         cli_json_double(&j, info.area);
+        cli_json_key(&j, "surface_area"); /* = area, the name measure uses */
+        cli_json_double(&j, info.area);
         cli_json_key(&j, "bbox");
         cli_json_begin_object(&j);
         cli_json_key(&j, "min");

@@ -154,7 +154,11 @@ int cmd_voxelize(int argc, char **argv)
     if (bvox_mesh_read(in, fmt, &m)) return cli_fail();
     bvox_volume *vol = NULL;
     bvox_voxelize_report rep;
-    bvox_status st = bvox_mesh_voxelize(m, &vo, &vol, &rep);
+    /* an output that cannot take the result is refused before the work */
+    bvox_dims dims;
+    bvox_status st = bvox_mesh_voxelize_dims(m, &vo, &dims);
+    if (!st) st = bvox_write_check(out, dims, &a.wo);
+    if (!st) st = bvox_mesh_voxelize(m, &vo, &vol, &rep);
     bvox_mesh_destroy(m);
     if (st) return cli_fail();
     if (!rep.closed)

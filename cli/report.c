@@ -122,11 +122,17 @@ void cli_info_json_fields(cli_json *j, const bvox_info *info, const char *source
     cli_json_int_array(j, dims, 3);
     cli_json_key(j, "voxel_size");
     cli_json_double_array(j, g->spacing, 3);
+    /* the same under the name the library, Python and reconstruct's report
+     * use (docs/JSON.md: keys are added, never renamed) */
+    cli_json_key(j, "spacing");
+    cli_json_double_array(j, g->spacing, 3);
     cli_json_key(j, "unit");
     cli_json_string(j, g->unit);
     cli_json_key(j, "origin");
     cli_json_double_array(j, g->origin, 3);
     cli_json_key(j, "count");
+    cli_json_int(j, info->count);
+    cli_json_key(j, "voxels"); /* = count; "count" means components in `components` */
     cli_json_int(j, info->count);
     cli_json_key(j, "volume");
     cli_json_double(j, info->volume);

@@ -19,6 +19,13 @@ $SUDO apt-get install -y -qq --no-install-recommends libcgal-demo >/dev/null
 # the viewer (bvox view): SDL2 for its window; xvfb + xauth so that the tests
 # (tests/cli/view.sh, through xvfb-run) open the real window without a display
 $SUDO apt-get install -y -qq --no-install-recommends libsdl2-dev xvfb xauth >/dev/null
+# the Python package (python/) and its tests: cffi loads libbvox, NumPy arrays
+# in and out; pytest, SciPy (the oracle for morphology and labelling),
+# nibabel (NIfTI geometry), PIL (reading PNGs back); venv, pip and setuptools
+# for `pip install --no-build-isolation ./python` (the python.pip_install test)
+$SUDO apt-get install -y -qq --no-install-recommends \
+    python3-cffi python3-numpy python3-scipy python3-pytest python3-nibabel python3-pil \
+    python3-venv python3-pip python3-setuptools >/dev/null
 # benchmarks only (bench/compare_scipy.py; no test needs them): SciPy and
 # numpy for the comparison. A failure here does not stop the rest.
 $SUDO apt-get install -y -qq --no-install-recommends python3-numpy python3-scipy >/dev/null ||

@@ -43,6 +43,14 @@ void bvox__error_prefix(const char *prefix);
 /* ---- alloc.c: the one allocation seam (both kinds: see core/alloc.h) ---- */
 #include "core/alloc.h"
 #include "core/check.h" /* BVOX_ASSERT, BVOX_CHECK_VOLUME...: debug-build invariants */
+/* Count bytes held outside bvox__alloc (growing arrays, such as contour
+ * stacks and text buffers) against the budget: false (status BVOX_ETOOBIG,
+ * message naming what) when they would exceed it. Every charge is refunded
+ * once, when the memory is freed. */
+bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status);
+void bvox__budget_refund(size_t bytes);
+/* A byte count for messages: "812 bytes", "2.4 MiB", "11.8 GiB". */
+void bvox__format_bytes(char *buf, size_t len, size_t bytes);
 /* Overflow-safe a*b; returns false on overflow. */
 static inline bool bvox__mul_size(size_t a, size_t b, size_t *out)
 {

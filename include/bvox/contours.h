@@ -60,17 +60,18 @@ enum {
 };
 
 /* An empty stack: unit "", pixel 1, spacing 1, width = height = 0. */
-bvox_status bvox_stack_create(bvox_contour_stack **out);
-void bvox_stack_destroy(bvox_contour_stack *stack);
+BVOX_API bvox_status bvox_stack_create(bvox_contour_stack **out);
+BVOX_API void bvox_stack_destroy(bvox_contour_stack *stack);
 /* Append a section at z (name copied, may be NULL); *out (may be NULL) points
  * into the stack and stays valid until the next append. */
-bvox_status bvox_stack_add_section(bvox_contour_stack *stack, double z, const char *name,
-                                   bvox_section **out);
+BVOX_API bvox_status bvox_stack_add_section(bvox_contour_stack *stack, double z, const char *name,
+                                            bvox_section **out);
 /* Append a copy of the n points (n >= 3, finite) as a contour of sec; parent
  * is -1 or the index of an earlier contour. */
-bvox_status bvox_section_add_contour(bvox_section *sec, const bvox_point2 *points, int32_t n,
-                                     int hole, int32_t parent);
-bvox_status bvox_section_add_marker(bvox_section *sec, bvox_point2 marker);
+BVOX_API bvox_status bvox_section_add_contour(bvox_section *sec, const bvox_point2 *points,
+                                              int32_t n,
+                                              int hole, int32_t parent);
+BVOX_API bvox_status bvox_section_add_marker(bvox_section *sec, bvox_point2 marker);
 
 /* ------------------------------------------------ contour stack -> model */
 
@@ -82,7 +83,7 @@ typedef struct bvox_stack_volume_opts {
 } bvox_stack_volume_opts;
 
 /* z_spacing 0, interpolate 1, margin 1. */
-bvox_stack_volume_opts bvox_stack_volume_opts_default(void);
+BVOX_API bvox_stack_volume_opts bvox_stack_volume_opts_default(void);
 
 /* Scan-convert every section (even-odd fill of all its contours, holes kept:
  * pixel (i, j) is inside when its centre (i + 0.5, j + 0.5) is; exactly on
@@ -121,8 +122,9 @@ bvox_stack_volume_opts bvox_stack_volume_opts_default(void);
  * Sections must have distinct z (any order: they are sorted). Errors:
  * BVOX_EINVAL (no sections, bad options, equal z, no extent), BVOX_ETOOBIG.
  * *out is owned by the caller. */
-bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_stack_volume_opts *opts,
-                                 bvox_volume **out);
+BVOX_API bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack,
+                                          const bvox_stack_volume_opts *opts,
+                                          bvox_volume **out);
 
 /* ---------------------------------------------------- contour geometry */
 
@@ -130,25 +132,25 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
  * turn from +x towards +y (counter-clockwise in a y-up frame, which is
  * clockwise on screen where y points down); outer contours written by bvox
  * are positive, holes negative. */
-double bvox_polygon_signed_area(const bvox_point2 *points, int32_t n);
+BVOX_API double bvox_polygon_signed_area(const bvox_point2 *points, int32_t n);
 /* 1 if p is inside the polygon (even-odd; a point on an edge follows the
  * same half-open rule as the scan conversion). */
-int bvox_polygon_contains(const bvox_point2 *points, int32_t n, bvox_point2 p);
+BVOX_API int bvox_polygon_contains(const bvox_point2 *points, int32_t n, bvox_point2 p);
 /* 1 if p is inside the section (even-odd over all its contours). */
-int bvox_section_contains(const bvox_section *sec, bvox_point2 p);
+BVOX_API int bvox_section_contains(const bvox_section *sec, bvox_point2 p);
 
 /* Drop consecutive duplicate points (the last equal to the first included).
  * BVOX_EFORMAT if fewer than 3 distinct points remain (the contour is left
  * as it was). */
-bvox_status bvox_contour_close(bvox_contour *c);
+BVOX_API bvox_status bvox_contour_close(bvox_contour *c);
 /* Moving average over 2 * radius + 1 neighbours (closed), `iterations` times,
  * then scaled about the centroid so that the area is what it was (a smoothed
  * outline does not shrink). radius >= 1, iterations >= 1. */
-bvox_status bvox_contour_smooth(bvox_contour *c, int32_t radius, int32_t iterations);
+BVOX_API bvox_status bvox_contour_smooth(bvox_contour *c, int32_t radius, int32_t iterations);
 /* Douglas-Peucker on the closed polygon (split at point 0 and the point
  * farthest from it): every dropped point is within tolerance (pixels) of the
  * simplified outline; at least 3 points stay. Iterative (no recursion). */
-bvox_status bvox_contour_simplify(bvox_contour *c, double tolerance);
+BVOX_API bvox_status bvox_contour_simplify(bvox_contour *c, double tolerance);
 /* Whether edges of the contours of sec cross each other (a contour crossing
  * itself, or two contours crossing). BVOX_OK when none do; BVOX_EFORMAT with
  * a message naming the section (name or index, z), the contours, edges and
@@ -157,7 +159,7 @@ bvox_status bvox_contour_simplify(bvox_contour *c, double tolerance);
  * (traced outlines touch at pixel corners), and so neither a crossing that
  * passes exactly through a vertex. Sweep over edges sorted by x.
  * section_index only names the section. */
-bvox_status bvox_section_check_simple(const bvox_section *sec, int32_t section_index);
+BVOX_API bvox_status bvox_section_check_simple(const bvox_section *sec, int32_t section_index);
 
 /* A 2-D affine map x' = a x + b y + tx, y' = c x + d y + ty (pixels). */
 typedef struct bvox_xform2 {
@@ -165,15 +167,15 @@ typedef struct bvox_xform2 {
 } bvox_xform2;
 /* Rotation by angle (radians, from +x towards +y) and uniform scale about
  * the origin, then the translation. */
-bvox_xform2 bvox_xform2_similarity(double angle, double scale, double tx, double ty);
+BVOX_API bvox_xform2 bvox_xform2_similarity(double angle, double scale, double tx, double ty);
 /* first then second: (second o first)(p). */
-bvox_xform2 bvox_xform2_compose(const bvox_xform2 *first, const bvox_xform2 *second);
+BVOX_API bvox_xform2 bvox_xform2_compose(const bvox_xform2 *first, const bvox_xform2 *second);
 /* BVOX_EINVAL if singular. */
-bvox_status bvox_xform2_invert(const bvox_xform2 *t, bvox_xform2 *out);
-bvox_point2 bvox_xform2_apply(const bvox_xform2 *t, bvox_point2 p);
+BVOX_API bvox_status bvox_xform2_invert(const bvox_xform2 *t, bvox_xform2 *out);
+BVOX_API bvox_point2 bvox_xform2_apply(const bvox_xform2 *t, bvox_point2 p);
 /* Map every contour point and marker of sec (a reflection reverses the
  * point order so that orientations are kept). */
-void bvox_section_transform(bvox_section *sec, const bvox_xform2 *t);
+BVOX_API void bvox_section_transform(bvox_section *sec, const bvox_xform2 *t);
 
 /* ------------------------------------------------------ files */
 
@@ -182,13 +184,13 @@ void bvox_section_transform(bvox_section *sec, const bvox_xform2 *t);
  * (the .ser file; its sections NAME.1, NAME.2, ... beside it). Format by
  * extension, else by content. BVOX_EFORMAT with file and line:column on
  * malformed input. *out is owned by the caller. */
-bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out);
+BVOX_API bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out);
 /* A list of .svg files, one section each, in the given order. */
-bvox_status bvox_stack_read_svg_files(const char *const *paths, int32_t n,
-                                      bvox_contour_stack **out);
+BVOX_API bvox_status bvox_stack_read_svg_files(const char *const *paths, int32_t n,
+                                               bvox_contour_stack **out);
 /* Memory entry points (name is for messages). */
-bvox_status bvox_stack_read_json_memory(const char *data, size_t size, const char *name,
-                                        bvox_contour_stack **out);
+BVOX_API bvox_status bvox_stack_read_json_memory(const char *data, size_t size, const char *name,
+                                                 bvox_contour_stack **out);
 /* Options of bvox_stack_read_with. */
 typedef struct bvox_stack_read_opts {
     /* SVG only: read only the elements that are, or lie inside, one named here:
@@ -202,25 +204,26 @@ typedef struct bvox_stack_read_opts {
 } bvox_stack_read_opts;
 
 /* bvox_stack_read with options (opts NULL: the defaults). */
-bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *opts,
-                                 bvox_contour_stack **out);
+BVOX_API bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *opts,
+                                          bvox_contour_stack **out);
 
 /* One SVG document as one section at z (pixel 1, spacing 1); appended to
  * *stack when *stack is not NULL, else a new stack is made. */
-bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char *name, double z,
-                                       bvox_contour_stack **stack);
+BVOX_API bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, const char *name,
+                                                double z,
+                                                bvox_contour_stack **stack);
 /* A Reconstruct section file's text appended as a section; the first call
  * (with *stack NULL) creates the stack. thickness <= 0: take the section's
  * thickness attribute. */
-bvox_status bvox_stack_read_reconstruct_section_memory(const char *data, size_t size,
-                                                       const char *name,
-                                                       bvox_contour_stack **stack);
+BVOX_API bvox_status bvox_stack_read_reconstruct_section_memory(const char *data, size_t size,
+                                                                const char *name,
+                                                                bvox_contour_stack **stack);
 /* Write atomically. JSON: {"unit", "pixel", "spacing", "width", "height",
  * "sections": [{"z", "name", "contours": [[[x, y], ...], ...], "markers"}]}.
  * SVG folder: one file per section, section_0001.svg ... (markers as
  * <circle class="marker">). */
-bvox_status bvox_stack_write_json(const char *path, const bvox_contour_stack *stack);
-bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *stack);
+BVOX_API bvox_status bvox_stack_write_json(const char *path, const bvox_contour_stack *stack);
+BVOX_API bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *stack);
 
 /* ------------------------------------------------- model -> contours */
 
@@ -240,6 +243,7 @@ bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *
  * minus half a voxel along u and v), so the stack maps back onto the same
  * world positions.
  * *out is owned by the caller. */
-bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_contour_stack **out);
+BVOX_API bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis,
+                                             bvox_contour_stack **out);
 
 #endif /* BVOX_CONTOURS_H */

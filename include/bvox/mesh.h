@@ -24,14 +24,18 @@ typedef struct bvox_mesh {
 } bvox_mesh;
 
 /* An empty mesh. Destroy with bvox_mesh_destroy (accepts NULL). */
-bvox_status bvox_mesh_create(bvox_mesh **out);
-void bvox_mesh_destroy(bvox_mesh *mesh);
+BVOX_API bvox_status bvox_mesh_create(bvox_mesh **out);
+BVOX_API void bvox_mesh_destroy(bvox_mesh *mesh);
 /* Make room for at least nv vertices and nt triangles (counts are limited
  * to INT32_MAX). */
-bvox_status bvox_mesh_reserve(bvox_mesh *mesh, int64_t nv, int64_t nt);
-/* Append a vertex (finite coordinates) / a triangle (indices < nvertices). */
-bvox_status bvox_mesh_add_vertex(bvox_mesh *mesh, double x, double y, double z);
-bvox_status bvox_mesh_add_triangle(bvox_mesh *mesh, int32_t a, int32_t b, int32_t c);
+BVOX_API bvox_status bvox_mesh_reserve(bvox_mesh *mesh, int64_t nv, int64_t nt);
+/* The largest coordinate magnitude a vertex may have: measures multiply up
+ * to four coordinate differences, which must stay finite. */
+#define BVOX_MESH_COORD_MAX 1e60
+/* Append a vertex (finite coordinates, |c| <= BVOX_MESH_COORD_MAX; else
+ * BVOX_EINVAL) / a triangle (indices < nvertices). */
+BVOX_API bvox_status bvox_mesh_add_vertex(bvox_mesh *mesh, double x, double y, double z);
+BVOX_API bvox_status bvox_mesh_add_triangle(bvox_mesh *mesh, int32_t a, int32_t b, int32_t c);
 
 /* ---------------------------------------------------- volume -> mesh */
 
@@ -61,13 +65,13 @@ typedef struct bvox_mesh_opts {
 
 /* The surface of the 1-voxels (the volume is treated as surrounded by 0s,
  * so the mesh is always closed). opts may be NULL (marching cubes). */
-bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *opts,
-                                  bvox_mesh **out);
+BVOX_API bvox_status bvox_mesh_from_volume(const bvox_volume *vol, const bvox_mesh_opts *opts,
+                                           bvox_mesh **out);
 
 /* Taubin lambda/mu smoothing (a shrink step lambda > 0, an inflate step
  * mu < -lambda) over the shared-vertex adjacency, uniform weights; the
  * enclosed volume is nearly preserved. */
-bvox_status bvox_mesh_smooth(bvox_mesh *mesh, int iterations, double lambda, double mu);
+BVOX_API bvox_status bvox_mesh_smooth(bvox_mesh *mesh, int iterations, double lambda, double mu);
 
 /* ------------------------------------------------------------- measures */
 
@@ -84,7 +88,7 @@ typedef struct bvox_mesh_info {
     int watertight;          /* every edge in exactly two triangles, no degenerate */
 } bvox_mesh_info;
 
-bvox_status bvox_mesh_measure(const bvox_mesh *mesh, bvox_mesh_info *info);
+BVOX_API bvox_status bvox_mesh_measure(const bvox_mesh *mesh, bvox_mesh_info *info);
 
 /* ------------------------------------------------------------------ files */
 
@@ -93,17 +97,17 @@ bvox_status bvox_mesh_measure(const bvox_mesh *mesh, bvox_mesh_info *info);
  * triangles' coincident corners are welded (exact equality); polygons are
  * triangulated as fans. Bad input (truncated, NaN, index out of range,
  * absurd counts) is BVOX_EFORMAT with a message naming the file. */
-bvox_status bvox_mesh_read(const char *path, const char *format, bvox_mesh **out);
-bvox_status bvox_mesh_read_memory(const void *data, size_t size, const char *name,
-                                  const char *format, bvox_mesh **out);
+BVOX_API bvox_status bvox_mesh_read(const char *path, const char *format, bvox_mesh **out);
+BVOX_API bvox_status bvox_mesh_read_memory(const void *data, size_t size, const char *name,
+                                           const char *format, bvox_mesh **out);
 /* "stl", "ply", "obj", "off" for a path's extension, or NULL. */
-const char *bvox_mesh_format_for_path(const char *path);
+BVOX_API const char *bvox_mesh_format_for_path(const char *path);
 
 /* Write as "stl" (binary; ascii != 0: ASCII), "ply" (binary little endian;
  * ascii: ASCII), "obj" or "off" (text); format NULL: by extension. Written
  * atomically (temporary file, renamed on success). */
-bvox_status bvox_mesh_write(const char *path, const bvox_mesh *mesh, const char *format,
-                            int ascii);
+BVOX_API bvox_status bvox_mesh_write(const char *path, const bvox_mesh *mesh, const char *format,
+                                     int ascii);
 
 /* ------------------------------------------------------- mesh -> volume */
 
@@ -138,7 +142,12 @@ typedef struct bvox_voxelize_report {
  * grid, ties broken by a symbolic perturbation of the ray (simulation of
  * simplicity), parity per ray. A mesh that is not closed is voxelized along x,
  * y and z and each voxel gets the majority vote. report may be NULL. */
-bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
-                               bvox_volume **out, bvox_voxelize_report *report);
+BVOX_API bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxelize_opts *opts,
+                                        bvox_volume **out, bvox_voxelize_report *report);
+/* The dimensions bvox_mesh_voxelize would give, with the same checks of the
+ * mesh and options, computed from the bounding box alone (nothing is
+ * allocated): to refuse an output that cannot hold them before the work. */
+BVOX_API bvox_status bvox_mesh_voxelize_dims(const bvox_mesh *mesh,
+                                             const bvox_voxelize_opts *opts, bvox_dims *dims);
 
 #endif /* BVOX_MESH_H */

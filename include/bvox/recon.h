@@ -27,38 +27,38 @@ typedef struct bvox_bitmap {
 } bvox_bitmap;
 
 /* An all-zero bitmap; width, height in 1..BVOX_IMAGE_MAX_DIM. */
-bvox_status bvox_bitmap_create(int32_t width, int32_t height, bvox_bitmap **out);
-void bvox_bitmap_destroy(bvox_bitmap *bm);
-bvox_status bvox_bitmap_copy(const bvox_bitmap *bm, bvox_bitmap **out);
+BVOX_API bvox_status bvox_bitmap_create(int32_t width, int32_t height, bvox_bitmap **out);
+BVOX_API void bvox_bitmap_destroy(bvox_bitmap *bm);
+BVOX_API bvox_status bvox_bitmap_copy(const bvox_bitmap *bm, bvox_bitmap **out);
 /* 0 outside the bitmap. */
-int bvox_bitmap_get(const bvox_bitmap *bm, int32_t x, int32_t y);
+BVOX_API int bvox_bitmap_get(const bvox_bitmap *bm, int32_t x, int32_t y);
 /* Ignored outside the bitmap. */
-void bvox_bitmap_set(bvox_bitmap *bm, int32_t x, int32_t y, int value);
-int64_t bvox_bitmap_count(const bvox_bitmap *bm);
+BVOX_API void bvox_bitmap_set(bvox_bitmap *bm, int32_t x, int32_t y, int value);
+BVOX_API int64_t bvox_bitmap_count(const bvox_bitmap *bm);
 /* 8-bit gray image, 255 where set, 0 elsewhere (to write as PNG). */
-bvox_status bvox_bitmap_to_image(const bvox_bitmap *bm, bvox_image **out);
+BVOX_API bvox_status bvox_bitmap_to_image(const bvox_bitmap *bm, bvox_image **out);
 
 /* Square structuring element of (2 radius + 1)^2 pixels (radius >= 0), word
  * by word (shifts along rows, ORs/ANDs of whole rows). Outside the bitmap is
  * background for dilation, and does not erode (erosion treats it as object),
  * so an object touching the edge is not eaten from there. */
-bvox_status bvox_bitmap_dilate(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
-bvox_status bvox_bitmap_erode(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
-bvox_status bvox_bitmap_open(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
-bvox_status bvox_bitmap_close(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
+BVOX_API bvox_status bvox_bitmap_dilate(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
+BVOX_API bvox_status bvox_bitmap_erode(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
+BVOX_API bvox_status bvox_bitmap_open(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
+BVOX_API bvox_status bvox_bitmap_close(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
 /* Median (majority) filter over the (2 radius + 1)^2 square clipped to the
  * bitmap: a pixel is set when more than half of the window's pixels inside
  * the bitmap are set. radius 0 copies. Summed-area table: O(1) per pixel. */
-bvox_status bvox_bitmap_median(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
+BVOX_API bvox_status bvox_bitmap_median(const bvox_bitmap *in, int32_t radius, bvox_bitmap **out);
 /* Connected components of the set pixels (conn 4 or 8), labelled 1..count
  * in the order of their first pixel (row by row); 0 background. *labels
  * (width*height, row-major) is released with bvox_free. */
-bvox_status bvox_bitmap_label(const bvox_bitmap *bm, int conn, int32_t **labels,
-                              int32_t *count);
+BVOX_API bvox_status bvox_bitmap_label(const bvox_bitmap *bm, int conn, int32_t **labels,
+                                       int32_t *count);
 /* In place: clear the 8-connected components of fewer than min_area pixels,
  * then, if fill_holes, set the 4-connected background components of fewer
  * than min_area pixels that do not touch the edge (small holes). */
-bvox_status bvox_bitmap_remove_specks(bvox_bitmap *bm, int64_t min_area, int fill_holes);
+BVOX_API bvox_status bvox_bitmap_remove_specks(bvox_bitmap *bm, int64_t min_area, int fill_holes);
 
 /* ---------------------------------------------------- gray section steps */
 
@@ -66,9 +66,9 @@ bvox_status bvox_bitmap_remove_specks(bvox_bitmap *bm, int64_t min_area, int fil
  * luminance 0.299 R + 0.587 G + 0.114 B) or, by the extension .tif/.tiff,
  * the first page of a TIFF (unsigned 8/16-bit gray or RGB as stored,
  * min-is-white inverted; other layouts libtiff decodes as 8-bit RGB). */
-bvox_status bvox_section_read(const char *path, bvox_image **out);
+BVOX_API bvox_status bvox_section_read(const char *path, bvox_image **out);
 /* Gray copy of img (RGB -> luminance as above; gray: a copy). */
-bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out);
+BVOX_API bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out);
 
 /* Estimate the background of a gray section from itself: a quadratic
  * surface a + bx + cy + dx^2 + exy + fy^2 fitted by least squares to a grid
@@ -79,24 +79,25 @@ bvox_status bvox_section_gray(const bvox_image *img, bvox_image **out);
  * gradients and vignetting are captured, objects of any size are not, as
  * long as the object's contrast exceeds the background's variation. *bg has
  * img's size and depth. */
-bvox_status bvox_section_background_estimate(const bvox_image *img, int dark, bvox_image **bg);
+BVOX_API bvox_status bvox_section_background_estimate(const bvox_image *img, int dark,
+                                                      bvox_image **bg);
 /* out = img - bg + mean(bg), clamped to the sample range: an even
  * background at the blank's mean level. bg: a blank (empty) section image
  * or an estimate; same size as img (BVOX_EINVAL naming both sizes if not). */
-bvox_status bvox_section_subtract_background(const bvox_image *img, const bvox_image *bg,
-                                             bvox_image **out);
+BVOX_API bvox_status bvox_section_subtract_background(const bvox_image *img, const bvox_image *bg,
+                                                      bvox_image **out);
 /* Flat-field correction for transmitted light (illumination multiplies):
  * out = img * mean(bg) / bg (bg 0 counts as 1), rounded and clamped; same
  * size rule. Absorbing markers and tissue keep their contrast across an
  * uneven field, which a subtraction would not give them. */
-bvox_status bvox_section_divide_background(const bvox_image *img, const bvox_image *bg,
-                                           bvox_image **out);
+BVOX_API bvox_status bvox_section_divide_background(const bvox_image *img, const bvox_image *bg,
+                                                    bvox_image **out);
 /* Otsu's threshold of a gray image (one histogram bin per value): the
  * value t maximising the between-class variance of {v <= t} and {v > t}. */
-bvox_status bvox_section_otsu(const bvox_image *img, double *threshold);
+BVOX_API bvox_status bvox_section_otsu(const bvox_image *img, double *threshold);
 /* Object mask: dark != 0: value <= threshold; else value > threshold. */
-bvox_status bvox_section_threshold(const bvox_image *img, double threshold, int dark,
-                                   bvox_bitmap **out);
+BVOX_API bvox_status bvox_section_threshold(const bvox_image *img, double threshold, int dark,
+                                            bvox_bitmap **out);
 
 /* Closed contours of the set pixels, traced along pixel edges (crack
  * following): vertices at pixel corners (integer coordinates), one vertex per
@@ -109,8 +110,9 @@ bvox_status bvox_section_threshold(const bvox_image *img, double threshold, int 
  * a hole's parent is its object's outer contour, an island in a hole has the
  * hole as parent. *contours (malloc'd, points too) is released with
  * bvox_contours_free. */
-bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours, int32_t *count);
-void bvox_contours_free(bvox_contour *contours, int32_t count);
+BVOX_API bvox_status bvox_bitmap_trace(const bvox_bitmap *bm, bvox_contour **contours,
+                                       int32_t *count);
+BVOX_API void bvox_contours_free(bvox_contour *contours, int32_t count);
 
 /* ----------------------------------------------------------- markers */
 
@@ -123,18 +125,18 @@ typedef struct bvox_sim2 {
     double tx, ty;
 } bvox_sim2;
 
-bvox_sim2 bvox_sim2_identity(void);
-bvox_point2 bvox_sim2_apply(const bvox_sim2 *t, bvox_point2 p);
+BVOX_API bvox_sim2 bvox_sim2_identity(void);
+BVOX_API bvox_point2 bvox_sim2_apply(const bvox_sim2 *t, bvox_point2 p);
 /* a after b: p -> a(b(p)). */
-bvox_sim2 bvox_sim2_compose(const bvox_sim2 *a, const bvox_sim2 *b);
-bvox_sim2 bvox_sim2_inverse(const bvox_sim2 *t);
+BVOX_API bvox_sim2 bvox_sim2_compose(const bvox_sim2 *a, const bvox_sim2 *b);
+BVOX_API bvox_sim2 bvox_sim2_inverse(const bvox_sim2 *t);
 
 /* Least-squares transform taking src[i] onto dst[i] (n >= 2): rigid
  * (Kabsch / Umeyama in 2-D: centroids, then the angle atan2(sum a x b,
  * sum a . b)), with the uniform scale too when allow_scale. rms (may be
  * NULL): root mean square distance of the mapped src from dst. */
-bvox_status bvox_sim2_fit(const bvox_point2 *src, const bvox_point2 *dst, int32_t n,
-                          int allow_scale, bvox_sim2 *t, double *rms);
+BVOX_API bvox_status bvox_sim2_fit(const bvox_point2 *src, const bvox_point2 *dst, int32_t n,
+                                   int allow_scale, bvox_sim2 *t, double *rms);
 
 #define BVOX_MARKERS_AUTO (-1) /* bvox_recon_opts.markers.count: find the count */
 typedef struct bvox_marker_opts {
@@ -152,7 +154,7 @@ typedef struct bvox_marker_opts {
     int allow_scale;    /* fit a uniform scale (shrinkage) too */
     double max_scale_change; /* |scale - 1| at most this (0: 0.2) */
 } bvox_marker_opts;
-bvox_marker_opts bvox_marker_opts_default(void); /* count 3, the rest automatic */
+BVOX_API bvox_marker_opts bvox_marker_opts_default(void); /* count 3, the rest automatic */
 
 /* Find up to opts->count markers: 8-connected components of marker-dark
  * pixels whose area is between pi min_radius^2 and pi max_radius^2 and
@@ -169,8 +171,9 @@ bvox_marker_opts bvox_marker_opts_default(void); /* count 3, the rest automatic 
  * *found receives how many were written (0 is not an error). erase (may be
  * NULL): the pixels of the kept markers, dilated by 2, are cleared from it
  * (the object mask, when markers are as dark as the object). */
-bvox_status bvox_section_find_markers(const bvox_image *img, const bvox_marker_opts *opts,
-                                      bvox_point2 *markers, int32_t *found, bvox_bitmap *erase);
+BVOX_API bvox_status bvox_section_find_markers(const bvox_image *img, const bvox_marker_opts *opts,
+                                               bvox_point2 *markers, int32_t *found,
+                                               bvox_bitmap *erase);
 
 /* Match the markers src[0..ns) of one section with dst[0..nd) of its
  * neighbour: every pair of src markers against every pair of dst markers
@@ -182,9 +185,9 @@ bvox_status bvox_section_find_markers(const bvox_image *img, const bvox_marker_o
  * side is survived when at least 2 true markers are shared. match (ns
  * entries, may be NULL): the dst index of each src marker or -1.
  * BVOX_ENOTFOUND when fewer than 2 markers match. */
-bvox_status bvox_markers_match(const bvox_point2 *src, int32_t ns, const bvox_point2 *dst,
-                               int32_t nd, const bvox_marker_opts *opts, bvox_sim2 *t,
-                               int32_t *match, int32_t *nmatched, double *rms);
+BVOX_API bvox_status bvox_markers_match(const bvox_point2 *src, int32_t ns, const bvox_point2 *dst,
+                                        int32_t nd, const bvox_marker_opts *opts, bvox_sim2 *t,
+                                        int32_t *match, int32_t *nmatched, double *rms);
 
 /* One section's alignment. */
 typedef struct bvox_align_result {
@@ -207,9 +210,9 @@ typedef struct bvox_align_result {
  * not match (fewer than 2 found, or no consistent pair) keeps its
  * neighbour's transform and is flagged (fallback); the caller reports it.
  * result holds n entries. */
-bvox_status bvox_markers_align(const bvox_point2 *const *markers, const int32_t *counts,
-                               int32_t n, int32_t reference, const bvox_marker_opts *opts,
-                               bvox_align_result *result);
+BVOX_API bvox_status bvox_markers_align(const bvox_point2 *const *markers, const int32_t *counts,
+                                        int32_t n, int32_t reference, const bvox_marker_opts *opts,
+                                        bvox_align_result *result);
 
 /* ------------------------------------------------------- the pipeline */
 
@@ -228,7 +231,7 @@ typedef enum bvox_recon_step {
 } bvox_recon_step;
 /* "read", "background", "threshold", "smooth", "markers", "specks",
  * "contours", "align", "volume", "total". */
-const char *bvox_recon_step_name(bvox_recon_step step);
+BVOX_API const char *bvox_recon_step_name(bvox_recon_step step);
 
 /* Progress: step is running, done of total items (sections) finished.
  * Called from the calling thread only. */
@@ -283,7 +286,7 @@ typedef struct bvox_recon_opts {
     bvox_recon_progress progress;
     void *progress_ctx;
 } bvox_recon_opts;
-bvox_recon_opts bvox_recon_opts_default(void);
+BVOX_API bvox_recon_opts bvox_recon_opts_default(void);
 
 typedef struct bvox_recon_section_report {
     char *name;                   /* file name or "section N" */
@@ -307,7 +310,7 @@ typedef struct bvox_recon_report {
                                      times are their share of that phase */
     bvox_recon_section_report *sections;
 } bvox_recon_report;
-void bvox_recon_report_destroy(bvox_recon_report *report);
+BVOX_API void bvox_recon_report_destroy(bvox_recon_report *report);
 
 /* Images -> model. images: n gray or RGB sections in stack order (same size,
  * BVOX_EINVAL naming the first that differs); names (may be NULL) label them
@@ -322,22 +325,26 @@ void bvox_recon_report_destroy(bvox_recon_report *report);
  * z = i * spacing, width and height the images') and
  * bvox_stack_to_volume. Any of volume, stack, report may be NULL (not
  * wanted); at least one must be given. */
-bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char *const *names,
-                                    int32_t n, const bvox_recon_opts *opts, bvox_volume **volume,
-                                    bvox_contour_stack **stack, bvox_recon_report **report);
+BVOX_API bvox_status bvox_reconstruct_images(const bvox_image *const *images,
+                                             const char *const *names,
+                                             int32_t n, const bvox_recon_opts *opts,
+                                             bvox_volume **volume,
+                                             bvox_contour_stack **stack,
+                                             bvox_recon_report **report);
 
 /* Paths -> model. inputs: image files (PNG, TIFF), or one folder of them
  * (read in natural order: s2 before s10), or one contour stack file (JSON,
  * SVG folder, Reconstruct: bvox_stack_read; its markers align it when
  * present and opts->align). An empty folder is BVOX_ENOTFOUND. */
-bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
-                             bvox_volume **volume, bvox_contour_stack **stack,
-                             bvox_recon_report **report);
+BVOX_API bvox_status bvox_reconstruct(const char *const *inputs, int32_t n,
+                                      const bvox_recon_opts *opts,
+                                      bvox_volume **volume, bvox_contour_stack **stack,
+                                      bvox_recon_report **report);
 
 /* Align a contour stack in place by its sections' markers (chained to the
  * reference as bvox_markers_align), moving contours and markers; report
  * (may be NULL) receives the per-section results. */
-bvox_status bvox_stack_align(bvox_contour_stack *stack, const bvox_recon_opts *opts,
-                             bvox_recon_report **report);
+BVOX_API bvox_status bvox_stack_align(bvox_contour_stack *stack, const bvox_recon_opts *opts,
+                                      bvox_recon_report **report);
 
 #endif /* BVOX_RECON_H */

@@ -5,6 +5,7 @@
  */
 #include "strbuf.h"
 #include "core/alloc.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -25,8 +26,14 @@ void bvox__sb_append(bvox__strbuf *b, const char *s, size_t n)
             }
             cap *= 2;
         }
+        bvox_status st;
+        if (!bvox__budget_charge(cap - b->cap, "text", &st)) {
+            b->failed = b->over_budget = true;
+            return;
+        }
         char *p = bvox__mem_resize(b->data, cap);
         if (!p) {
+            bvox__budget_refund(cap - b->cap);
             b->failed = true;
             return;
         }
@@ -102,5 +109,6 @@ void bvox__format_double(char *buf, size_t size, double v)
 void bvox__sb_free(bvox__strbuf *b)
 {
     free(b->data);
+    bvox__budget_refund(b->cap);
     memset(b, 0, sizeof *b);
 }

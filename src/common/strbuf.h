@@ -8,13 +8,15 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-/* A growable text buffer (malloc), always NUL-terminated once non-empty. On
- * an allocation failure `failed` is set and further appends are ignored;
+/* A growable text buffer, always NUL-terminated once non-empty, its capacity
+ * charged to the memory budget until bvox__sb_free. On an allocation failure
+ * or the budget reached `failed` is set and further appends are ignored;
  * check it once at the end. Zero-initialise to start. */
 typedef struct bvox__strbuf {
     char *data;
-    size_t len, cap;
+    size_t len, cap;  /* cap is charged to the memory budget (--max-memory) */
     bool failed;
+    bool over_budget; /* failed because the budget was reached */
 } bvox__strbuf;
 void bvox__sb_append(bvox__strbuf *b, const char *s, size_t n);
 void bvox__sb_puts(bvox__strbuf *b, const char *s);

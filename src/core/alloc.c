@@ -58,7 +58,7 @@ static bool injected_failure(void)
     return c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1;
 }
 
-static void format_bytes(char *buf, size_t len, size_t bytes)
+void bvox__format_bytes(char *buf, size_t len, size_t bytes)
 {
     const char *units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
     double v = (double)bytes;
@@ -67,6 +67,26 @@ static void format_bytes(char *buf, size_t len, size_t bytes)
     snprintf(buf, len, u ? "%.1f %s" : "%.0f %s", v, units[u]);
 }
 
+bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status)
+{
+    if (!what) what = "buffer";
+    size_t budget = bvox_memory_budget();
+    size_t used = atomic_fetch_add(&in_use_bytes, bytes);
+    if (bytes > budget || used > budget - bytes) {
+        atomic_fetch_sub(&in_use_bytes, bytes);
+        char need[32], lim[32];
+        bvox__format_bytes(need, sizeof need, bytes);
+        bvox__format_bytes(lim, sizeof lim, budget);
+        *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
+                             what, need, lim);
+        return false;
+    }
+    *status = BVOX_OK;
+    return true;
+}
+
+void bvox__budget_refund(size_t bytes) { atomic_fetch_sub(&in_use_bytes, bytes); }
+
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
 {
     if (!what) what = "buffer";
@@ -74,24 +94,14 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
         *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating the %s (injected)", what);
         return NULL;
     }
-    size_t budget = bvox_memory_budget();
-    size_t used = atomic_fetch_add(&in_use_bytes, bytes);
-    if (bytes > budget || used > budget - bytes) {
-        atomic_fetch_sub(&in_use_bytes, bytes);
-        char need[32], lim[32];
-        format_bytes(need, sizeof need, bytes);
-        format_bytes(lim, sizeof lim, budget);
-        *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
-                             what, need, lim);
-        return NULL;
-    }
+    if (!bvox__budget_charge(bytes, what, status)) return NULL;
     size_t rounded = (bytes + 63) & ~(size_t)63;
     if (rounded == 0) rounded = 64;
     void *p = aligned_alloc(64, rounded);
     if (!p) {
         atomic_fetch_sub(&in_use_bytes, bytes);
         char need[32];
-        format_bytes(need, sizeof need, bytes);
+        bvox__format_bytes(need, sizeof need, bytes);
         *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating %s for the %s", need, what);
         return NULL;
     }

@@ -32,11 +32,14 @@ bvox_status bvox__check_dims(bvox_dims d, const char *what, size_t *bytes)
     if (!bvox__mul_size((size_t)d.nx, (size_t)d.ny, &n) || !bvox__mul_size(n, wpc, &n) ||
         !bvox__mul_size(n, sizeof(uint64_t), &n))
         return bvox__fail(BVOX_ETOOBIG, "%s: dimensions overflow the address space", src);
-    if (n > bvox_memory_budget())
+    if (n > bvox_memory_budget()) {
+        char need[32], lim[32];
+        bvox__format_bytes(need, sizeof need, n);
+        bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
         return bvox__fail(BVOX_ETOOBIG,
-                          "%s: %ld x %ld x %ld voxels need %zu bytes, over the memory budget "
-                          "of %zu bytes",
-                          src, (long)d.nx, (long)d.ny, (long)d.nz, n, bvox_memory_budget());
+                          "%s: %ld x %ld x %ld voxels need %s, over the memory budget of %s",
+                          src, (long)d.nx, (long)d.ny, (long)d.nz, need, lim);
+    }
     *bytes = n;
     return BVOX_OK;
 }

@@ -18,6 +18,8 @@
  *     z, which are exactly the words of 64 columns. Rows beyond nz are zero,
  *     so the tail bits of each column come out zero. Work is split over y and
  *     runs of x with bvox__parallel_for; each piece writes its own columns.
+ *     Samples in z-fastest order (NumPy's C order of [x][y][z]) skip the
+ *     transpose: a column's samples compare straight into its words.
  */
 #include "binarize_kernels.h"
 
@@ -323,6 +325,29 @@ static void pack_range(void *ctx, int64_t begin, int64_t end)
     for (int64_t i = begin; i < end; i++) pack_item(ctx, i, m);
 }
 
+/* z-fastest samples (g->z_fastest): a column's nz samples are contiguous, so
+ * the compare kernel's 64 bits per block are already the column's words (bit
+ * i = slice i); no transpose. Item i is the column x = i / ny, y = i % ny. */
+static void pack_columns(void *ctx, int64_t begin, int64_t end)
+{
+    const pack_ctx *c = ctx;
+    size_t nz = c->nz, wpc = c->wpc, size = c->size;
+    size_t nfull = nz / 64, tail = nz % 64;
+    _Alignas(64) unsigned char pad[64 * 8];
+    for (int64_t i = begin; i < end; i++) {
+        size_t x = (size_t)i / c->ny, y = (size_t)i % c->ny;
+        const unsigned char *src = c->data + (size_t)i * nz * size;
+        uint64_t *dst = c->words + (y * c->nx + x) * wpc;
+        if (nfull) c->blocks(src, nfull, &c->pred, dst, 1);
+        if (tail) {
+            memcpy(pad, src + nfull * 64 * size, tail * size);
+            memset(pad + tail * size, 0, (64 - tail) * size);
+            c->blocks(pad, 1, &c->pred, dst + nfull, 1);
+            dst[nfull] &= (1ull << tail) - 1; /* the padding may pass the test */
+        }
+    }
+}
+
 static bvox__bin_blocks_fn choose_blocks(void)
 {
 #if defined(__x86_64__)
@@ -337,8 +362,9 @@ static bvox__bin_blocks_fn choose_blocks(void)
     return bvox__bin_blocks_generic;
 }
 
-bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const char *name,
-                           bvox_volume **out)
+bvox_status bvox__binarize_setup(const bvox__gray *g, const bvox_binarize *how,
+                                 const char *name, bvox__binpred *pred, bool *use_pred,
+                                 bvox__bin_blocks_fn *blocks, bvox_volume **out)
 {
     static const bvox_binarize nonzero = {BVOX_BIN_NONZERO, 0, 0, 0, 0};
     *out = NULL;
@@ -349,15 +375,15 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
     size_t bytes;
     bvox_status st = bvox__check_dims(g->dims, name, &bytes);
     if (st) return st;
-    if (!g->data) return bvox__fail(BVOX_EINVAL, "%s: no sample data", name);
+    if (!g->data && how->mode == BVOX_BIN_OTSU) /* Otsu's histogram needs every sample */
+        return bvox__fail(BVOX_EINVAL, "%s: no sample data", name);
     if (!isfinite(g->slope) || !isfinite(g->inter))
         return bvox__fail(BVOX_EFORMAT, "%s: the intensity scaling (slope %g, intercept %g) is "
                           "not finite", name, g->slope, g->inter);
     scale s = {g->dtype, g->slope == 0 ? 1.0 : g->slope, g->inter};
 
-    bvox__binpred pred;
     outcome res = ALL_ZERO;
-    st = make_predicate(g, how, &s, name, &pred, &res);
+    st = make_predicate(g, how, &s, name, pred, &res);
     if (st) return st;
 
     bvox_volume *v;
@@ -374,11 +400,35 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
         return BVOX_EFORMAT;
     }
     if (res == ALL_ONE) bvox_volume_fill(v, 1);
-    if (res == USE_PRED) {
+    *use_pred = res == USE_PRED;
+    *blocks = choose_blocks();
+    *out = v;
+    return BVOX_OK;
+}
+
+bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const char *name,
+                           bvox_volume **out)
+{
+    *out = NULL;
+    if (!name) name = "volume";
+    if (g && !g->data) return bvox__fail(BVOX_EINVAL, "%s: no sample data", name);
+    bvox__binpred pred;
+    bool use_pred = false;
+    bvox__bin_blocks_fn blocks = NULL;
+    bvox_volume *v;
+    bvox_status st = bvox__binarize_setup(g, how, name, &pred, &use_pred, &blocks, &v);
+    if (st) return st;
+    if (use_pred) {
         pack_ctx c = {.data = g->data, .size = bvox_dtype_size(g->dtype),
                       .nx = (size_t)v->nx, .ny = (size_t)v->ny, .nz = (size_t)v->nz,
                       .wpc = v->wpc, .words = v->words, .pred = pred,
-                      .blocks = choose_blocks()};
+                      .blocks = blocks};
+        if (g->z_fastest) {
+            bvox__parallel_for((int64_t)(c.nx * c.ny), ((int64_t)1 << 20) / (int64_t)c.nz + 1,
+                               pack_columns, &c);
+            *out = v;
+            return BVOX_OK;
+        }
         size_t nxb = (c.nx + 63) / 64, per_item = ITEM_BYTES / (64 * c.size);
         if (nxb <= per_item) {
             c.rows_per_item = per_item / nxb;

@@ -57,6 +57,15 @@ static inline double bvox__real_value(double raw, double slope, double inter)
     return raw * slope + inter;
 }
 
+/* The start of every binarisation (binarize.c): validate g (dims, scaling;
+ * g->data may be NULL unless how is Otsu), derive the predicate and the
+ * compare kernel, and make the volume with g's dims and geometry: zero or
+ * all ones when the predicate is constant (*use_pred false: the volume is
+ * the answer), else uninitialised, for the caller to pack every word. */
+bvox_status bvox__binarize_setup(const bvox__gray *g, const bvox_binarize *how,
+                                 const char *name, bvox__binpred *pred, bool *use_pred,
+                                 bvox__bin_blocks_fn *blocks, bvox_volume **out);
+
 /* Otsu's threshold of g, as a real value (binarize_otsu.c). slope is the
  * resolved slope (nonzero). *found = false when the samples hold fewer than two
  * distinct histogram bins (nothing to split: the result is all zero). */

@@ -132,12 +132,27 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
     return finish(st, out);
 }
 
-bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts)
+bvox_status bvox_read_dims(const char *path, const bvox_read_opts *opts, bvox_dims *dims)
 {
-    BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();
-    bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
+    bvox_read_opts defaults = BVOX_READ_OPTS_INIT;
     if (!opts) opts = &defaults;
+    const bvox__format *f;
+    bvox_status st = resolve(opts->format, path, &f);
+    if (st) return st;
+    struct stat sb;
+    if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
+    if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png;
+    if (!f || !f->probe_dims)
+        return bvox__fail(BVOX_EUNSUPPORTED, "%s: the size is known only by reading the file",
+                          path);
+    return f->probe_dims(path, opts, dims);
+}
+
+/* The format bvox_write would use for path. */
+static bvox_status output_format(const char *path, const bvox_write_opts *opts,
+                                 const bvox__format **out)
+{
     const bvox__format *f;
     bvox_status st = resolve(opts->format, path, &f);
     if (st) return st;
@@ -152,5 +167,35 @@ bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_writ
                           path);
     if (!f->write_path)
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: writing %s is not supported", path, f->name);
+    *out = f;
+    return BVOX_OK;
+}
+
+bvox_status bvox_write_check(const char *path, bvox_dims dims, const bvox_write_opts *opts)
+{
+    bvox__clear_error();
+    bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    const bvox__format *f;
+    bvox_status st = output_format(path, opts, &f);
+    size_t bytes;
+    if (!st && f->write_limits) st = f->write_limits(path, dims);
+    if (!st) st = bvox__check_dims(dims, path, &bytes);
+    return st;
+}
+
+bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts)
+{
+    BVOX_CHECK_VOLUME(vol);
+    bvox__clear_error();
+    bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    const bvox__format *f;
+    bvox_status st = output_format(path, opts, &f);
+    if (st) return st;
+    if (f->write_limits) {
+        st = f->write_limits(path, bvox_volume_dims(vol));
+        if (st) return st;
+    }
     return f->write_path(path, vol, opts);
 }

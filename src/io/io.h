@@ -29,6 +29,8 @@ typedef struct bvox__gray {
     void *owned;         /* from bvox__alloc, or NULL */
     size_t owned_bytes;
     bool byteswap;       /* samples are in the other byte order than the CPU's */
+    bool z_fastest;      /* samples are z fastest, then y, then x (the C order of
+                            an [x][y][z] array, NumPy's default) instead */
     double slope, inter; /* real value = raw * slope + inter; slope 0 means 1 */
     bvox_geometry geom;  /* given to the volume */
 } bvox__gray;
@@ -41,6 +43,23 @@ void bvox__gray_release(bvox__gray *g);
  * name is the file name for messages. The volume gets g->geom. */
 bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const char *name,
                            bvox_volume **out);
+
+/* The same, fed a few slices at a time (binarize_stream.c), so that a reader
+ * that decodes slice by slice holds only the bits and its slice buffer.
+ * begin takes g's dims, dtype, byteswap, slope, inter and geom (not data);
+ * slices() takes the next n whole slices (x fastest, then y), in order;
+ * finish() after all nz returns the volume (the stream is released either
+ * way); abort() releases it (accepts NULL). Not for Otsu's threshold, which
+ * needs every sample first: bvox__bin_stream_ok(how) says when it applies. */
+typedef struct bvox__bin_stream bvox__bin_stream;
+bool bvox__bin_stream_ok(const bvox_binarize *how);
+bvox_status bvox__bin_stream_begin(const bvox__gray *g, const bvox_binarize *how,
+                                   const char *name, bvox__bin_stream **out);
+void bvox__bin_stream_slices(bvox__bin_stream *s, const void *data, size_t n);
+/* Bytes of one slice of samples (nx * ny * sample size). */
+size_t bvox__bin_stream_slice_bytes(const bvox__bin_stream *s);
+bvox_status bvox__bin_stream_finish(bvox__bin_stream *s, bvox_volume **out);
+void bvox__bin_stream_abort(bvox__bin_stream *s);
 
 /* ---- whole files in memory, gzip (stream.c) ---- */
 
@@ -105,6 +124,11 @@ typedef struct bvox__format {
     bvox_status (*read_path)(const char *path, const bvox_read_opts *opts, bvox_volume **out);
     bvox_status (*write_path)(const char *path, const bvox_volume *vol,
                               const bvox_write_opts *opts);
+    /* the dimensions a read would give, from the header alone (NULL: the
+     * format cannot tell cheaply) */
+    bvox_status (*probe_dims)(const char *path, const bvox_read_opts *opts, bvox_dims *dims);
+    /* the writer's own limits on dimensions (NULL: none beyond BVOX_MAX_DIM) */
+    bvox_status (*write_limits)(const char *path, bvox_dims dims);
 } bvox__format;
 
 extern const bvox__format bvox__format_nifti;
@@ -170,5 +194,9 @@ void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t 
  * file or, on failure, nothing. */
 bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
                                     const void *header, size_t header_size);
+/* The whole volume as bytes 0/1, z fastest, then y, then x:
+ * dst[((size_t)x * ny + y) * nz + z] = voxel. Each column's words expand in
+ * place (no transpose); columns are split over the worker threads. */
+void bvox__unpack_columns(const bvox_volume *vol, uint8_t *dst);
 
 #endif

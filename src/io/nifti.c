@@ -19,8 +19,11 @@
 #include "io.h"
 #include "common/names.h"
 
+#include <fcntl.h>
 #include <math.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #define HDR_SIZE 348
@@ -106,6 +109,7 @@ typedef struct header {
     uint64_t vox_offset;
     uint64_t data_bytes; /* of the first volume */
     bool swap;
+    bool more_volumes; /* dim[4..7]: volumes after the first (never read) */
     double slope, inter;
     bvox_geometry geom;
 } header;
@@ -243,6 +247,8 @@ static bvox_status parse_header(const uint8_t *h, size_t avail, const char *name
                               n[i]);
     }
     hd->dims = (bvox_dims){n[0], n[1], n[2]};
+    hd->more_volumes = false;
+    for (int i = 4; i <= dim[0]; i++) hd->more_volumes |= dim[i] > 1;
 
     int code = geti16(h, 70, swap), bitpix = geti16(h, 72, swap);
     size_t k = 0, nsup = sizeof supported / sizeof supported[0];
@@ -331,6 +337,20 @@ static int nifti_sniff(const uint8_t *data, size_t size)
 
 /* ------------------------------------------------------------------ reading */
 
+/* Where the streamed reader's bytes come from: a file (gzFile: inflates a
+ * .nii.gz, passes a plain .nii through) or a gzip buffer in memory (a
+ * z_stream; concatenated members allowed, as bvox__gunzip does). */
+typedef struct nsrc {
+    gzFile gz;
+    const uint8_t *mem;
+    size_t mem_size;
+    z_stream z;
+    bool zinit, zdone;
+} nsrc;
+static bvox_status read_streamed(nsrc *src, const char *name, uint64_t file_size,
+                                 uint64_t gz_size, const bvox_read_opts *opts,
+                                 bvox_volume **out);
+
 static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const char *name,
                                      const bvox_read_opts *opts, bvox_volume **out)
 {
@@ -339,6 +359,15 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
     bvox__bytes unz = {0};
     header hd;
     bvox_status st;
+    if (bvox__is_gzip(data, size) && bvox__bin_stream_ok(opts ? &opts->binarize : NULL)) {
+        nsrc src;
+        memset(&src, 0, sizeof src);
+        src.mem = data;
+        src.mem_size = size;
+        st = read_streamed(&src, name, UINT64_MAX, size, opts, out);
+        if (src.zinit) inflateEnd(&src.z);
+        return st;
+    }
     if (bvox__is_gzip(data, size)) {
         uint8_t head[HDR_SIZE];
         long got = gunzip_head(data, size, head, sizeof head);
@@ -347,11 +376,15 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
         if (st) return st;
         /* The whole file may not decompress to more than the header promises. */
         uint64_t need = hd.vox_offset + hd.data_bytes;
-        if (need + GZ_SLACK > bvox_memory_budget())
+        if (need + GZ_SLACK > bvox_memory_budget()) {
+            char what[32], lim[32];
+            bvox__format_bytes(what, sizeof what, (size_t)need);
+            bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
             return bvox__fail(BVOX_ETOOBIG,
-                              "%s: header claims %llu bytes of voxel data, over the memory "
-                              "budget of %zu bytes",
-                              name, (unsigned long long)hd.data_bytes, bvox_memory_budget());
+                              "%s: Otsu's threshold needs the whole inflated file (%s), over "
+                              "the memory budget of %s",
+                              name, what, lim);
+        }
         st = bvox__gunzip(data, size, name, (size_t)need + GZ_SLACK, &unz);
         if (st) return st;
         data = unz.data;
@@ -381,6 +414,205 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
         bvox__gray_release(&g);
     }
     if (unz.data) bvox__bytes_release(&unz);
+    return st;
+}
+
+/* ---------------------------------------------------------- streamed reading */
+
+
+/* Up to n bytes into buf: the count read (less at the end), or -1 if the
+ * data is corrupt. */
+static long long src_read(nsrc *s, void *buf, size_t n)
+{
+    size_t got = 0;
+    if (s->gz) {
+        while (got < n) {
+            unsigned part = n - got > (1u << 30) ? 1u << 30 : (unsigned)(n - got);
+            int k = gzread(s->gz, (char *)buf + got, part);
+            if (k < 0) return -1;
+            if (k == 0) break;
+            got += (size_t)k;
+        }
+        int err;
+        gzerror(s->gz, &err);
+        return err == Z_OK || err == Z_BUF_ERROR ? (long long)got : -1;
+    }
+    if (!s->zinit) {
+        if (inflateInit2(&s->z, 15 + 16) != Z_OK) return -1;
+        s->zinit = true;
+        s->z.next_in = (Bytef *)s->mem;
+        s->z.avail_in = s->mem_size > UINT32_MAX ? UINT32_MAX : (uInt)s->mem_size;
+    }
+    while (got < n && !s->zdone) {
+        size_t part = n - got > UINT32_MAX ? UINT32_MAX : n - got;
+        s->z.next_out = (Bytef *)buf + got;
+        s->z.avail_out = (uInt)part;
+        int rc = inflate(&s->z, Z_NO_FLUSH);
+        got += part - s->z.avail_out;
+        /* refill avail_in from the buffer beyond the first 4 GiB */
+        size_t used = (size_t)(s->z.next_in - s->mem);
+        if (s->z.avail_in == 0 && used < s->mem_size)
+            s->z.avail_in = s->mem_size - used > UINT32_MAX ? UINT32_MAX
+                                                             : (uInt)(s->mem_size - used);
+        if (rc == Z_STREAM_END) {
+            if (bvox__is_gzip(s->z.next_in, s->z.avail_in) && inflateReset(&s->z) == Z_OK)
+                continue;
+            s->zdone = true;
+        } else if (rc == Z_BUF_ERROR && s->z.avail_in == 0) {
+            return -1; /* the stream ends mid-member: truncated */
+        } else if (rc != Z_OK && rc != Z_BUF_ERROR) {
+            return -1;
+        }
+    }
+    return (long long)got;
+}
+
+static bvox_status corrupt(const char *name)
+{
+    return bvox__fail(BVOX_EFORMAT, "%s: corrupt gzip data", name);
+}
+
+/* Read a NIfTI-1 file from src, slices inflated a few at a time into a
+ * bounded buffer and binarised as they come (bvox__bin_stream): the volume's
+ * bits plus at most 64 slices of samples, never the whole inflated file.
+ * file_size is the size of a plain file (exact messages for a short one),
+ * gz_size that of a gzip stream (the other is UINT64_MAX). */
+static bvox_status read_streamed(nsrc *src, const char *name, uint64_t file_size,
+                                 uint64_t gz_size, const bvox_read_opts *opts,
+                                 bvox_volume **out)
+{
+    *out = NULL;
+    uint8_t head[MIN_VOX_OFFSET];
+    long long got = src_read(src, head, sizeof head);
+    if (got < 0) return corrupt(name);
+    header hd;
+    bvox_status st = parse_header(head, (size_t)got, name, &hd);
+    if (st) return st;
+    if (file_size != UINT64_MAX && hd.vox_offset > file_size)
+        return bvox__fail(BVOX_EFORMAT,
+                          "%s: vox_offset %llu is beyond the end of the file (%llu bytes)", name,
+                          (unsigned long long)hd.vox_offset, (unsigned long long)file_size);
+    if (file_size != UINT64_MAX && hd.data_bytes > file_size - hd.vox_offset)
+        return bvox__fail(BVOX_EFORMAT,
+                          "%s: truncated: header claims %llu bytes of voxel data, file has %llu",
+                          name, (unsigned long long)hd.data_bytes,
+                          (unsigned long long)(file_size - hd.vox_offset));
+    /* deflate compresses at most 1032:1, so a short stream is found out
+     * before anything is allocated */
+    uint64_t most = gz_size > UINT64_MAX / 1032 - 65536 ? UINT64_MAX : gz_size * 1032 + 65536;
+    if (gz_size != UINT64_MAX && hd.data_bytes > most - hd.vox_offset)
+        return bvox__fail(BVOX_EFORMAT,
+                          "%s: truncated: header claims %llu bytes of voxel data, a gzip "
+                          "stream of %llu bytes holds at most %llu",
+                          name, (unsigned long long)hd.data_bytes, (unsigned long long)gz_size,
+                          (unsigned long long)(most - hd.vox_offset));
+    bvox__gray g;
+    bvox__gray_init(&g);
+    g.dims = hd.dims;
+    g.dtype = hd.dtype;
+    g.byteswap = hd.swap && hd.elem > 1;
+    g.slope = hd.slope;
+    g.inter = hd.inter;
+    g.geom = hd.geom;
+    bvox__bin_stream *bs;
+    st = bvox__bin_stream_begin(&g, opts ? &opts->binarize : NULL, name, &bs);
+    if (st) return st;
+    /* a few slices per read: at least 1 MiB when slices are small, at most 64 */
+    size_t slice = bvox__bin_stream_slice_bytes(bs);
+    size_t k = ((size_t)1 << 20) / slice;
+    k = k < 1 ? 1 : k > 64 ? 64 : k;
+    size_t buf_bytes = k * slice;
+    uint8_t *buf = bvox__alloc(buf_bytes, false, "slice buffer", &st);
+    if (!buf) {
+        bvox__bin_stream_abort(bs);
+        bvox__error_prefix(name);
+        return st;
+    }
+    /* skip the extensions between the header and vox_offset */
+    uint64_t at = (uint64_t)got, data_got = 0;
+    while (!st && at < hd.vox_offset) {
+        size_t want = hd.vox_offset - at < buf_bytes ? (size_t)(hd.vox_offset - at) : buf_bytes;
+        long long r = src_read(src, buf, want);
+        if (r < 0) st = corrupt(name);
+        else if ((size_t)r < want)
+            st = bvox__fail(BVOX_EFORMAT, "%s: vox_offset %llu is beyond the end of the file "
+                            "(%llu bytes)", name, (unsigned long long)hd.vox_offset,
+                            (unsigned long long)(at + (uint64_t)r));
+        at += r > 0 ? (uint64_t)r : 0;
+    }
+    for (size_t z = 0; !st && z < (size_t)hd.dims.nz; z += k) {
+        size_t n = (size_t)hd.dims.nz - z < k ? (size_t)hd.dims.nz - z : k;
+        long long r = src_read(src, buf, n * slice);
+        if (r >= 0) data_got += (uint64_t)r;
+        if (r < 0) st = corrupt(name);
+        else if ((size_t)r < n * slice)
+            st = bvox__fail(BVOX_EFORMAT,
+                            "%s: truncated: header claims %llu bytes of voxel data, file has "
+                            "%llu",
+                            name, (unsigned long long)hd.data_bytes,
+                            (unsigned long long)data_got);
+        else bvox__bin_stream_slices(bs, buf, n);
+    }
+    /* A single volume's stream may carry a little padding after the data;
+     * much more is a "zip bomb" (inflated only this far: bounded work). */
+    if (!st && gz_size != UINT64_MAX && !hd.more_volumes) {
+        uint64_t extra = 0;
+        while (!st && extra <= GZ_SLACK) {
+            long long r = src_read(src, buf, buf_bytes < GZ_SLACK + 1 ? buf_bytes : GZ_SLACK + 1);
+            if (r < 0) st = corrupt(name);
+            if (r <= 0) break;
+            extra += (uint64_t)r;
+        }
+        if (!st && extra > GZ_SLACK)
+            st = bvox__fail(BVOX_ETOOBIG, "%s: the gzip stream holds far more than the %llu "
+                            "bytes of voxel data its header claims", name,
+                            (unsigned long long)hd.data_bytes);
+    }
+    bvox__free(buf, buf_bytes);
+    if (st) {
+        bvox__bin_stream_abort(bs);
+        return st;
+    }
+    return bvox__bin_stream_finish(bs, out);
+}
+
+static bvox_status nifti_read_path(const char *path, const bvox_read_opts *opts,
+                                   bvox_volume **out)
+{
+    *out = NULL;
+    int fd = -1;
+    struct stat sb;
+    /* Otsu (every sample before the first comparison) and anything that is
+     * not a regular file go the whole-file way */
+    if (bvox__bin_stream_ok(opts ? &opts->binarize : NULL)) {
+        fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO must not block here */
+        if (fd >= 0 && (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode))) {
+            close(fd);
+            fd = -1;
+        }
+    }
+    if (fd < 0) {
+        bvox__bytes file;
+        bvox_status st = bvox__read_file(path, &file);
+        if (st) return st;
+        st = nifti_read_memory(file.data, file.size, path, opts, out);
+        bvox__bytes_release(&file);
+        return st;
+    }
+    uint8_t magic[2] = {0, 0};
+    bool gzip = pread(fd, magic, 2, 0) == 2 && bvox__is_gzip(magic, 2);
+    nsrc src;
+    memset(&src, 0, sizeof src);
+    src.gz = gzdopen(fd, "rb");
+    if (!src.gz) {
+        close(fd);
+        return bvox__fail(BVOX_ENOMEM, "%s: out of memory opening the file", path);
+    }
+    gzbuffer(src.gz, 1u << 17);
+    uint64_t size = (uint64_t)sb.st_size;
+    bvox_status st = read_streamed(&src, path, gzip ? UINT64_MAX : size,
+                                   gzip ? size : UINT64_MAX, opts, out);
+    gzclose_r(src.gz);
     return st;
 }
 
@@ -511,15 +743,59 @@ bool bvox__path_has_gz(const char *path)
     return bvox__ends_with_ci(path, ".gz");
 }
 
+static bvox_status nifti_write_limits(const char *path, bvox_dims d)
+{
+    if (d.nx > INT16_MAX || d.ny > INT16_MAX || d.nz > INT16_MAX)
+        return bvox__fail(BVOX_EUNSUPPORTED,
+                          "%s: NIfTI-1 dimensions are at most 32767 per axis (volume is %ld x "
+                          "%ld x %ld)",
+                          path, (long)d.nx, (long)d.ny, (long)d.nz);
+    return BVOX_OK;
+}
+
+/* The header of a .nii or .nii.gz: its first 348 bytes, inflated if need be. */
+static bvox_status nifti_probe_dims(const char *path, const bvox_read_opts *opts,
+                                    bvox_dims *dims)
+{
+    (void)opts;
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO must not block here */
+    struct stat sb;
+    if (fd < 0 || fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        if (fd >= 0) close(fd);
+        return bvox__fail(BVOX_EUNSUPPORTED, "%s: not a regular file", path);
+    }
+    gzFile gz = gzdopen(fd, "rb");
+    if (!gz) {
+        close(fd);
+        return bvox__fail(BVOX_ENOMEM, "%s: out of memory opening the file", path);
+    }
+    uint8_t head[HDR_SIZE];
+    int got = gzread(gz, head, sizeof head);
+    gzclose_r(gz);
+    header hd;
+    bvox_status st = parse_header(head, got > 0 ? (size_t)got : 0, path, &hd);
+    if (!st) *dims = hd.dims;
+    return st;
+}
+
 static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
                                     const bvox_write_opts *opts)
 {
     (void)opts;
-    if (vol->nx > INT16_MAX || vol->ny > INT16_MAX || vol->nz > INT16_MAX)
-        return bvox__fail(BVOX_EUNSUPPORTED,
-                          "%s: NIfTI-1 dimensions are at most 32767 per axis (volume is %ld x "
-                          "%ld x %ld)",
-                          path, (long)vol->nx, (long)vol->ny, (long)vol->nz);
+    bvox_status lim = nifti_write_limits(path, bvox_volume_dims(vol));
+    if (lim) return lim;
+    /* the header stores sizes and positions as 32-bit floats: one that does
+     * not fit would be read back as 1 (or inf), silently */
+    const bvox_geometry *g = &vol->geom;
+    for (int i = 0; i < 3; i++) {
+        float sp = (float)g->spacing[i], org = (float)g->origin[i];
+        if (!isfinite(sp) || !(sp > 0) || !isfinite(org))
+            return bvox__fail(BVOX_EUNSUPPORTED,
+                              "%s: NIfTI-1 stores voxel size and origin as 32-bit floats; "
+                              "%s %g along %c does not fit",
+                              path, !isfinite(sp) || !(sp > 0) ? "a voxel size of" : "an origin of",
+                              !isfinite(sp) || !(sp > 0) ? g->spacing[i] : g->origin[i], "xyz"[i]);
+    }
     uint8_t h[MIN_VOX_OFFSET];
     bvox__nifti_header(vol, DT_UINT8, 8, 1.0, 0, "binary volume", h);
     return bvox__write_byte_slices(path, vol, bvox__path_has_gz(path), h, sizeof h);
@@ -528,5 +804,6 @@ static bvox_status nifti_write_path(const char *path, const bvox_volume *vol,
 static const char *const nifti_extensions[] = {".nii.gz", ".nii", NULL};
 
 const bvox__format bvox__format_nifti = {
-    "nifti", nifti_extensions, nifti_sniff, nifti_read_memory, NULL, nifti_write_path,
+    "nifti", nifti_extensions, nifti_sniff, nifti_read_memory, nifti_read_path,
+    nifti_write_path, nifti_probe_dims, nifti_write_limits,
 };

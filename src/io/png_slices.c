@@ -86,8 +86,10 @@ static void set_geometry(const slice_info *info, bvox_geometry *g)
     strcpy(g->unit, "mm");
 }
 
-/* Allocate the gray volume for n slices of the first slice's size. */
-static bvox_status gray_alloc(bvox__gray *g, const slice_info *info, int32_t n, const char *name)
+/* Allocate the gray volume for n slices of the first slice's size; with a
+ * stream (bs not NULL) only one slice, and the stream is begun. */
+static bvox_status gray_alloc(bvox__gray *g, const slice_info *info, int32_t n, const char *name,
+                              const bvox_binarize *how, bvox__bin_stream **bs)
 {
     if (info->w > BVOX_MAX_DIM || info->h > BVOX_MAX_DIM || !info->w || !info->h)
         return bvox__fail(BVOX_EFORMAT, "%s: bad size %u x %u", name, info->w, info->h);
@@ -97,6 +99,11 @@ static bvox_status gray_alloc(bvox__gray *g, const slice_info *info, int32_t n, 
     size_t bits, bytes = (size_t)info->w * info->h * (size_t)info->bytes;
     bvox_status st = bvox__check_dims(g->dims, name, &bits);
     if (st) return st;
+    if (bs) {
+        st = bvox__bin_stream_begin(g, how, name, bs);
+        if (st) return st;
+        n = 1;
+    }
     if (!bvox__mul_size(bytes, (size_t)n, &bytes))
         return bvox__fail(BVOX_ETOOBIG, "%s: slices overflow the address space", name);
     g->owned = bvox__alloc(bytes, false, "PNG slices", &st);
@@ -116,7 +123,7 @@ static bvox_status png_read_memory(const uint8_t *data, size_t size, const char 
     if (st) return st;
     bvox__gray g;
     bvox__gray_init(&g);
-    st = gray_alloc(&g, &info, 1, name);
+    st = gray_alloc(&g, &info, 1, name, NULL, NULL);
     if (!st) st = decode_png(data, size, name, &info, &info, name, g.owned);
     if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
     bvox__gray_release(&g);
@@ -148,6 +155,11 @@ static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox
     slice_info first;
     const char *first_path = paths[0];
     size_t slice_bytes = 0;
+    /* slices binarised as they are decoded: the bits plus one slice (not
+     * for Otsu, which needs every slice first) */
+    const bvox_binarize *how = opts ? &opts->binarize : NULL;
+    bvox__bin_stream *bs = NULL;
+    bool stream = bvox__bin_stream_ok(how);
     for (size_t i = 0; i < n && !st; i++) {
         bvox__bytes b;
         st = bvox__read_file(paths[i], &b);
@@ -155,17 +167,20 @@ static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox
             slice_info info;
             if (i == 0) {
                 st = decode_png(b.data, b.size, paths[i], &first, NULL, NULL, NULL);
-                if (!st) st = gray_alloc(&g, &first, (int32_t)n, dir);
+                if (!st) st = gray_alloc(&g, &first, (int32_t)n, dir, how, stream ? &bs : NULL);
                 slice_bytes = (size_t)first.w * first.h * (size_t)first.bytes;
             }
             if (!st)
                 st = decode_png(b.data, b.size, paths[i], &info, &first, first_path,
-                                (uint8_t *)g.owned + i * slice_bytes);
+                                (uint8_t *)g.owned + (bs ? 0 : i * slice_bytes));
+            if (!st && bs) bvox__bin_stream_slices(bs, g.owned, 1);
             bvox__bytes_release(&b);
         }
     }
     bvox__free_paths(paths, n);
-    if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, dir, out);
+    if (bs && st) bvox__bin_stream_abort(bs);
+    else if (bs) st = bvox__bin_stream_finish(bs, out);
+    else if (!st) st = bvox__binarize(&g, how, dir, out);
     bvox__gray_release(&g);
     return st;
 }
@@ -183,6 +198,52 @@ static bvox_status png_read_path(const char *path, const bvox_read_opts *opts, b
     if (st) return st;
     st = png_read_memory(b.data, b.size, path, opts, out);
     bvox__bytes_release(&b);
+    return st;
+}
+
+/* Width and height from a PNG's IHDR (the chunk every PNG starts with). */
+static bvox_status ihdr_dims(const char *path, uint32_t *w, uint32_t *h)
+{
+    uint8_t b[24];
+    FILE *f = fopen(path, "rb");
+    size_t got = f ? fread(b, 1, sizeof b, f) : 0;
+    if (f) fclose(f);
+    if (got < sizeof b || memcmp(b, "\x89PNG\r\n\x1a\n", 8) || memcmp(b + 12, "IHDR", 4))
+        return bvox__fail(BVOX_EFORMAT, "%s: not a PNG file", path);
+    *w = (uint32_t)b[16] << 24 | (uint32_t)b[17] << 16 | (uint32_t)b[18] << 8 | b[19];
+    *h = (uint32_t)b[20] << 24 | (uint32_t)b[21] << 16 | (uint32_t)b[22] << 8 | b[23];
+    if (!*w || !*h || *w > BVOX_MAX_DIM || *h > BVOX_MAX_DIM)
+        return bvox__fail(*w && *h ? BVOX_ETOOBIG : BVOX_EFORMAT,
+                          "%s: a slice of %u x %u pixels, outside 1..%d", path, *w, *h,
+                          BVOX_MAX_DIM);
+    return BVOX_OK;
+}
+
+/* A file: its IHDR, one slice. A folder: the first slice's IHDR and the
+ * number of slices. Nothing is decoded. */
+static bvox_status png_probe_dims(const char *path, const bvox_read_opts *opts,
+                                  bvox_dims *dims)
+{
+    (void)opts;
+    struct stat sb;
+    uint32_t w, h;
+    if (stat(path, &sb) != 0)
+        return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
+    if (!S_ISDIR(sb.st_mode)) {
+        if (!S_ISREG(sb.st_mode))
+            return bvox__fail(BVOX_EUNSUPPORTED, "%s: not a regular file", path);
+        bvox_status st = ihdr_dims(path, &w, &h);
+        if (!st) *dims = (bvox_dims){(int32_t)w, (int32_t)h, 1};
+        return st;
+    }
+    char **paths = NULL;
+    size_t n = 0;
+    bvox_status st = bvox__list_dir(path, keep_png, NULL, BVOX_MAX_DIM, "PNG slices", &paths, &n);
+    if (!st && n == 0) st = bvox__fail(BVOX_EFORMAT, "%s: the folder holds no .png files", path);
+    if (st) return st;
+    st = ihdr_dims(paths[0], &w, &h);
+    bvox__free_paths(paths, n);
+    if (!st) *dims = (bvox_dims){(int32_t)w, (int32_t)h, (int32_t)n};
     return st;
 }
 
@@ -263,4 +324,5 @@ static const char *const png_extensions[] = {".png", NULL};
 
 const bvox__format bvox__format_png = {
     "png", png_extensions, png_sniff, png_read_memory, png_read_path, png_write_path,
+    png_probe_dims, NULL,
 };

@@ -79,5 +79,5 @@ static bvox_status raw_write_path(const char *path, const bvox_volume *vol,
 static const char *const raw_extensions[] = {".raw", NULL};
 
 const bvox__format bvox__format_raw = {
-    "raw", raw_extensions, NULL, raw_read_memory, NULL, raw_write_path,
+    "raw", raw_extensions, NULL, raw_read_memory, NULL, raw_write_path, NULL, NULL,
 };

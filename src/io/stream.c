@@ -7,6 +7,7 @@
 #include "io.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -178,7 +179,9 @@ static char *temp_name_for(const char *path)
     const char *base = slash ? slash + 1 : path;
     size_t n = strlen(path) + 16;
     char *t = bvox__mem_alloc(n);
-    if (t) snprintf(t, n, "%.*s.%s.XXXXXX", (int)dirlen, path, base);
+    /* ".NAME.XXXXXX" must itself be a valid name: a long NAME is cut */
+    int keep = (int)strlen(base) > NAME_MAX - 8 ? NAME_MAX - 8 : (int)strlen(base);
+    if (t) snprintf(t, n, "%.*s.%.*s.XXXXXX", (int)dirlen, path, keep, base);
     return t;
 }
 

@@ -22,10 +22,14 @@
  */
 #include "io.h"
 
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <tiffio.h>
+#include <unistd.h>
 
 static int tiff_sniff(const uint8_t *d, size_t n)
 {
@@ -316,8 +320,10 @@ static uint64_t imagej_contiguous(TIFF *tif, const page_fmt *pf, long images,
     return off[0];
 }
 
+/* Pages decoded one at a time into a one-page buffer and binarised as they
+ * come (bvox__bin_stream): the bits plus one page, not every decoded page. */
 static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *name,
-                              bvox__gray *g)
+                              bvox__gray *g, const bvox_binarize *how, bvox_volume **out)
 {
     tdir_t n = TIFFNumberOfDirectories(tif);
     if (n == 0) return bvox__fail(BVOX_EFORMAT, "%s: TIFF has no pages", name);
@@ -358,33 +364,53 @@ static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *
     }
     if (!bvox__mul_size(page_bytes, n, &bytes))
         return bvox__fail(BVOX_ETOOBIG, "%s: pixel data overflows the address space", name);
-    g->owned = bvox__alloc(bytes, false, "TIFF pixels", &st);
-    if (!g->owned) return st;
-    g->owned_bytes = bytes;
-    g->data = g->owned;
-    for (tdir_t z = 0; z < n; z++) {
-        if (z > 0 && !TIFFReadDirectory(tif))
-            return bvox__fail(BVOX_EFORMAT, "%s: cannot read page %lu (%s)", name,
-                              (unsigned long)z + 1, bvox__tiff_error(src, "truncated"));
+    bvox__bin_stream *bs = NULL;
+    uint8_t *page = NULL;
+    if (bvox__bin_stream_ok(how)) {
+        st = bvox__bin_stream_begin(g, how, name, &bs);
+        if (st) return st;
+        page = bvox__alloc(page_bytes, false, "TIFF page", &st);
+        if (!page) {
+            bvox__bin_stream_abort(bs);
+            return st;
+        }
+    } else { /* Otsu: every page first */
+        g->owned = bvox__alloc(bytes, false, "TIFF pixels", &st);
+        if (!g->owned) return st;
+        g->owned_bytes = bytes;
+        g->data = g->owned;
+    }
+    for (tdir_t z = 0; z < n && !st; z++) {
         page_fmt pf;
-        st = page_format(tif, name, z, &pf);
-        if (st) return st;
+        if (z > 0 && !TIFFReadDirectory(tif))
+            st = bvox__fail(BVOX_EFORMAT, "%s: cannot read page %lu (%s)", name,
+                            (unsigned long)z + 1, bvox__tiff_error(src, "truncated"));
+        if (!st) st = page_format(tif, name, z, &pf);
+        if (st) break;
         if (pf.w != first.w || pf.h != first.h)
-            return bvox__fail(BVOX_EFORMAT, "%s: page %lu is %u x %u pixels, page 1 is %u x %u",
-                              name, (unsigned long)z + 1, pf.w, pf.h, first.w, first.h);
-        if (pf.dtype != first.dtype || pf.bps != first.bps)
-            return bvox__fail(BVOX_EFORMAT, "%s: page %lu has %u-bit %s samples, page 1 %u-bit %s",
-                              name, (unsigned long)z + 1, pf.bps, bvox_dtype_name(pf.dtype),
-                              first.bps, bvox_dtype_name(first.dtype));
-        st = read_page(tif, name, z, &pf, src, (uint8_t *)g->owned + (size_t)z * page_bytes);
-        if (st) return st;
+            st = bvox__fail(BVOX_EFORMAT, "%s: page %lu is %u x %u pixels, page 1 is %u x %u",
+                            name, (unsigned long)z + 1, pf.w, pf.h, first.w, first.h);
+        else if (pf.dtype != first.dtype || pf.bps != first.bps)
+            st = bvox__fail(BVOX_EFORMAT, "%s: page %lu has %u-bit %s samples, page 1 %u-bit %s",
+                            name, (unsigned long)z + 1, pf.bps, bvox_dtype_name(pf.dtype),
+                            first.bps, bvox_dtype_name(first.dtype));
+        else
+            st = read_page(tif, name, z, &pf, src,
+                           bs ? page : (uint8_t *)g->owned + (size_t)z * page_bytes);
+        if (!st && bs) bvox__bin_stream_slices(bs, page, 1);
     }
     /* The page count stops at the first unreadable IFD: a chain that goes on
      * past the last page read means a truncated or corrupt file. */
-    if (!TIFFLastDirectory(tif))
-        return bvox__fail(BVOX_EFORMAT, "%s: page %lu cannot be read (%s)", name,
-                          (unsigned long)n + 1, bvox__tiff_error(src, "truncated or corrupt"));
-    return BVOX_OK;
+    if (!st && !TIFFLastDirectory(tif))
+        st = bvox__fail(BVOX_EFORMAT, "%s: page %lu cannot be read (%s)", name,
+                        (unsigned long)n + 1, bvox__tiff_error(src, "truncated or corrupt"));
+    if (!bs) return st;
+    bvox__free(page, page_bytes);
+    if (st) {
+        bvox__bin_stream_abort(bs);
+        return st;
+    }
+    return bvox__bin_stream_finish(bs, out);
 }
 
 static bvox_status tiff_read_memory(const uint8_t *data, size_t size, const char *name,
@@ -398,15 +424,44 @@ static bvox_status tiff_read_memory(const uint8_t *data, size_t size, const char
     if (st) return st;
     bvox__gray g;
     bvox__gray_init(&g);
-    st = read_pages(tif, &src, name, &g);
+    const bvox_binarize *how = opts ? &opts->binarize : NULL;
+    st = read_pages(tif, &src, name, &g, how, out);
     TIFFClose(tif);
-    if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
+    if (!st && !*out) st = bvox__binarize(&g, how, name, out);
     bvox__gray_release(&g);
+    return st;
+}
+
+/* A TIFF file is mapped, not read into a buffer: libtiff reads it through
+ * memory (bvox__tiff_open_memory) either way, and clean file-backed pages
+ * cost no budget (the kernel can drop them), so a stack is read with its
+ * bits and one decoded page. Anything that cannot be mapped is read whole. */
+static bvox_status tiff_read_path(const char *path, const bvox_read_opts *opts,
+                                  bvox_volume **out)
+{
+    *out = NULL;
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK); /* a FIFO must not block here */
+    struct stat sb;
+    void *map = MAP_FAILED;
+    if (fd >= 0 && fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > 0)
+        map = mmap(NULL, (size_t)sb.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (fd >= 0) close(fd);
+    if (map == MAP_FAILED) {
+        bvox__bytes file;
+        bvox_status st = bvox__read_file(path, &file);
+        if (st) return st;
+        st = tiff_read_memory(file.data, file.size, path, opts, out);
+        bvox__bytes_release(&file);
+        return st;
+    }
+    bvox_status st = tiff_read_memory(map, (size_t)sb.st_size, path, opts, out);
+    munmap(map, (size_t)sb.st_size);
     return st;
 }
 
 static const char *const tiff_extensions[] = {".tif", ".tiff", NULL};
 
 const bvox__format bvox__format_tiff = {
-    "tiff", tiff_extensions, tiff_sniff, tiff_read_memory, NULL, bvox__tiff_write,
+    "tiff", tiff_extensions, tiff_sniff, tiff_read_memory, tiff_read_path, bvox__tiff_write,
+    NULL, NULL,
 };

@@ -10,6 +10,8 @@
  *
  * bvox__write_byte_slices: the whole volume as such bytes after a header,
  * through the sink (NIfTI and raw writers), 64 slices at a time.
+ * bvox__unpack_columns is the z-fastest order (NumPy's): each column's words
+ * expand straight into its run of nz bytes.
  */
 #include "io.h"
 #include "common/bits.h"
@@ -105,4 +107,33 @@ bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bo
     if (st == BVOX_OK) return bvox__sink_commit(&s);
     bvox__sink_abort(&s);
     return st;
+}
+
+typedef struct columns_ctx {
+    const bvox_volume *vol;
+    uint8_t *dst;
+} columns_ctx;
+
+/* Columns in the destination's order: c = x * ny + y. */
+static void unpack_column_range(void *ctx, int64_t begin, int64_t end)
+{
+    const columns_ctx *c = ctx;
+    const bvox_volume *v = c->vol;
+    size_t ny = (size_t)v->ny, nz = (size_t)v->nz, wpc = v->wpc;
+    for (int64_t i = begin; i < end; i++) {
+        size_t x = (size_t)i / ny, y = (size_t)i % ny;
+        const uint64_t *col = v->words + (y * (size_t)v->nx + x) * wpc;
+        uint8_t *out = c->dst + (size_t)i * nz;
+        for (size_t w = 0; w < wpc; w++) {
+            size_t len = nz - w * 64 < 64 ? nz - w * 64 : 64;
+            expand(col[w], 1, len, out + w * 64);
+        }
+    }
+}
+
+void bvox__unpack_columns(const bvox_volume *vol, uint8_t *dst)
+{
+    columns_ctx c = {vol, dst};
+    int64_t columns = (int64_t)vol->nx * vol->ny;
+    bvox__parallel_for(columns, ((int64_t)1 << 20) / vol->nz + 1, unpack_column_range, &c);
 }

@@ -483,5 +483,5 @@ static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
 static const char *const zarr_extensions[] = {".zarr", NULL};
 
 const bvox__format bvox__format_zarr = {
-    "zarr", zarr_extensions, NULL, zarr_read_memory, zarr_read_path, zarr_write_path,
+    "zarr", zarr_extensions, NULL, zarr_read_memory, zarr_read_path, zarr_write_path, NULL, NULL,
 };

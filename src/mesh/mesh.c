@@ -121,6 +121,15 @@ bvox_status bvox_mesh_add_vertex(bvox_mesh *m, double x, double y, double z)
     if (!m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_add_vertex: mesh is NULL");
     if (!isfinite(x) || !isfinite(y) || !isfinite(z))
         return bvox__fail(BVOX_EINVAL, "vertex coordinates must be finite");
+    /* Measures multiply up to four coordinate differences (areas square a
+     * cross product): beyond this they would overflow to inf or NaN. */
+    double far = fmax(fabs(x), fmax(fabs(y), fabs(z)));
+    if (far > BVOX_MESH_COORD_MAX)
+        return bvox__fail(BVOX_EINVAL,
+                          "vertex %lld has a coordinate of %g, beyond the supported range "
+                          "(-%g..%g)",
+                          (long long)m->nvertices + 1, far == fabs(x) ? x : far == fabs(y) ? y : z,
+                          BVOX_MESH_COORD_MAX, BVOX_MESH_COORD_MAX);
     if (m->nvertices == m->vcap) {
         bvox_status st = bvox__mesh_grow(m, m->nvertices + 1, m->ntriangles);
         if (st) return st;
@@ -149,6 +158,10 @@ bvox_status bvox_mesh_add_triangle(bvox_mesh *m, int32_t a, int32_t b, int32_t c
     return BVOX_OK;
 }
 
+/* Polygons of up to this many corners are fans from their first corner (the
+ * usual reading of OBJ/OFF/PLY faces, kept for the common quads). */
+#define FAN_MAX 16
+
 bvox_status bvox__mesh_add_polygon(bvox_mesh *m, const int64_t *idx, int64_t n, const char *name,
                                    int64_t line)
 {
@@ -166,11 +179,37 @@ bvox_status bvox__mesh_add_polygon(bvox_mesh *m, const int64_t *idx, int64_t n, 
         bvox_status st = bvox__mesh_grow(m, m->nvertices, want);
         if (st) return st;
     }
-    for (int64_t i = 1; i + 1 < n; i++) {
+    if (n <= FAN_MAX) {
+        for (int64_t i = 1; i + 1 < n; i++) {
+            int32_t *t = m->triangles + 3 * m->ntriangles++;
+            t[0] = (int32_t)idx[0];
+            t[1] = (int32_t)idx[i];
+            t[2] = (int32_t)idx[i + 1];
+        }
+        return BVOX_OK;
+    }
+    /* Long polygons: corners 0..n-1 split by halving. Each chain a..b (the
+     * chord b-a closes it) gives triangle (a, mid, b) and the chains a..mid
+     * and mid..b. No corner is in more than about 2 log2(n) triangles, and
+     * on a convex face the triangles of one depth together span the face
+     * once, so the work that follows (edge tables, rays, the shell's
+     * triangle-box tests) grows like n log n, not like n times the face as
+     * with a fan of n slivers. An explicit stack: depth is at most log2(n). */
+    int64_t stack[2 * 64], top = 0;
+    stack[top++] = 0;
+    stack[top++] = n - 1;
+    while (top > 0) {
+        int64_t b = stack[--top], a = stack[--top];
+        if (b - a < 2) continue;
+        int64_t mid = a + (b - a) / 2;
         int32_t *t = m->triangles + 3 * m->ntriangles++;
-        t[0] = (int32_t)idx[0];
-        t[1] = (int32_t)idx[i];
-        t[2] = (int32_t)idx[i + 1];
+        t[0] = (int32_t)idx[a];
+        t[1] = (int32_t)idx[mid];
+        t[2] = (int32_t)idx[b];
+        stack[top++] = mid; /* pushed second: a..mid is done first */
+        stack[top++] = b;
+        stack[top++] = a;
+        stack[top++] = mid;
     }
     return BVOX_OK;
 }
@@ -362,6 +401,9 @@ bvox_status bvox_mesh_measure(const bvox_mesh *m, bvox_mesh_info *info)
         double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
         area += 0.5 * sqrt(nx * nx + ny * ny + nz * nz);
     }
+    if (!isfinite(vol) || !isfinite(area))
+        return bvox__fail(BVOX_EINVAL, "the mesh is too large to measure (its volume or area "
+                                       "overflows)");
     info->volume = vol / 6.0;
     info->area = area;
     info->degenerate_triangles = degenerate;

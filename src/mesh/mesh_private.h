@@ -167,7 +167,8 @@ int bvox__text_token(bvox__text *t, char *buf, size_t size, int same_line);
 bvox_status bvox__text_double(bvox__text *t, int same_line, const char *what, double *out);
 bvox_status bvox__text_int(bvox__text *t, int same_line, const char *what, int64_t lo,
                            int64_t hi, int64_t *out);
-/* Check a vertex and add it / add a polygon as a fan of triangles (indices
+/* Check a vertex and add it / add a polygon as triangles: a fan for up to 16
+ * corners, longer ones split by halving (mesh.c; indices
  * already 0-based, checked against nvertices). */
 bvox_status bvox__mesh_add_polygon(bvox_mesh *m, const int64_t *idx, int64_t n, const char *name,
                                    int64_t line);

@@ -55,6 +55,10 @@ bvox_status bvox_mesh_read_memory(const void *data, size_t size, const char *nam
     if (st) return st;
     st = rd(d, size, name, m);
     if (st) {
+        /* the building calls (bvox_mesh_add_vertex: a coordinate out of range)
+         * fail only because of the file's content, and do not name it */
+        if (st == BVOX_EINVAL) st = BVOX_EFORMAT;
+        bvox__error_prefix(name);
         bvox_mesh_destroy(m);
         return st;
     }

@@ -2,7 +2,7 @@
  * read_obj.c — Wavefront OBJ: "v x y z [w]" vertices and "f" faces whose
  * corners are "i", "i/t", "i//n" or "i/t/n" (only the position index i is
  * used; negative i counts back from the last vertex read so far). Polygons
- * become fans of triangles. vt, vn, g, o, s, usemtl, mtllib, l and comments
+ * become triangles (bvox__mesh_add_polygon). vt, vn, g, o, s, usemtl, mtllib, l and comments
  * are ignored. Faces are checked once all vertices are known (an index may
  * refer to a vertex defined later).
  */
@@ -74,6 +74,9 @@ bvox_status bvox__mesh_read_obj(const uint8_t *d, size_t n, const char *name, bv
     }
     const int64_t *f = faces.data;
     size_t nf = faces.size / sizeof(int64_t);
+    /* every line of a non-OBJ file is an ignored record: say so, not "empty mesh" */
+    if (!st && m->nvertices == 0 && nf == 0)
+        st = bvox__fail(BVOX_EFORMAT, "%s: no vertices or faces found (not an OBJ file?)", name);
     for (size_t i = 0; i < nf && !st;) {
         int64_t line = f[i], count = f[i + 1];
         for (int64_t k = 0; k < count && !st; k++)

@@ -370,6 +370,22 @@ static bvox_status run(vox *vp, const bvox_geometry *geom, bvox_volume **out,
     if (st) return st;
     int closed = boundary == 0 && nonman == 0;
     bvox_dims dims = {v.n[0], v.n[1], v.n[2]};
+    /* An open mesh needs the result and one volume per axis at once: refuse
+     * now rather than after voxelizing along two axes. */
+    size_t bytes, nvol = v.shell || closed ? 1 : 4, in_use = bvox_memory_in_use();
+    size_t room = bvox_memory_budget() > in_use ? bvox_memory_budget() - in_use : 0;
+    st = bvox__check_dims(dims, NULL, &bytes);
+    if (st) return st;
+    if (bytes > room / nvol) {
+        char need[32], lim[32];
+        bvox__format_bytes(need, sizeof need, bytes * nvol);
+        bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
+        return bvox__fail(BVOX_ETOOBIG,
+                          "voxelizing at %d x %d x %d needs %s (%zu volume%s), over the memory "
+                          "budget of %s",
+                          dims.nx, dims.ny, dims.nz, need, nvol, nvol > 1 ? "s: an open mesh "
+                          "is voxelized along x, y and z" : "", lim);
+    }
     bvox_volume *vol;
     st = bvox_volume_create(dims, &vol);
     if (st) return st;
@@ -419,7 +435,7 @@ static bvox_status run(vox *vp, const bvox_geometry *geom, bvox_volume **out,
  * answers the question on the given grid exactly. */
 static bvox_status voxelize_on_grid(const bvox_mesh *m, const bvox_voxelize_opts *opts,
                                     const double mn[3], const double ext[3], bvox_volume **out,
-                                    bvox_voxelize_report *report)
+                                    bvox_voxelize_report *report, bvox_dims *dims_only)
 {
     bvox_geometry geo = bvox_geometry_default();
     int32_t n[3];
@@ -445,7 +461,7 @@ static bvox_status voxelize_on_grid(const bvox_mesh *m, const bvox_voxelize_opts
                                   "xyz"[k], sk);
             double nk = ceil(ext[k] / sk - 1e-9);
             if (nk < 1) nk = 1;
-            if (nk > BVOX_MAX_DIM)
+            if (!(nk <= BVOX_MAX_DIM)) /* also NaN: never converted to int */
                 return bvox__fail(BVOX_ETOOBIG,
                                   "the mesh spans %.3g voxels along %c (at most %d); use a larger "
                                   "voxel size",
@@ -454,6 +470,10 @@ static bvox_status voxelize_on_grid(const bvox_mesh *m, const bvox_voxelize_opts
             geo.spacing[k] = sk;
             geo.origin[k] = mn[k] + 0.5 * (ext[k] - nk * sk) + 0.5 * sk;
         }
+    }
+    if (dims_only) {
+        *dims_only = (bvox_dims){n[0], n[1], n[2]};
+        return BVOX_OK;
     }
     if (opts->unit[0] || !opts->grid) snprintf(geo.unit, sizeof geo.unit, "%.15s", opts->unit);
     bvox_status st;
@@ -480,13 +500,12 @@ static bvox_status voxelize_on_grid(const bvox_mesh *m, const bvox_voxelize_opts
     return st;
 }
 
-bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
-                               bvox_volume **out, bvox_voxelize_report *report)
+/* Checks, the grid, then the work; with dims_only, the grid's dimensions
+ * alone (nothing allocated). */
+static bvox_status voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                            bvox_volume **out, bvox_voxelize_report *report,
+                            bvox_dims *dims_only)
 {
-    BVOX_CHECK_MESH(m);
-    bvox__clear_error();
-    if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
-    *out = NULL;
     if (!m || !opts) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: NULL argument");
     int aniso = opts->spacing[0] > 0 || opts->spacing[1] > 0 || opts->spacing[2] > 0;
     if ((opts->res > 0) + (opts->voxel_size > 0) + aniso + (opts->grid != NULL) != 1)
@@ -509,8 +528,13 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
             mx[k] = fmax(mx[k], m->vertices[3 * i + k]);
         }
     double ext[3] = {mx[0] - mn[0], mx[1] - mn[1], mx[2] - mn[2]};
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(ext[k])) /* e.g. vertices at -1e308 and 1e308 */
+            return bvox__fail(BVOX_EINVAL,
+                              "the mesh's bounding box (%g to %g along %c) is too large",
+                              mn[k], mx[k], "xyz"[k]);
     double longest = fmax(ext[0], fmax(ext[1], ext[2]));
-    if (opts->grid || aniso) return voxelize_on_grid(m, opts, mn, ext, out, report);
+    if (opts->grid || aniso) return voxelize_on_grid(m, opts, mn, ext, out, report, dims_only);
     vox v;
     memset(&v, 0, sizeof v);
     v.m = m;
@@ -527,13 +551,17 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
     for (int k = 0; k < 3; k++) {
         double nk = ceil(ext[k] / v.s - 1e-9);
         if (nk < 1) nk = 1;
-        if (nk > BVOX_MAX_DIM)
+        if (!(nk <= BVOX_MAX_DIM)) /* also NaN: never converted to int */
             return bvox__fail(BVOX_ETOOBIG,
-                              "the mesh spans %.0f voxels along %c (at most %d); use a larger "
+                              "the mesh spans %.6g voxels along %c (at most %d); use a larger "
                               "voxel size",
                               nk, "xyz"[k], BVOX_MAX_DIM);
         v.n[k] = (int32_t)nk;
         v.origin[k] = mn[k] + 0.5 * (ext[k] - nk * v.s) + 0.5 * v.s;
+    }
+    if (dims_only) {
+        *dims_only = (bvox_dims){v.n[0], v.n[1], v.n[2]};
+        return BVOX_OK;
     }
     bvox_geometry geo = bvox_geometry_default();
     for (int k = 0; k < 3; k++) {
@@ -542,4 +570,21 @@ bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opt
     }
     snprintf(geo.unit, sizeof geo.unit, "%.15s", opts->unit);
     return run(&v, &geo, out, report);
+}
+
+bvox_status bvox_mesh_voxelize(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                               bvox_volume **out, bvox_voxelize_report *report)
+{
+    bvox__clear_error();
+    if (!out) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize: out is NULL");
+    *out = NULL;
+    return voxelize(m, opts, out, report, NULL);
+}
+
+bvox_status bvox_mesh_voxelize_dims(const bvox_mesh *m, const bvox_voxelize_opts *opts,
+                                    bvox_dims *dims)
+{
+    bvox__clear_error();
+    if (!dims) return bvox__fail(BVOX_EINVAL, "bvox_mesh_voxelize_dims: dims is NULL");
+    return voxelize(m, opts, NULL, NULL, dims);
 }

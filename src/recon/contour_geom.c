@@ -212,18 +212,7 @@ bvox_status bvox_contour_simplify(bvox_contour *c, double tolerance)
     return BVOX_OK;
 }
 
-/* ---- crossing check: edges sorted by their left end, a sweep along x ---- */
-
-typedef struct edge {
-    double xmin, xmax;
-    int32_t contour, index;
-} edge;
-
-static int cmp_edge(const void *a, const void *b)
-{
-    double x = ((const edge *)a)->xmin, y = ((const edge *)b)->xmin;
-    return (x > y) - (x < y);
-}
+/* ---- crossing check: a sweep line (contour_sweep.c) over the edges ---- */
 
 static double orient(bvox_point2 a, bvox_point2 b, bvox_point2 c)
 {
@@ -258,54 +247,80 @@ static int segments_cross(bvox_point2 a, bvox_point2 b, bvox_point2 c, bvox_poin
     return 0;
 }
 
+typedef struct check_ctx {
+    const bvox_section *sec;
+    const int32_t *contour, *index; /* per edge */
+    int32_t c1, i1, c2, i2;         /* the crossing edges, when found */
+    bvox_point2 at;
+    uint64_t tests;
+} check_ctx;
+
+static int edges_cross(void *ctx, size_t i, size_t j)
+{
+    check_ctx *k = ctx;
+    k->tests++;
+    const bvox_contour *ci = &k->sec->contours[k->contour[i]];
+    const bvox_contour *cj = &k->sec->contours[k->contour[j]];
+    if (k->contour[i] == k->contour[j]) {
+        int32_t d = k->index[i] - k->index[j], n = ci->npoints;
+        if (d == 1 || d == -1 || d == n - 1 || d == 1 - n) return 0; /* neighbours */
+    }
+    bvox_point2 a = ci->points[k->index[i]], b = ci->points[(k->index[i] + 1) % ci->npoints];
+    bvox_point2 c = cj->points[k->index[j]], d = cj->points[(k->index[j] + 1) % cj->npoints];
+    if (!segments_cross(a, b, c, d, &k->at)) return 0;
+    k->c1 = k->contour[i], k->i1 = k->index[i];
+    k->c2 = k->contour[j], k->i2 = k->index[j];
+    return 1;
+}
+
+static _Thread_local uint64_t last_tests;
+uint64_t bvox__check_simple_tests(void) { return last_tests; }
+
 bvox_status bvox_section_check_simple(const bvox_section *sec, int32_t section_index)
 {
     if (!sec) return bvox__fail(BVOX_EINVAL, "bvox_section_check_simple: section is NULL");
     size_t ne = 0;
     for (int32_t c = 0; c < sec->ncontours; c++) ne += (size_t)sec->contours[c].npoints;
+    last_tests = 0;
     if (ne == 0) return BVOX_OK;
-    edge *e = bvox__mem_alloc(ne * sizeof *e);
-    if (!e) return bvox__fail(BVOX_ENOMEM, "out of memory checking contours");
-    size_t k = 0;
-    for (int32_t c = 0; c < sec->ncontours; c++) {
-        const bvox_contour *ct = &sec->contours[c];
-        for (int32_t i = 0; i < ct->npoints; i++) {
-            bvox_point2 a = ct->points[i], b = ct->points[i + 1 < ct->npoints ? i + 1 : 0];
-            e[k++] = (edge){a.x < b.x ? a.x : b.x, a.x < b.x ? b.x : a.x, c, i};
-        }
-    }
-    qsort(e, ne, sizeof *e, cmp_edge);
-    for (size_t i = 0; i < ne; i++) {
-        const bvox_contour *ci = &sec->contours[e[i].contour];
-        bvox_point2 a = ci->points[e[i].index], b = ci->points[(e[i].index + 1) % ci->npoints];
-        for (size_t j = i + 1; j < ne && e[j].xmin <= e[i].xmax; j++) {
-            const bvox_contour *cj = &sec->contours[e[j].contour];
-            if (e[i].contour == e[j].contour) {
-                int32_t d = e[i].index - e[j].index, n = ci->npoints;
-                if (d == 1 || d == -1 || d == n - 1 || d == 1 - n) continue; /* neighbours */
+    bvox_point2 *p = bvox__mem_alloc(ne * sizeof *p), *q = bvox__mem_alloc(ne * sizeof *q);
+    int32_t *contour = bvox__mem_alloc(ne * sizeof *contour), *index = bvox__mem_alloc(ne * sizeof *index);
+    int found = -1;
+    check_ctx k = {sec, contour, index, 0, 0, 0, 0, {0, 0}, 0};
+    if (p && q && contour && index) {
+        size_t e = 0;
+        for (int32_t c = 0; c < sec->ncontours; c++) {
+            const bvox_contour *ct = &sec->contours[c];
+            for (int32_t i = 0; i < ct->npoints; i++, e++) {
+                p[e] = ct->points[i];
+                q[e] = ct->points[i + 1 < ct->npoints ? i + 1 : 0];
+                contour[e] = c;
+                index[e] = i;
             }
-            bvox_point2 c = cj->points[e[j].index], d = cj->points[(e[j].index + 1) % cj->npoints];
-            bvox_point2 at;
-            if (!segments_cross(a, b, c, d, &at)) continue;
-            char label[200];
-            bvox__section_label(sec, section_index, label, sizeof label);
-            int32_t c1 = e[i].contour, c2 = e[j].contour, i1 = e[i].index, i2 = e[j].index;
-            if (c1 > c2 || (c1 == c2 && i1 > i2)) {
-                int32_t t = c1; c1 = c2; c2 = t;
-                t = i1; i1 = i2; i2 = t;
-            }
-            free(e);
-            if (c1 == c2)
-                return bvox__fail(BVOX_EFORMAT,
-                                  "%s: contour %d crosses itself (edges %d and %d, near %.2f, %.2f)",
-                                  label, (int)c1 + 1, (int)i1 + 1, (int)i2 + 1, at.x, at.y);
-            return bvox__fail(BVOX_EFORMAT,
-                              "%s: contours %d and %d cross (edges %d and %d, near %.2f, %.2f)",
-                              label, (int)c1 + 1, (int)c2 + 1, (int)i1 + 1, (int)i2 + 1, at.x, at.y);
         }
+        found = bvox__sweep_crossing(p, q, ne, edges_cross, &k);
     }
-    free(e);
-    return BVOX_OK;
+    last_tests = k.tests;
+    free(p);
+    free(q);
+    free(contour);
+    free(index);
+    if (found < 0) return bvox__fail(BVOX_ENOMEM, "out of memory checking contours");
+    if (!found) return BVOX_OK;
+    char label[200];
+    bvox__section_label(sec, section_index, label, sizeof label);
+    int32_t c1 = k.c1, c2 = k.c2, i1 = k.i1, i2 = k.i2;
+    if (c1 > c2 || (c1 == c2 && i1 > i2)) {
+        int32_t t = c1; c1 = c2; c2 = t;
+        t = i1; i1 = i2; i2 = t;
+    }
+    if (c1 == c2)
+        return bvox__fail(BVOX_EFORMAT,
+                          "%s: contour %d crosses itself (edges %d and %d, near %.2f, %.2f)",
+                          label, (int)c1 + 1, (int)i1 + 1, (int)i2 + 1, k.at.x, k.at.y);
+    return bvox__fail(BVOX_EFORMAT,
+                      "%s: contours %d and %d cross (edges %d and %d, near %.2f, %.2f)",
+                      label, (int)c1 + 1, (int)c2 + 1, (int)i1 + 1, (int)i2 + 1, k.at.x, k.at.y);
 }
 
 /* ---- 2-D affine maps ---- */

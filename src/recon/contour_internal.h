@@ -53,6 +53,20 @@ void bvox__signed_edt(const uint64_t *bits, size_t wpr, int32_t nx, int32_t ny, 
 /* Nesting depth limit of the JSON and XML readers. */
 #define BVOX__MAX_DEPTH 64
 
+/* Whether two of the n segments p[i]-q[i] cross, by a sweep line
+ * (contour_sweep.c): test(ctx, i, j) is called on the pairs that become
+ * neighbours in the sweep's order and returns 1 for a crossing (which
+ * stops the sweep). Returns 1 (found), 0 (none), -1 (out of memory). */
+int bvox__sweep_crossing(const bvox_point2 *p, const bvox_point2 *q, size_t n,
+                         int (*test)(void *ctx, size_t i, size_t j), void *ctx);
+/* Test hook: the segment pairs the last bvox_section_check_simple of this
+ * thread tested (a work bound for the tests). */
+uint64_t bvox__check_simple_tests(void);
+
+/* Record bytes charged to the memory budget (bvox__budget_charge) for the
+ * stack's contents; bvox_stack_destroy refunds them (contour_stack.c). */
+void bvox__stack_charged(bvox_contour_stack *s, size_t bytes);
+
 /* Text buffers: src/common/strbuf.h; JSON string literals:
  * src/common/json.h (bvox__sb_json_string). XML attribute text (escaped): */
 void bvox__sb_xml_text(bvox__strbuf *b, const char *s);

@@ -417,7 +417,7 @@ static bvox_status section(lex *L, bvox_contour_stack *s, uint8_t *has_z, ptbuf 
 
 static bvox_status positive(lex *L, const char *at, double v, const char *what)
 {
-    if (!(v > 0) || v > 1e12) return lex_fail(L, at, "%s must be > 0 (it is %g)", what, v);
+    if (!(v > 0) || v > 1e12) return lex_fail(L, at, "%s must be > 0 and at most 1e12 (it is %g)", what, v);
     return BVOX_OK;
 }
 

@@ -64,11 +64,24 @@ const char *bvox__section_label(const bvox_section *sec, int32_t index, char *bu
     return buf;
 }
 
+/* Every stack is one of these: the public struct, then what its builder
+ * charged to the memory budget (refunded by bvox_stack_destroy). */
+typedef struct stack_box {
+    bvox_contour_stack pub; /* first: a stack pointer is a box pointer */
+    size_t charged;
+} stack_box;
+
+void bvox__stack_charged(bvox_contour_stack *s, size_t bytes)
+{
+    ((stack_box *)s)->charged += bytes;
+}
+
 bvox_status bvox_stack_create(bvox_contour_stack **out)
 {
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_create: out is NULL");
     *out = NULL;
-    bvox_contour_stack *s = bvox__mem_zalloc(1, sizeof *s);
+    stack_box *box = bvox__mem_zalloc(1, sizeof *box);
+    bvox_contour_stack *s = box ? &box->pub : NULL;
     if (!s) return bvox__fail(BVOX_ENOMEM, "out of memory for a contour stack");
     s->pixel = 1.0;
     s->spacing = 1.0;
@@ -91,6 +104,7 @@ void bvox_stack_destroy(bvox_contour_stack *stack)
     if (!stack) return;
     for (int32_t i = 0; i < stack->nsections; i++) section_free(&stack->sections[i]);
     free(stack->sections);
+    bvox__budget_refund(((stack_box *)stack)->charged);
     free(stack);
 }
 

@@ -32,6 +32,13 @@ void bvox__sb_xml_text(bvox__strbuf *b, const char *s)
 
 bvox_status bvox__sb_write_file(const bvox__strbuf *b, const char *path)
 {
+    if (b->over_budget) {
+        char have[32], lim[32];
+        bvox__format_bytes(have, sizeof have, b->cap);
+        bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
+        return bvox__fail(BVOX_ETOOBIG, "%s: the text grew past %s and reached the memory "
+                          "budget of %s", path, have, lim);
+    }
     if (b->failed) return bvox__fail(BVOX_ENOMEM, "%s: out of memory for the text", path);
     bvox__sink sink;
     bvox_status st = bvox__sink_open(path, 0, &sink);

@@ -30,6 +30,7 @@
 #include "common/bits.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -165,23 +166,35 @@ static bvox_status trace_slice(slice_img *s, bvox_section *sec, double vscale)
 
 static void slice_release(slice_img *s)
 {
-    free(s->px);
-    free(s->top);
+    size_t n = (size_t)(s->h + 2) * s->stride;
+    bvox__free(s->px, n);
+    bvox__free(s->top, n);
     free(s->probe);
     free(s->outer);
     free(s->pts);
 }
 
-static bool slice_alloc(slice_img *si, int32_t w, int32_t h)
+/* The slice's pixel and visit maps, from the budget. */
+static bvox_status slice_alloc(slice_img *si, int32_t w, int32_t h)
 {
     memset(si, 0, sizeof *si);
     si->w = w;
     si->h = h;
     si->stride = (size_t)w + 2;
     size_t n = (size_t)(h + 2) * si->stride;
-    si->px = bvox__mem_zalloc(n, 1);
-    si->top = bvox__mem_zalloc(n, 1);
-    return si->px && si->top;
+    bvox_status st;
+    si->px = bvox__alloc(n, true, "slice map", &st);
+    if (si->px) si->top = bvox__alloc(n, true, "slice map", &st);
+    return st;
+}
+
+/* What a traced section holds: its points and contour records. */
+static size_t section_bytes(const bvox_section *sec)
+{
+    size_t b = (size_t)sec->ncontours * sizeof(bvox_contour);
+    for (int32_t i = 0; i < sec->ncontours; i++)
+        b += (size_t)sec->contours[i].npoints * sizeof(bvox_point2);
+    return b;
 }
 
 typedef struct mc_ctx {
@@ -192,7 +205,19 @@ typedef struct mc_ctx {
     bvox_contour_stack *stack;
     bvox_status *task_status;
     int32_t *task_slice; /* the slice a failed task was at */
+    _Atomic size_t charged;  /* the sections' bytes, charged to the budget */
 } mc_ctx;
+
+/* Charge a traced section to the budget (the stack keeps the charge until
+ * it is destroyed): a model with too many outlines stops at the budget. */
+static bvox_status charge_section(mc_ctx *c, const bvox_section *sec)
+{
+    size_t b = section_bytes(sec);
+    bvox_status st;
+    if (!bvox__budget_charge(b, "contours", &st)) return st;
+    atomic_fetch_add(&c->charged, b);
+    return BVOX_OK;
+}
 
 /* Slices across x or y: pixel (u, v) is bit v (= z) of column (k, u) or
  * (u, k); every column is read once, by the slice it belongs to. */
@@ -227,11 +252,9 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
         int32_t at = -1;
         uint64_t *rows = NULL; /* axis z: 64 slices x h rows x wpr words */
         size_t wpr = ((size_t)c->w + 63) / 64;
-        if (!slice_alloc(&si, c->w, c->h)) st = BVOX_ENOMEM;
-        if (!st && c->axis == 2) {
-            rows = bvox__mem_alloc((size_t)64 * (size_t)c->h * wpr * sizeof *rows);
-            if (!rows) st = BVOX_ENOMEM;
-        }
+        size_t rows_bytes = (size_t)64 * (size_t)c->h * wpr * sizeof *rows;
+        st = slice_alloc(&si, c->w, c->h);
+        if (!st && c->axis == 2) rows = bvox__alloc(rows_bytes, false, "slice rows", &st);
         if (c->axis == 2) {
             /* blocks of 64 slices dealt round-robin: one transpose per 64
              * columns gives 64 slices' rows */
@@ -276,6 +299,7 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
                     }
                     at = k0 + k;
                     st = trace_slice(&si, &c->stack->sections[at], c->vscale);
+                    if (!st) st = charge_section(c, &c->stack->sections[at]);
                 }
             }
         } else {
@@ -283,9 +307,10 @@ static void mc_task(void *ctx, int64_t begin, int64_t end)
                 fill_xy(c, &si, k);
                 at = k;
                 st = trace_slice(&si, &c->stack->sections[k], c->vscale);
+                if (!st) st = charge_section(c, &c->stack->sections[k]);
             }
         }
-        free(rows);
+        bvox__free(rows, rows_bytes);
         slice_release(&si);
         c->task_status[t] = st;
         c->task_slice[t] = at;
@@ -324,7 +349,7 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
     s->height = fh < 1 ? 1 : fh > BVOX_MAX_DIM ? BVOX_MAX_DIM : (int32_t)fh;
     for (int32_t k = 0; k < nslices && !st; k++)
         st = bvox_stack_add_section(s, g->origin[axis] + k * g->spacing[axis], NULL, NULL);
-    mc_ctx c = {vol, axis, w, h, nslices, 1, vscale, s, NULL, NULL};
+    mc_ctx c = {vol, axis, w, h, nslices, 1, vscale, s, NULL, NULL, 0};
     int32_t units = axis == 2 ? (nslices + 63) / 64 : nslices;
     c.ntasks = bvox__parallelism();
     if (c.ntasks > units) c.ntasks = units;
@@ -337,14 +362,28 @@ bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis, bvox_conto
     }
     if (!st) {
         bvox__parallel_for(c.ntasks, 1, mc_task, &c);
+        /* the workers' messages are in their own threads: say it again here */
+        char lim[32];
+        bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
         for (int32_t t = 0; t < c.ntasks && !st; t++)
-            if (c.task_status[t])
+            if (c.task_status[t] == BVOX_ETOOBIG && c.task_slice[t] >= 0)
+                st = bvox__fail(BVOX_ETOOBIG,
+                                "tracing slice %d across %c: the contours and their buffers "
+                                "reach the memory budget of %s",
+                                (int)c.task_slice[t], "xyz"[axis], lim);
+            else if (c.task_status[t] == BVOX_ETOOBIG)
+                st = bvox__fail(BVOX_ETOOBIG,
+                                "tracing across %c: the buffers for slices of %d x %d pixels "
+                                "are over the memory budget of %s",
+                                "xyz"[axis], (int)w, (int)h, lim);
+            else if (c.task_status[t])
                 st = bvox__fail(c.task_status[t],
                                 "tracing slice %d across %c: %s (a slice of %d x %d pixels)",
                                 (int)c.task_slice[t], "xyz"[axis],
                                 c.task_status[t] == BVOX_ENOMEM ? "out of memory" : "too many contours or points",
                                 (int)w, (int)h);
     }
+    bvox__stack_charged(s, atomic_load(&c.charged));
     free(c.task_status);
     free(c.task_slice);
     if (st) {

@@ -254,7 +254,7 @@ static bvox_status extent(const bvox_contour_stack *st, int32_t margin, sv *s)
         double fx0 = floor(xmin) - margin, fx1 = ceil(xmax) + margin;
         double fy0 = floor(ymin) - margin, fy1 = ceil(ymax) + margin;
         if (fx1 - fx0 > BVOX_MAX_DIM || fy1 - fy0 > BVOX_MAX_DIM)
-            return bvox__fail(BVOX_ETOOBIG, "the contours span %.0f x %.0f pixels (at most %d)",
+            return bvox__fail(BVOX_ETOOBIG, "the contours span %.6g x %.6g pixels (at most %d)",
                               fx1 - fx0, fy1 - fy0, BVOX_MAX_DIM);
         s->x0 = (int32_t)fx0;
         s->y0 = (int32_t)fy0;
@@ -334,7 +334,7 @@ bvox_status bvox_stack_to_volume(const bvox_contour_stack *stack, const bvox_sta
     double fnz = floor(length / dz + 0.5);
     if (!(fnz <= BVOX_MAX_DIM)) {
         sv_release(&s);
-        return bvox__fail(BVOX_ETOOBIG, "%.0f slices of %g %s over %g (at most %d)", fnz, dz,
+        return bvox__fail(BVOX_ETOOBIG, "%.6g slices of %g %s over %g (at most %d)", fnz, dz,
                           stack->unit, length, BVOX_MAX_DIM);
     }
     s.nz = fnz < 1 ? 1 : (int32_t)fnz;

@@ -7,6 +7,7 @@
 #include "recon/contour_internal.h"
 #include "ref/contourref.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -469,5 +470,115 @@ TEST(interpolate_vs_bruteforce)
         bvox_stack_destroy(s);
     }
     CHECK(ran >= 8); /* most trials have no empty or full section */
+    return 0;
+}
+
+/* ---- the crossing check (a sweep line) against testing every pair ---- */
+
+static double orient3(bvox_point2 a, bvox_point2 b, bvox_point2 c)
+{
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+/* The rule, pair by pair: a proper crossing, or a collinear overlap of
+ * positive length; touching at a point is not a crossing. */
+static int pair_crosses(bvox_point2 a, bvox_point2 b, bvox_point2 c, bvox_point2 d)
+{
+    double o1 = orient3(a, b, c), o2 = orient3(a, b, d), o3 = orient3(c, d, a),
+           o4 = orient3(c, d, b);
+    if (o1 * o2 < 0 && o3 * o4 < 0) return 1;
+    if (o1 != 0 || o2 != 0 || o3 != 0 || o4 != 0) return 0;
+    int ux = fabs(b.x - a.x) >= fabs(b.y - a.y);
+    double a0 = ux ? a.x : a.y, a1 = ux ? b.x : b.y, c0 = ux ? c.x : c.y, c1 = ux ? d.x : d.y;
+    double lo = fmax(fmin(a0, a1), fmin(c0, c1)), hi = fmin(fmax(a0, a1), fmax(c0, c1));
+    return hi > lo;
+}
+
+static int all_pairs_cross(const bvox_section *sec)
+{
+    for (int32_t c = 0; c < sec->ncontours; c++)
+        for (int32_t e = 0; e < sec->contours[c].npoints; e++)
+            for (int32_t c2 = c; c2 < sec->ncontours; c2++)
+                for (int32_t e2 = c2 == c ? e + 1 : 0; e2 < sec->contours[c2].npoints; e2++) {
+                    const bvox_contour *k = &sec->contours[c], *k2 = &sec->contours[c2];
+                    int32_t n = k->npoints, d = e2 - e;
+                    if (c == c2 && (d == 1 || d == n - 1)) continue;
+                    if (pair_crosses(k->points[e], k->points[(e + 1) % n], k2->points[e2],
+                                     k2->points[(e2 + 1) % k2->npoints]))
+                        return 1;
+                }
+    return 0;
+}
+
+/* Random polygons on a small integer grid: plenty of shared x, verticals,
+ * collinear edges, touching vertices and T-junctions. */
+TEST(check_simple_matches_every_pair)
+{
+    uint32_t r = 12345;
+    int disagree = 0, crossing = 0, simple = 0;
+    for (int trial = 0; trial < 40000 && disagree < 5; trial++) {
+        bvox_section sec;
+        memset(&sec, 0, sizeof sec);
+        bvox_contour ct[2];
+        bvox_point2 pts[2][20];
+        uint32_t grid = trial % 2 ? 5 : 9, most = trial % 2 ? 8 : 17;
+        int nc = 1 + (trial % 3 == 0);
+        for (int c = 0; c < nc; c++) {
+            r = r * 1103515245u + 12345u;
+            int n = 3 + (int)((r >> 16) % most);
+            for (int i = 0; i < n; i++) {
+                r = r * 1103515245u + 12345u;
+                pts[c][i].x = (double)((r >> 16) % grid);
+                r = r * 1103515245u + 12345u;
+                pts[c][i].y = (double)((r >> 16) % grid);
+            }
+            ct[c] = (bvox_contour){pts[c], n, 0, -1};
+        }
+        sec.contours = ct;
+        sec.ncontours = nc;
+        int want = all_pairs_cross(&sec);
+        bvox_status st = bvox_section_check_simple(&sec, 0);
+        int got = st == BVOX_EFORMAT;
+        if (got != want) {
+            fprintf(stderr, "trial %d: all pairs say %d, the sweep %d (%s)\n", trial, want, got,
+                    bvox_errmsg());
+            disagree++;
+        }
+        crossing += want;
+        simple += !want;
+    }
+    CHECK_EQ(disagree, 0);
+    CHECK(crossing > 1000 && simple > 1000); /* both kinds were tried */
+    return 0;
+}
+
+/* A simple serpentine of 100000 points whose horizontal edges all span the
+ * picture: every pair of them overlaps in x, so the previous check tested
+ * ~1.25e9 pairs (25 s). Work bound: the pairs the sweep tests. Then one
+ * point moved to make it cross is found. */
+TEST(check_simple_long_path_work_bound)
+{
+    const int rows = 49999;
+    int n = 2 * rows + 2;
+    bvox_point2 *p = malloc((size_t)n * sizeof *p);
+    int k = 0;
+    for (int i = 0; i < rows; i++) {
+        double x0 = i % 2 ? 1000 : 1, x1 = i % 2 ? 1 : 1000;
+        p[k++] = (bvox_point2){x0, i};
+        p[k++] = (bvox_point2){x1, i};
+    }
+    p[k++] = (bvox_point2){0, rows - 1}; /* down the left side, back to (1, 0) */
+    p[k++] = (bvox_point2){0, 0};
+    bvox_section sec;
+    memset(&sec, 0, sizeof sec);
+    bvox_contour ct = {p, n, 0, -1};
+    sec.contours = &ct;
+    sec.ncontours = 1;
+    CHECK_OK(bvox_section_check_simple(&sec, 0));
+    CHECK(bvox__check_simple_tests() < (uint64_t)4 * (uint64_t)n);
+    p[2 * 20000 + 1].y = 20001.5; /* row 20000's far end, pulled across row 20001 */
+    CHECK_STATUS(bvox_section_check_simple(&sec, 0), BVOX_EFORMAT);
+    CHECK(strstr(bvox_errmsg(), "crosses itself") != NULL);
+    free(p);
     return 0;
 }

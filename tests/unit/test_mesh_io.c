@@ -10,6 +10,8 @@
 #include "internal.h"
 #include "io/io.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -265,6 +267,11 @@ TEST(bad_files)
     CHECK(bad(b, sizeof b, "stl", "finite") == 0);
     CHECK(bad(b, 40, "stl", "too short") == 0);
     BAD("hello", NULL, "not a mesh");
+    /* huge coordinates: finite, but their products in the measures are not */
+    BAD("v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", "obj", "-1e+308");
+    BAD("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1e61 0\n3 0 1 2\n", "off", "vertex 3 has a coordinate");
+    /* random bytes with the .obj format: not an empty mesh */
+    BAD("\x7f\x01\x93garbage\n\xff\xfe no obj here\n", "obj", "no vertices or faces found");
     CHECK_EQ(bvox_memory_in_use(), base);
     bvox_mesh *m = NULL;
     CHECK_STATUS(bvox_mesh_read(harness_path("missing.stl"), NULL, &m), BVOX_ENOTFOUND);
@@ -312,6 +319,66 @@ TEST(allocation_failures_are_clean)
             CHECK_EQ(bvox_memory_in_use(), base);
         }
     }
+    bvox_mesh_destroy(m);
+    return 0;
+}
+
+/* One OBJ face of 100000 corners (a regular polygon in the x-z plane). A fan
+ * from corner 1 made 99998 slivers that all span the face: the shell's
+ * triangle-box tests grew with n times the face (16 s at --res 256, minutes
+ * at 1024). Split by halving, no corner is in more than ~2 log2(n) triangles
+ * and the triangles' boxes add up to a few times the face. Work bound, not a
+ * timing: the sum of the triangles' box areas in voxels at res 1024. */
+TEST(long_face_is_not_a_fan)
+{
+    const int n = 100000;
+    size_t cap = (size_t)n * 48 + 16, len = 0;
+    char *text = malloc(cap);
+    for (int i = 0; i < n; i++) {
+        double a = 2 * M_PI * i / n;
+        len += (size_t)snprintf(text + len, cap - len, "v %.12f 0 %.12f\n", cos(a), sin(a));
+    }
+    len += (size_t)snprintf(text + len, cap - len, "f");
+    for (int i = 0; i < n; i++) len += (size_t)snprintf(text + len, cap - len, " %d", i + 1);
+    len += (size_t)snprintf(text + len, cap - len, "\n");
+    CHECK(len < cap);
+    bvox_mesh *m = NULL;
+    CHECK_OK(bvox_mesh_read_memory(text, len, "gon.obj", "obj", &m));
+    free(text);
+    CHECK_EQ(m->ntriangles, (int64_t)n - 2);
+    /* a triangulation of the convex face: the areas add up to the polygon's */
+    bvox_mesh_info info;
+    CHECK_OK(bvox_mesh_measure(m, &info));
+    CHECK_NEAR(info.area, 0.5 * n * sin(2 * M_PI / n), 1e-9);
+    int32_t *valence = calloc((size_t)n, sizeof *valence);
+    int32_t most = 0;
+    double boxes = 0, res = 1024, s = 2.0 / res;
+    for (int64_t t = 0; t < m->ntriangles; t++) {
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int k = 0; k < 3; k++) {
+            int32_t v = m->triangles[3 * t + k];
+            if (++valence[v] > most) most = valence[v];
+            for (int a = 0; a < 2; a++) {
+                double c = m->vertices[3 * v + 2 * a];
+                lo[a] = fmin(lo[a], c), hi[a] = fmax(hi[a], c);
+            }
+        }
+        boxes += (floor((hi[0] - lo[0]) / s) + 2) * (floor((hi[1] - lo[1]) / s) + 2);
+    }
+    free(valence);
+    CHECK(most <= 40);                      /* a fan: 99998 */
+    CHECK(boxes < 8 * res * res);           /* a fan: ~1e10 */
+    /* and the shell is the polygon's outline and inside */
+    bvox_voxelize_opts o;
+    memset(&o, 0, sizeof o);
+    o.res = 1024;
+    o.shell = 1;
+    bvox_volume *v = NULL;
+    CHECK_OK(bvox_mesh_voxelize(m, &o, &v, NULL));
+    CHECK_EQ(bvox_volume_dims(v).ny, 1);
+    int64_t count = bvox_volume_count(v);
+    CHECK(count > (int64_t)(M_PI * 511 * 511) && count < (int64_t)(M_PI * 514 * 514));
+    bvox_volume_destroy(v);
     bvox_mesh_destroy(m);
     return 0;
 }

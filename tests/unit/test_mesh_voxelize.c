@@ -314,6 +314,11 @@ TEST(bad_arguments)
     o.voxel_size = 1e-6;
     CHECK_STATUS(bvox_mesh_voxelize(m, &o, &v, NULL), BVOX_ETOOBIG);
     CHECK(v == NULL);
+    /* a count printed with %g, not 300 digits */
+    o.voxel_size = 1e-300;
+    CHECK_STATUS(bvox_mesh_voxelize(m, &o, &v, NULL), BVOX_ETOOBIG);
+    CHECK(strstr(bvox_errmsg(), "spans 1e+300 voxels") != NULL);
+    CHECK(strlen(bvox_errmsg()) < 120);
     bvox_mesh *empty = NULL;
     CHECK_OK(bvox_mesh_create(&empty));
     o.voxel_size = 1;

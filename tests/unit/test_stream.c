@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 static int count_entries(const char *dir)
@@ -220,5 +221,26 @@ TEST(write_file_atomic)
     CHECK_EQ(count_entries(harness_tmpdir()), 1);
     CHECK_STATUS(bvox_write_file_atomic(harness_path("no/such/dir/x"), "x", 1), BVOX_ENOTFOUND);
     CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    return 0;
+}
+
+/* Output names of 248..255 bytes are valid, but ".NAME.XXXXXX" is not: the
+ * temporary name is cut to fit NAME_MAX, and the output keeps its name. */
+TEST(sink_long_names)
+{
+    for (int len = 240; len <= 255; len += 5) {
+        char name[300];
+        memset(name, 'n', (size_t)len);
+        name[len] = '\0';
+        memcpy(name + len - 4, ".raw", 4);
+        const char *path = harness_path(name);
+        bvox__sink s;
+        CHECK_OK(bvox__sink_open(path, 0, &s));
+        CHECK_OK(bvox__sink_write(&s, "abc", 3));
+        CHECK_OK(bvox__sink_commit(&s));
+        struct stat sb;
+        CHECK(stat(path, &sb) == 0 && sb.st_size == 3);
+        CHECK(unlink(path) == 0);
+    }
     return 0;
 }

@@ -1,0 +1,35 @@
+# check_instrumented.cmake — run by the CTest test fuzz.instrumented in a
+# BVOX_FUZZ build: every object file in the static libraries LIBS (a
+# ;-list) must reference libFuzzer's coverage hooks (__sanitizer_cov_*), so
+# that no code the fuzz targets reach is blind to the fuzzer.
+# Usage: cmake -DNM=nm -DLIBS="a.a;b.a" -P check_instrumented.cmake
+if(NOT NM OR NOT LIBS)
+  message(FATAL_ERROR "usage: cmake -DNM=nm -DLIBS=lib1.a;lib2.a -P check_instrumented.cmake")
+endif()
+set(blind "")
+foreach(lib IN LISTS LIBS)
+  execute_process(COMMAND ${NM} -A ${lib} OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${NM} failed on ${lib}")
+  endif()
+  # nm -A: "lib.a:object.o: symbol" per line; collect objects, and those with hooks
+  string(REGEX MATCHALL "[^\n:]+\\.o:" objects "${out}")
+  string(REGEX MATCHALL "[^\n:]+\\.o:[^\n]*__sanitizer_cov[^\n]*" hooked "${out}")
+  list(REMOVE_DUPLICATES objects)
+  set(have "")
+  foreach(line IN LISTS hooked)
+    string(REGEX MATCH "^[^:]+\\.o:" o "${line}")
+    list(APPEND have "${o}")
+  endforeach()
+  foreach(o IN LISTS objects)
+    list(FIND have "${o}" i)
+    if(i EQUAL -1)
+      list(APPEND blind "${lib}:${o}")
+    endif()
+  endforeach()
+endforeach()
+if(blind)
+  string(REPLACE ";" "\n  " blind "${blind}")
+  message(FATAL_ERROR "objects without coverage instrumentation:\n  ${blind}")
+endif()
+message(STATUS "all objects instrumented")

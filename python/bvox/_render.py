@@ -1,0 +1,79 @@
+"""_render.py — the display pipeline (cast, shade, zoom, filter, cut) into an
+(h, w, 3) uint8 NumPy array, and PNG output of such arrays."""
+import os
+
+import numpy as np
+
+from ._lib import InvalidArgument, check, ffi, lib
+
+
+def _image_to_numpy(img):
+    h, w, ch = img.height, img.width, img.channels
+    a = np.frombuffer(ffi.buffer(img.pixels, h * w * ch), dtype=np.uint8).reshape(h, w, ch)
+    a = a.copy()
+    return np.repeat(a, 3, axis=2) if ch == 1 else a
+
+
+def render(vol, view="iso", *, shade="binary+depth", width=0, height=0, scale=0.0, zoom=1,
+           average=False, filter=None, cut=None, keep_above=True, light=None, path=None):
+    """Render a volume. view: "+z", "-x", ... (one pixel per voxel column),
+    "iso", "iso+x-y+z" or "AZ,EL" degrees (a parallel projection of
+    width x height pixels, 512 when 0, scaled to fit unless scale, pixels per
+    unit, is given); shade "depth", "binary", "gradient", "binary+depth";
+    zoom 1/2/4/8; average: a further x2 with pixel averaging; filter
+    "highpass", "smooth", "laplacian", "sobel"; cut (a, b, c, d): the plane
+    a x + b y + c z + d = 0, keeping the side >= 0 (keep_above) with its cut
+    face tinted; light (azimuth, elevation) in degrees. With path, also
+    written as PNG. Returns an (h, w, 3) uint8 array."""
+    opts = ffi.new("bvox_render_opts *", lib.bvox_render_opts_default())
+    check(lib.bvox_render_parse_view(str(view).encode(), opts))
+    s = lib.bvox_shade_mode_parse(shade.encode())
+    if s < 0:
+        raise ValueError("bvox: unknown shading %r" % shade)
+    opts.shade = s
+    # an axis view given a size becomes the projection with the same image
+    # axes (bvox_render_opts)
+    opts.proj.width, opts.proj.height = int(width), int(height)
+    opts.proj.scale = float(scale)
+    opts.zoom = int(zoom)
+    opts.average = 1 if average else 0
+    if filter is not None:
+        f = lib.bvox_filter_parse(filter.encode())
+        if f < 0:
+            raise ValueError("bvox: unknown filter %r" % filter)
+        opts.filter = f
+    if cut is not None:
+        opts.cut = 1
+        opts.plane = [float(v) for v in cut]
+        opts.keep_above = 1 if keep_above else 0
+    if light is not None:
+        opts.light.azimuth, opts.light.elevation = (float(v) for v in light)
+    out = ffi.new("bvox_image **")
+    check(lib.bvox_render(vol._p, opts, out, ffi.NULL))
+    img = ffi.gc(out[0], lib.bvox_image_destroy)
+    if path is not None:
+        check(lib.bvox_image_write_png(img, os.fsencode(path)))
+    arr = _image_to_numpy(img)
+    ffi.release(img)
+    return arr
+
+
+def write_png(path, image):
+    """Write an (h, w) gray or (h, w, 3) RGB uint8 array as PNG (through a
+    temporary file renamed on success)."""
+    a = np.asarray(image)
+    if a.dtype != np.uint8:
+        raise TypeError("bvox: write_png needs uint8 samples, not %s" % a.dtype)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    if a.ndim != 3 or a.shape[2] not in (1, 3) or 0 in a.shape:
+        raise ValueError("bvox: write_png needs an (h, w) or (h, w, 3) array, got %r"
+                         % (a.shape,))
+    out = ffi.new("bvox_image **")
+    check(lib.bvox_image_create(a.shape[1], a.shape[0], a.shape[2], 8, out))
+    img = ffi.gc(out[0], lib.bvox_image_destroy)
+    ffi.memmove(img.pixels, np.ascontiguousarray(a).tobytes(), a.size)
+    try:
+        check(lib.bvox_image_write_png(img, os.fsencode(path)))
+    finally:
+        ffi.release(img)
