@@ -100,6 +100,8 @@ typedef struct bvox_read_opts {
 typedef struct bvox_write_opts {
     const char *format;
     int raw_bits;
+    int32_t chunks[3];
+    const char *compressor;
 } bvox_write_opts;
 typedef struct bvox_component {
     int64_t voxels;
