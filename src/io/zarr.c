@@ -21,6 +21,11 @@ static bvox_status zarr_read_path(const char *path, const bvox_read_opts *opts, 
     bvox_status st = bvox__zarr_open_level(path, opts ? opts->zarr_level : 0, &z);
     if (st) return st;
     bvox_dims d = bvox__zarr_dims(z);
+    size_t wb;
+    if ((st = bvox__check_dims(d, path, &wb))) { /* the whole volume: within the budget */
+        bvox__zarr_close(z);
+        return st;
+    }
     size_t total, elem = bvox_dtype_size(bvox__zarr_dtype(z));
     if (!bvox__mul_size((size_t)d.nx * (size_t)d.ny, (size_t)d.nz, &total) ||
         !bvox__mul_size(total, elem, &total)) {

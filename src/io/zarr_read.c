@@ -224,11 +224,8 @@ bvox_status bvox__zarr_open_level(const char *path, int32_t level, bvox__zarr **
         z->n[a] = (int32_t)z->m.shape[2 - a];
         z->c[a] = z->m.chunks[2 - a];
     }
-    size_t wb;
-    if ((st = bvox__check_dims((bvox_dims){z->n[0], z->n[1], z->n[2]}, path, &wb))) {
-        bvox__zarr_close(z);
-        return st;
-    }
+    /* no memory budget here: an array larger than memory is read box by
+     * box (the metadata parser already keeps each axis in 1..BVOX_MAX_DIM) */
     z->elem = bvox_dtype_size(z->m.dtype);
     if (!bvox__mul_size((size_t)z->c[0] * (size_t)z->c[1], (size_t)z->c[2], &z->chunk_bytes) ||
         !bvox__mul_size(z->chunk_bytes, z->elem, &z->chunk_bytes)) {

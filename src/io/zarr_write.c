@@ -149,9 +149,12 @@ bvox_status bvox__zarr_create(const char *path, bvox_dims dims, const int32_t ch
     if (levels < 0 || levels > MAX_LEVELS)
         return bvox__fail(BVOX_EINVAL, "%s: %d resolution levels; 0 (automatic) to %d", path,
                           (int)levels, MAX_LEVELS);
-    size_t wb;
-    bvox_status st = bvox__check_dims(dims, path, &wb);
-    if (st) return st;
+    /* the axis limits only: a writer may write more than fits in memory */
+    if (dims.nx < 1 || dims.ny < 1 || dims.nz < 1 || dims.nx > BVOX_MAX_DIM ||
+        dims.ny > BVOX_MAX_DIM || dims.nz > BVOX_MAX_DIM)
+        return bvox__fail(BVOX_EINVAL, "%s: dimensions %d x %d x %d are outside 1..%d per axis",
+                          path, (int)dims.nx, (int)dims.ny, (int)dims.nz, BVOX_MAX_DIM);
+    bvox_status st;
     bvox__zarr_writer *w = bvox__mem_zalloc(1, sizeof *w);
     if (!w) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", path);
     w->ds.slot = -1;
@@ -315,6 +318,24 @@ bvox_status bvox__zarr_write_box(bvox__zarr_writer *w, int32_t x0, int32_t y0, i
     return write_level_box(w, 0, x0, y0, z0, box);
 }
 
+/* Whether any chunk file of level l under the box at (x0, y0, z0) of size d
+ * exists (put_chunk writes no all-zero chunk). */
+static bool any_chunk(const bvox__zarr_writer *w, int32_t l, int64_t x0, int64_t y0, int64_t z0,
+                      bvox_dims d)
+{
+    const int64_t *c = w->c[l];
+    for (int64_t kz = z0 / c[2]; kz <= (z0 + d.nz - 1) / c[2]; kz++)
+        for (int64_t ky = y0 / c[1]; ky <= (y0 + d.ny - 1) / c[1]; ky++)
+            for (int64_t kx = x0 / c[0]; kx <= (x0 + d.nx - 1) / c[0]; kx++) {
+                char p[4300];
+                struct stat sb;
+                snprintf(p, sizeof p, "%s/%d/%lld.%lld.%lld", w->ds.tmp, (int)l, (long long)kz,
+                         (long long)ky, (long long)kx);
+                if (stat(p, &sb) == 0) return true;
+            }
+    return false;
+}
+
 /* Level l from level l - 1, one coarse chunk at a time: the fine box it
  * covers is read back (at most 8 chunks), halved, written. */
 static bvox_status build_level(bvox__zarr_writer *w, int32_t l)
@@ -337,6 +358,8 @@ static bvox_status build_level(bvox__zarr_writer *w, int32_t l)
                     fp[a] = (int32_t)f;
                     cp[a] = (int32_t)((f + 1) / 2);
                 }
+                /* no fine chunk written (all zeros): the coarse chunk is zeros too */
+                if (!any_chunk(w, l - 1, 2 * x0, 2 * y0, 2 * z0, fd)) continue;
                 bvox_volume *fv = NULL, *cv = NULL;
                 st = bvox_volume_create(fd, &fv);
                 if (!st) st = bvox_volume_create(cd, &cv);

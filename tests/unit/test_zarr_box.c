@@ -261,3 +261,51 @@ TEST(rewrite_needs_force)
     bvox_volume_destroy(b);
     return 0;
 }
+
+/* An array larger than the memory budget is created, written box by box and
+ * read box by box; only the whole-volume read refuses it. */
+TEST(beyond_the_memory_budget)
+{
+    size_t old = bvox_memory_budget();
+    bvox_set_memory_budget((size_t)8 << 20);
+    const char *p = harness_path("big.zarr");
+    const bvox_dims d = {3000, 2000, 2500}; /* 1.7 GiB as bits */
+    const int32_t chunks[3] = {64, 64, 64};
+    bvox__zarr_writer *w;
+    CHECK_OK(bvox__zarr_create(p, d, chunks, "blosc", NULL, 0, false, &w));
+    bvox_volume *box;
+    CHECK_OK(bvox_volume_create((bvox_dims){56, 128, 64}, &box));
+    bvox_volume_fill_box(box, (bvox_box){10, 70, 0, 30, 128, 64}, 1);
+    CHECK_OK(bvox__zarr_write_box(w, 2944, 1024, 2432, box)); /* 2944 + 56: the edge */
+    bvox_volume_destroy(box);
+    CHECK_OK(bvox__zarr_commit(w));
+    bvox__zarr *z;
+    CHECK_OK(bvox__zarr_open(p, &z));
+    CHECK_EQ(bvox__zarr_dims(z).nx, 3000);
+    /* 3000x2000x2500 -> 1500x1000x1250 -> 750x500x625 -> 375x250x313 ->
+     * 188x125x157 -> 94x63x79 (63 under 64): six levels */
+    CHECK_EQ(bvox__zarr_levels(z), 6);
+    bvox_volume *out;
+    CHECK_OK(bvox_volume_create((bvox_dims){40, 100, 68}, &out));
+    CHECK_OK(bvox__zarr_read_box(z, 2944, 1024, 2400, 40, 100, 68, out));
+    /* the box's voxels x 10..29 (of 56 in the array), y 70..99, z 32..67 */
+    CHECK_EQ(bvox_volume_count(out), 20 * 30 * 36);
+    CHECK(bvox_volume_get(out, 10, 70, 32) && !bvox_volume_get(out, 9, 70, 32));
+    bvox_volume_destroy(out);
+    bvox__zarr_close(z);
+    /* the coarsest level still holds the object */
+    CHECK_OK(bvox__zarr_open_level(p, 5, &z));
+    CHECK_EQ(bvox__zarr_dims(z).ny, 63);
+    CHECK_OK(bvox_volume_create((bvox_dims){94, 63, 79}, &out));
+    CHECK_OK(bvox__zarr_read_box(z, 0, 0, 0, 94, 63, 79, out));
+    /* x 2954..2973 -> 92..92, y 1094..1151 -> 34..35, z 2432..2495 -> 76..77 */
+    CHECK_EQ(bvox_volume_count(out), 1 * 2 * 2);
+    CHECK(bvox_volume_get(out, 92, 34, 76) && bvox_volume_get(out, 92, 35, 77));
+    bvox_volume_destroy(out);
+    bvox__zarr_close(z);
+    bvox_volume *all;
+    CHECK_STATUS(bvox_read(p, NULL, &all), BVOX_ETOOBIG);
+    bvox_set_memory_budget(old);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
