@@ -15,16 +15,27 @@
  * z levels, all on whole words, and no full-volume temporary is made (the
  * former kernel wrote one z-processed volume per reach and read them all
  * back once per (dx, dy) pair, from memory).
+ * The levels carry rx zero columns beyond the volume's x faces, so every
+ * term of a slice is one pointer into them, and a slice is gathered in
+ * blocks of words held in registers while each term is loaded once
+ * (morph_ball_kern.h, compiled per SIMD level).
  * Erosion is the same with AND; voxels outside the volume are 0, so output
  * rows within ry of the y faces are 0 and out-of-range columns AND in 0.
  */
 #include "morph_ball.h"
+
+#define BALL_KERN(name) bvox__ball_##name##_generic
+#include "morph_ball_kern.h"
+#undef BALL_KERN
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 int bvox__morph_ball_test_tile = 0;
+
+typedef void (*gather_fn)(uint64_t *, uint64_t *, const uint64_t *const *, int, size_t, bool);
+typedef void (*step_fn)(uint64_t *, const uint64_t *, size_t, size_t, int, uint64_t, bool);
 
 typedef struct term {
     int dx, lev; /* x offset, index of its z level */
@@ -43,62 +54,54 @@ typedef struct ball_job {
     int64_t tx;          /* tile width, columns */
     size_t chunk_words;  /* scratch per chunk */
     uint64_t *scratch;
-    const uint64_t **levp; /* per chunk: nlev pointers to the levels of the current row */
+    const uint64_t **ptrs; /* per chunk: one pointer per term into its level, at column x0 */
+    gather_fn gather;
+    step_fn step;
 } ball_job;
 
-static inline __attribute__((always_inline)) uint64_t op3(uint64_t a, uint64_t b, uint64_t c,
-                                                           bool erode)
+/* One z step (dst = every column of src op'ed with its shifts by -s and +s
+ * bits): shifts below 64 through the SIMD kernel, longer ones (thin voxels
+ * along z) bit by bit through bvox__extract_bits. */
+static void z_step(const ball_job *j, uint64_t *dst, const uint64_t *src, size_t ncols,
+                   size_t wpc, int64_t s, uint64_t tail)
 {
-    return erode ? (a & b & c) : (a | b | c);
-}
-
-/* Every column of w (ncols columns of wpc words) becomes op(itself shifted
- * by -s, 0, +s bits); bits shifted in from outside are 0. */
-static void z_step(uint64_t *w, size_t ncols, size_t wpc, int64_t s, bool erode, uint64_t tail,
-                   uint64_t *tmp)
-{
-    if (wpc == 1 && s < 64) {
-        for (size_t c = 0; c < ncols; c++) {
-            uint64_t x = w[c];
-            w[c] = op3(x, x << s, x >> s, erode) & tail;
-        }
+    if (s < 64) {
+        j->step(dst, src, ncols, wpc, (int)s, tail, j->erode);
         return;
     }
     for (size_t c = 0; c < ncols; c++) {
-        uint64_t *col = w + c * wpc;
-        if (s < 64) {
-            uint64_t prev = 0;
-            for (size_t k = 0; k < wpc; k++) {
-                uint64_t x = col[k], next = k + 1 < wpc ? col[k + 1] : 0;
-                uint64_t lo = (x << s) | (s ? prev >> (64 - s) : 0);
-                uint64_t hi = (x >> s) | (s ? next << (64 - s) : 0);
-                col[k] = op3(x, lo, hi, erode);
-                prev = x;
-            }
-        } else {
-            memcpy(tmp, col, wpc * sizeof *tmp);
-            for (size_t k = 0; k < wpc; k++) {
-                int64_t base = (int64_t)k * 64;
-                col[k] = op3(tmp[k], bvox__extract_bits(tmp, wpc, base - s),
-                             bvox__extract_bits(tmp, wpc, base + s), erode);
-            }
+        const uint64_t *col = src + c * wpc;
+        for (size_t k = 0; k < wpc; k++) {
+            int64_t base = (int64_t)k * 64;
+            uint64_t a = bvox__extract_bits(col, wpc, base - s);
+            uint64_t b = bvox__extract_bits(col, wpc, base + s);
+            dst[c * wpc + k] = j->erode ? col[k] & a & b : col[k] | a | b;
         }
-        col[wpc - 1] &= tail;
+        dst[c * wpc + wpc - 1] &= tail;
     }
 }
 
-/* Grow the z reach of every column by d (doubling steps). */
-static void z_grow(uint64_t *w, size_t ncols, size_t wpc, int64_t d, bool erode, uint64_t tail,
-                   uint64_t *tmp)
+/* dst = src with the z reach of every column grown by d >= 1 (doubling
+ * steps: reach 1, 3, 7, ...; ping-ponging through tmp so that the last step
+ * lands in dst). */
+static void z_grow(const ball_job *j, uint64_t *dst, const uint64_t *src, uint64_t *tmp,
+                   size_t ncols, size_t wpc, int64_t d, uint64_t tail)
 {
-    for (int64_t reach = 0; reach < d;) {
+    int nsteps = 0;
+    for (int64_t reach = 0; reach < d; nsteps++)
+        reach += reach + 1 < d - reach ? reach + 1 : d - reach;
+    const uint64_t *from = src;
+    int64_t reach = 0;
+    for (int i = 0; i < nsteps; i++) {
         int64_t s = reach + 1 < d - reach ? reach + 1 : d - reach;
-        z_step(w, ncols, wpc, s, erode, tail, tmp);
+        uint64_t *to = (nsteps - 1 - i) % 2 == 0 ? dst : tmp;
+        z_step(j, to, from, ncols, wpc, s, tail);
+        from = to;
         reach += s;
     }
 }
 
-/* Output row segment y, columns [x0, x0 + n). */
+/* Output row segment y, from column x0. */
 static inline uint64_t *out_seg(const ball_job *j, int64_t y, int64_t x0)
 {
     return j->out->words + ((size_t)y * (size_t)j->out->nx + (size_t)x0) * j->out->wpc;
@@ -122,9 +125,12 @@ static void band(const ball_job *j, int64_t chunk)
     }
     if (ya >= yb) return;
     uint64_t *scratch = j->scratch + (size_t)chunk * j->chunk_words;
+    /* level l: columns x0 - rx .. x0 + tx + rx of the current input row */
     const size_t zstride = (size_t)(j->tx + 2 * rx) * wpc;
-    uint64_t *e = scratch + (size_t)j->nlev * zstride;
-    uint64_t *tmp = e + (size_t)j->tx * wpc;
+    uint64_t *tmp = scratch + (size_t)j->nlev * zstride; /* one level's size */
+    const uint64_t **ptrs = j->ptrs + (size_t)chunk * (size_t)j->kstart[ry + 1];
+    for (int t = 0; t < j->kstart[ry + 1]; t++)
+        ptrs[t] = scratch + (size_t)j->terms[t].lev * zstride + (size_t)(rx + j->terms[t].dx) * wpc;
     const uint64_t fill = erode ? ~0ull : 0;
     const int64_t yi0 = ya - ry > 0 ? ya - ry : 0, yi1 = yb + ry < ny ? yb + ry : ny;
 
@@ -132,6 +138,15 @@ static void band(const ball_job *j, int64_t chunk)
         int64_t x1 = x0 + j->tx < nx ? x0 + j->tx : nx;
         int64_t xa = x0 - rx > 0 ? x0 - rx : 0, xb = x1 + rx < nx ? x1 + rx : nx;
         size_t segw = (size_t)(x1 - x0) * wpc, nc = (size_t)(xb - xa);
+        size_t pad0 = (size_t)(xa - (x0 - rx)) * wpc; /* zero columns before x = 0 */
+        size_t used = (size_t)(xb - (x0 - rx)) * wpc;  /* columns up to xb */
+        size_t span = (size_t)(x1 - x0 + 2 * rx) * wpc;
+        /* columns outside the volume are 0 in every level (for the whole tile) */
+        for (int l = 0; l < j->nlev; l++) {
+            uint64_t *z = scratch + (size_t)l * zstride;
+            memset(z, 0, pad0 * sizeof *z);
+            memset(z + used, 0, (span - used) * sizeof *z);
+        }
         for (int64_t yi = yi0; yi < yi1; yi++) {
             /* the output rows this input row reaches first */
             int64_t f0 = yi == yi0 ? ya : yi + ry, f1 = yi + ry + 1 < yb ? yi + ry + 1 : yb;
@@ -141,18 +156,13 @@ static void band(const ball_job *j, int64_t chunk)
             }
             /* z levels of the input row over [xa, xb) */
             const uint64_t *src = in->words + ((size_t)yi * (size_t)nx + (size_t)xa) * wpc;
-            const uint64_t **levp = j->levp + (size_t)chunk * (size_t)j->nlev;
             const uint64_t *prev = src;
             int64_t prev_h = 0;
             for (int l = 0; l < j->nlev; l++) {
-                if (j->lev_h[l] == 0) {
-                    levp[l] = src;
-                    continue;
-                }
-                uint64_t *z = scratch + (size_t)l * zstride;
-                memcpy(z, prev, nc * wpc * sizeof *z);
-                z_grow(z, nc, wpc, j->lev_h[l] - prev_h, erode, in->tail_mask, tmp);
-                levp[l] = prev = z;
+                uint64_t *z = scratch + (size_t)l * zstride + pad0;
+                if (j->lev_h[l] == prev_h) memcpy(z, prev, nc * wpc * sizeof *z);
+                else z_grow(j, z, prev, tmp, nc, wpc, j->lev_h[l] - prev_h, in->tail_mask);
+                prev = z;
                 prev_h = j->lev_h[l];
             }
             /* each slice k into the output rows yi - k and yi + k */
@@ -160,34 +170,10 @@ static void band(const ball_job *j, int64_t chunk)
                 int64_t ylo = yi - k, yhi = yi + k;
                 bool lo_in = ylo >= ya && ylo < yb, hi_in = k && yhi >= ya && yhi < yb;
                 if (!lo_in && !hi_in) continue;
-                for (size_t i = 0; i < segw; i++) e[i] = fill;
-                for (int t = j->kstart[k]; t < j->kstart[k + 1]; t++) {
-                    int64_t dx = j->terms[t].dx;
-                    int64_t lo = xa - dx > x0 ? xa - dx : x0, hi = xb - dx < x1 ? xb - dx : x1;
-                    const uint64_t *z = levp[j->terms[t].lev];
-                    if (lo > x1) lo = x1; /* narrow tiles at the faces: no column in range */
-                    if (hi < lo) hi = lo;
-                    if (erode) { /* columns outside the volume AND in 0 */
-                        memset(e, 0, (size_t)(lo - x0) * wpc * sizeof *e);
-                        memset(e + (size_t)(hi - x0) * wpc, 0, (size_t)(x1 - hi) * wpc * sizeof *e);
-                    }
-                    if (hi <= lo) continue;
-                    uint64_t *d = e + (size_t)(lo - x0) * wpc;
-                    const uint64_t *s = z + (size_t)(lo + dx - xa) * wpc;
-                    size_t n = (size_t)(hi - lo) * wpc;
-                    if (erode)
-                        for (size_t i = 0; i < n; i++) d[i] &= s[i];
-                    else
-                        for (size_t i = 0; i < n; i++) d[i] |= s[i];
-                }
-                for (int side = 0; side < 2; side++) {
-                    if (!(side ? hi_in : lo_in)) continue;
-                    uint64_t *o = out_seg(j, side ? yhi : ylo, x0);
-                    if (erode)
-                        for (size_t i = 0; i < segw; i++) o[i] &= e[i];
-                    else
-                        for (size_t i = 0; i < segw; i++) o[i] |= e[i];
-                }
+                uint64_t *o1 = lo_in ? out_seg(j, ylo, x0) : out_seg(j, yhi, x0);
+                uint64_t *o2 = lo_in && hi_in ? out_seg(j, yhi, x0) : NULL;
+                j->gather(o1, o2, ptrs + j->kstart[k], j->kstart[k + 1] - j->kstart[k], segw,
+                          erode);
             }
         }
     }
@@ -249,6 +235,18 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
         while (lev_h[l] != hs[t]) l++;
         terms[t].lev = l;
     }
+    j.gather = bvox__ball_gather_generic;
+    j.step = bvox__ball_step_generic;
+#if defined(__x86_64__)
+    bvox_simd level = bvox_simd_active();
+    if (level >= BVOX_SIMD_AVX512 && __builtin_cpu_supports("avx512f")) {
+        j.gather = bvox__ball_gather_avx512;
+        j.step = bvox__ball_step_avx512;
+    } else if (level >= BVOX_SIMD_AVX2 && __builtin_cpu_supports("avx2")) {
+        j.gather = bvox__ball_gather_avx2;
+        j.step = bvox__ball_step_avx2;
+    }
+#endif
     j.terms = terms;
     j.kstart = kstart;
     j.lev_h = lev_h;
@@ -259,10 +257,10 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
     if (st) goto done;
     (*out)->geom = in->geom;
     j.out = *out;
-    /* tile width: z levels (with the x halo), the slice and the 2 ry + 1
+    /* tile width: the z levels and a spare (with the x halo) and the 2 ry + 1
      * output rows in about 512 KB (half this machine's L2 per core) */
     size_t wpc = in->wpc;
-    int64_t budget = (int64_t)((64 * 1024) / wpc) - 2 * (int64_t)rx * nlev;
+    int64_t budget = (int64_t)((64 * 1024) / wpc) - 2 * (int64_t)rx * (nlev + 1);
     int64_t tx = budget / (nlev + 2 * ry + 2);
     if (tx < 8) tx = 8;
     if (bvox__morph_ball_test_tile > 0) tx = bvox__morph_ball_test_tile;
@@ -276,10 +274,10 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
     if ((double)in->nwords * n < 1 << 20 && bvox__morph_ball_test_tile <= 0) nchunks = 1;
     if (nchunks < 1) nchunks = 1;
     j.nchunks = nchunks;
-    j.chunk_words = (size_t)nlev * (size_t)(tx + 2 * rx) * wpc + (size_t)tx * wpc + wpc;
+    j.chunk_words = (size_t)(nlev + 1) * (size_t)(tx + 2 * rx) * wpc;
     size_t bytes = 0;
-    j.levp = bvox__mem_zalloc((size_t)nchunks * (size_t)nlev, sizeof *j.levp);
-    if (!j.levp) {
+    j.ptrs = bvox__mem_zalloc((size_t)nchunks * (size_t)n, sizeof *j.ptrs);
+    if (!j.ptrs) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory");
     } else if (!bvox__mul_size(j.chunk_words * sizeof(uint64_t), (size_t)nchunks, &bytes)) {
         st = bvox__fail(BVOX_ETOOBIG, "columns too long for the ball buffers");
@@ -298,6 +296,6 @@ done:
     free(kstart);
     free(hs);
     free(lev_h);
-    free(j.levp);
+    free(j.ptrs);
     return st;
 }

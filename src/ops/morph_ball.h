@@ -12,6 +12,16 @@
  * >= 0; the caller checks the xy extent. */
 bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, bvox_volume **out);
 
+/* The inner loops (morph_ball_kern.h), one set per SIMD level. */
+#define BVOX__BALL_DECL(lv)                                                                  \
+    void bvox__ball_gather_##lv(uint64_t *o1, uint64_t *o2, const uint64_t *const *p, int np, \
+                                size_t n, bool erode);                                        \
+    void bvox__ball_step_##lv(uint64_t *dst, const uint64_t *src, size_t ncols, size_t wpc,   \
+                              int s, uint64_t tail, bool erode);
+BVOX__BALL_DECL(generic)
+BVOX__BALL_DECL(avx2)
+BVOX__BALL_DECL(avx512)
+
 /* Tests only: when > 0, tiles are this many columns wide and small volumes
  * are split over threads as large ones are (so that tests reach the tile
  * and band edges on small volumes). Set from one thread between calls. */

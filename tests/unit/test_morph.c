@@ -187,7 +187,8 @@ TEST(box26_threads_and_long_columns)
 
 /* The ball kernel (morph_ball.c) streams bands of rows (one per thread)
  * through x tiles: narrow tiles, 1..16 threads, radii up to 6, columns of
- * one, two and three words, anisotropic voxels; dilation of a sparse
+ * one, two and three words, anisotropic voxels, every SIMD level of the
+ * inner loops (morph_ball_kern.h); dilation of a sparse
  * volume and erosion of its dilation against the voxel-by-voxel reference. */
 TEST(ball_tiles_and_threads_against_reference)
 {
@@ -199,6 +200,7 @@ TEST(ball_tiles_and_threads_against_reference)
                  {20, 19, 5, 10.0, {1, 1, 1}}};
     static const int tiles[] = {0, 1, 3, 7};
     static const int threads[] = {1, 3, 16};
+    static const bvox_simd levels[3] = {BVOX_SIMD_GENERIC, BVOX_SIMD_AVX2, BVOX_SIMD_AVX512};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         voxref *a = voxref_create(cases[c].nx, cases[c].ny, cases[c].nz);
         voxref_random(a, 1, 300, harness_rand);
@@ -221,7 +223,9 @@ TEST(ball_tiles_and_threads_against_reference)
             }
             voxref *r = ref_morph(a, in_ball, s, cases[c].r, reach, erode);
             for (size_t ti = 0; ti < sizeof tiles / sizeof tiles[0]; ti++)
-                for (size_t th = 0; th < sizeof threads / sizeof threads[0]; th++) {
+                for (size_t th = 0; th < sizeof threads / sizeof threads[0]; th++)
+                for (int lv = 0; lv < 3; lv++) {
+                    if (bvox_simd_set(levels[lv]) != BVOX_OK) continue; /* not on this CPU */
                     bvox__morph_ball_test_tile = tiles[ti];
                     bvox_set_threads(threads[th]);
                     bvox_volume *out;
@@ -229,8 +233,8 @@ TEST(ball_tiles_and_threads_against_reference)
                                    : bvox_morph_dilate_ball(v, cases[c].r, &out));
                     CHECK_OK(bvox_volume_check(out));
                     if (!voxref_matches(r, out)) {
-                        fprintf(stderr, "case %zu erode %d tile %d threads %d\n", c, erode,
-                                tiles[ti], threads[th]);
+                        fprintf(stderr, "case %zu erode %d tile %d threads %d simd %s\n", c,
+                                erode, tiles[ti], threads[th], bvox_simd_name(levels[lv]));
                         return 1;
                     }
                     bvox_volume_destroy(out);
@@ -242,5 +246,6 @@ TEST(ball_tiles_and_threads_against_reference)
     }
     bvox__morph_ball_test_tile = 0;
     bvox_set_threads(0);
+    bvox_simd_set(BVOX_SIMD_AUTO);
     return 0;
 }
