@@ -2,7 +2,7 @@
  * bench_manip.c — speed of the manipulation and measurement operations on
  * n^3 volumes: union with an offset (against a memcpy of the same words, in
  * the same run, with the same threads), dilation by the 26-neighbourhood and
- * by a ball of radius 3 voxels, 26-connected labelling, the full measures
+ * by balls of radius 3 and 10 voxels, 26-connected labelling, the full measures
  * and a plane cut, each against a naive byte-per-voxel reference
  * (manip_ref.h, tests/ref/voxref.h) whose result must agree.
  * Two specimens: "aal", the AAL brain atlas of mricron-data read --nonzero
