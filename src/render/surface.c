@@ -14,7 +14,8 @@
  * per voxel). Each entry packs
  * x, y, z (16 bits each: dimensions are at most 65535) and the 6 neighbour
  * bits (render.h's NB_*), from which the normal code and the per-view back
- * face cull follow.
+ * face cull follow. The bounding box comes from the counting pass too (each
+ * row's x and z range of boundary voxels): every extreme 1-voxel is one.
  */
 #include "render.h"
 
