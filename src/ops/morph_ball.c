@@ -8,8 +8,8 @@
  * where Z_h ORs every column with its shifts by -h..h bits (64 voxels per
  * operation, by doubling: reach 1, 3, 7, ...; the levels h1 < h2 < ... grow
  * one from the other). A thread owns a band of output rows; the band is cut
- * into x tiles narrow enough that the z levels of one input row, the slice
- * E and the 2 ry + 1 output rows an input row reaches all stay in L2. Each
+ * into x tiles narrow enough that the z levels of one input row and the
+ * 2 ry + 1 output rows it reaches all stay in L2. Each
  * input row is read once per tile and pushed into the output rows it
  * reaches, so the work per word is the number of (dx, |dy|) pairs plus the
  * z levels, all on whole words, and no full-volume temporary is made (the
@@ -209,9 +209,8 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
         for (int dx = -rx; dx <= rx; dx++) {
             double rest = r2 - (dx * sp[0]) * (dx * sp[0]) - (k * sp[1]) * (k * sp[1]);
             if (rest < 0) continue;
-            int h = (int)floor(sqrt(rest) / sp[2] + 1e-9);
-            if (h > in->nz) h = in->nz;
-            hs[n] = h;
+            double h = floor(sqrt(rest) / sp[2] + 1e-9); /* capped before the cast */
+            hs[n] = h > in->nz ? in->nz : (int)h;
             terms[n++] = (term){dx, 0};
         }
     }
@@ -239,10 +238,14 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
     j.step = bvox__ball_step_generic;
 #if defined(__x86_64__)
     bvox_simd level = bvox_simd_active();
-    if (level >= BVOX_SIMD_AVX512 && __builtin_cpu_supports("avx512f")) {
+    /* the files' flags (cmake/simd.cmake) name these features */
+    if (level >= BVOX_SIMD_AVX512 && __builtin_cpu_supports("avx512f") &&
+        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("bmi2")) {
         j.gather = bvox__ball_gather_avx512;
         j.step = bvox__ball_step_avx512;
-    } else if (level >= BVOX_SIMD_AVX2 && __builtin_cpu_supports("avx2")) {
+    } else if (level >= BVOX_SIMD_AVX2 && __builtin_cpu_supports("avx2") &&
+               __builtin_cpu_supports("bmi2")) {
         j.gather = bvox__ball_gather_avx2;
         j.step = bvox__ball_step_avx2;
     }
