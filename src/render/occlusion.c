@@ -13,6 +13,7 @@
 #include <math.h>
 
 enum { AO_RADII = 3 };
+#define SHADOW_SKIP 2.5 /* voxels along the ray not tested (see ray_blocked) */
 static const int ao_radius[AO_RADII] = {2, 4, 8};
 
 /* The hit voxel q and the unit index-space direction u of its smooth normal
@@ -86,9 +87,12 @@ static inline int voxel_bit(const bvox_volume *v, const int32_t q[3])
     return (int)(bvox__column_c(v, q[0], q[1])[q[2] >> 6] >> (q[2] & 63) & 1);
 }
 
-/* Does the ray from index point s along index direction d meet a 1-voxel
- * before it leaves the volume? (voxel i's box is [i - 1/2, i + 1/2)) */
-static int ray_blocked(const bvox_volume *v, const double s[3], const double d[3])
+/* Does the ray from index point s along the unit index direction d meet a
+ * 1-voxel farther than skip voxels from s before it leaves the volume?
+ * (voxel i's box is [i - 1/2, i + 1/2).) The skip steps over the staircase
+ * of the surface the ray starts from, which would otherwise shadow itself
+ * in speckles wherever the light grazes it. */
+static int ray_blocked(const bvox_volume *v, const double s[3], const double d[3], double skip)
 {
     const int32_t n[3] = {v->nx, v->ny, v->nz};
     int32_t cell[3], step[3];
@@ -111,8 +115,8 @@ static int ray_blocked(const bvox_volume *v, const double s[3], const double d[3
             if ((cell[a] < 0 && step[a] <= 0) || (cell[a] >= n[a] && step[a] >= 0)) return 0;
             inside &= cell[a] >= 0 && cell[a] < n[a];
         }
-        if (inside && voxel_bit(v, cell)) return 1;
         int a = tmax[0] < tmax[1] ? (tmax[0] < tmax[2] ? 0 : 2) : (tmax[1] < tmax[2] ? 1 : 2);
+        if (inside && tmax[a] > skip && voxel_bit(v, cell)) return 1; /* leaves it beyond skip */
         cell[a] += step[a];
         tmax[a] += tdelta[a];
     }
@@ -124,8 +128,12 @@ static void shadow_rows(void *arg, int64_t y0, int64_t y1)
     const occ_ctx *g = arg;
     const bvox_preimage *p = g->pre;
     const bvox_volume *v = g->vol;
-    double d[3];
-    for (int a = 0; a < 3; a++) d[a] = g->l[a] / v->geom.spacing[a];
+    double d[3], len = 0;
+    for (int a = 0; a < 3; a++) {
+        d[a] = g->l[a] / v->geom.spacing[a];
+        len += d[a] * d[a];
+    }
+    for (int a = 0; a < 3; a++) d[a] /= sqrt(len);
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
         for (int32_t x = 0; x < p->width; x++) {
             size_t i = (size_t)y * (size_t)p->width + (size_t)x;
@@ -141,7 +149,7 @@ static void shadow_rows(void *arg, int64_t y0, int64_t y1)
             }
             /* start clear of the voxel's own staircase */
             for (int a = 0; a < 3; a++) s[a] = q[a] + 1.5 * u[a];
-            g->out[i] = !ray_blocked(v, s, d);
+            g->out[i] = !ray_blocked(v, s, d, SHADOW_SKIP);
         }
 }
 

@@ -162,3 +162,208 @@ TEST(sphere_normals_within_10_degrees)
     bvox_volume_destroy(v);
     return 0;
 }
+
+/* A hand-made pre-image of w x h with the given depths (-1 background), the
+ * frame of a +z axis view of unit voxels. */
+static bvox_preimage *hand_pre(int32_t w, int32_t h, const int32_t *depth)
+{
+    bvox_preimage *p = NULL;
+    if (bvox__preimage_alloc(w, h, &p)) return NULL;
+    for (int32_t i = 0; i < w * h; i++) {
+        p->depth[i] = depth[i];
+        p->code[i] = depth[i] < 0 ? BVOX_CODE_BACKGROUND : BVOX_NORMAL_NONE;
+    }
+    p->depth_range = 64;
+    p->depth_step = 1;
+    p->pixel_size[0] = p->pixel_size[1] = 1;
+    const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(p->eye, eye, sizeof eye);
+    p->spacing[0] = p->spacing[1] = p->spacing[2] = 1;
+    return p;
+}
+
+TEST(enlarge_figure5)
+{
+    /* the paper's Figure 5: 13 5 / 0 8 (and zeros around, depths here) */
+    const int32_t d[16] = {13, 5, 0, 0, 0, 8, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const int32_t want[16] = {13, 9, 5, 3, 7, 7, 7, 3, 0, 4, 8, 4, 0, 2, 4, 2};
+    bvox_preimage *p = hand_pre(4, 4, d), *big;
+    CHECK(p != NULL);
+    CHECK_OK(bvox_preimage_enlarge(p, &big));
+    CHECK_EQ(big->width, 8);
+    CHECK_EQ(big->height, 8);
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) CHECK_EQ(big->depth[r * 8 + c], want[r * 4 + c]);
+    CHECK_NEAR(big->pixel_size[0], 0.5, 0);
+    bvox_preimage_destroy(big);
+    /* the background is neither averaged in nor grown: 13 5 / - 8 */
+    p->depth[4] = -1;
+    p->code[4] = BVOX_CODE_BACKGROUND;
+    CHECK_OK(bvox_preimage_enlarge(p, &big));
+    CHECK_EQ(big->depth[8 * 1 + 0], 13);  /* (13 + bg) -> 13 */
+    CHECK_EQ(big->depth[8 * 1 + 1], 9);   /* (13 + 5 + bg + 8) / 3 = 8.67 -> 9 */
+    CHECK_EQ(big->depth[8 * 2 + 0], -1);  /* replicated background */
+    CHECK_EQ(big->depth[8 * 3 + 1], -1);
+    CHECK_EQ(big->code[8 * 2 + 1], BVOX_CODE_BACKGROUND);
+    bvox_preimage_destroy(big);
+    bvox_preimage_destroy(p);
+    CHECK_STATUS(bvox_preimage_enlarge(NULL, &big), BVOX_EINVAL);
+    CHECK(big == NULL);
+    return 0;
+}
+
+TEST(preimage_binary_operator)
+{
+    /* a ramp deeper to the right (+x), flat in y, with a background column */
+    const int32_t d[15] = {0, 1, 2, 3, -1, 0, 1, 2, 3, -1, 0, 1, 2, 3, -1};
+    bvox_preimage *p = hand_pre(5, 3, d);
+    CHECK(p != NULL);
+    float n[45];
+    CHECK_OK(bvox_preimage_normals(NULL, p, BVOX_SHADE_PREIMAGE_BINARY, 0, n));
+    /* (1, 1, 1): x = 1, row 1: left is nearer (1), right deeper (0); above
+     * and below equal (both 1): n = (1, 0, 1) / sqrt 2, right and towards us */
+    const size_t i = 3 * (size_t)(1 * 5 + 1);
+    CHECK_NEAR(n[i + 0], sqrt(0.5), 1e-6);
+    CHECK_NEAR(n[i + 1], 0, 1e-6);
+    CHECK_NEAR(n[i + 2], sqrt(0.5), 1e-6);
+    /* row 0: the pixel above is outside (0), the one below equal (1): the
+     * normal gains "up" */
+    const size_t k = 3 * (size_t)(0 * 5 + 2);
+    CHECK_NEAR(n[k + 0], 1 / sqrt(3.0), 1e-6);
+    CHECK_NEAR(n[k + 1], 1 / sqrt(3.0), 1e-6);
+    /* at x = 3 the right neighbour is background (0): same as deeper */
+    CHECK_NEAR(n[3 * (size_t)(1 * 5 + 3)], sqrt(0.5), 1e-6);
+    /* background gives zeros; smooth needs a volume */
+    CHECK(n[3 * 4] == 0 && n[3 * 4 + 2] == 0);
+    CHECK_STATUS(bvox_preimage_normals(NULL, p, BVOX_SHADE_SMOOTH, 0, n), BVOX_EINVAL);
+    bvox_preimage_destroy(p);
+    return 0;
+}
+
+/* A floor (z >= 30) with a block on it (x, y in 15..24, z in 10..29). */
+static int floor_block(int x, int y, int z)
+{
+    return z >= 30 || (x >= 15 && x < 25 && y >= 15 && y < 25 && z >= 10);
+}
+
+TEST(ao_open_floor_and_corner)
+{
+    bvox_volume *v = make(40, floor_block);
+    CHECK(v != NULL);
+    bvox_preimage *p;
+    CHECK_OK(bvox_cast_axis(v, BVOX_VIEW_POS_Z, &p));
+    uint8_t ao[1600];
+    CHECK_OK(bvox_preimage_ao(v, p, 0, ao));
+    CHECK_EQ(ao[20 * 40 + 20], 255); /* the block's top: open */
+    CHECK_EQ(ao[35 * 40 + 35], 255); /* the floor far from the block */
+    /* the floor in the corner beside the block sees the wall: darker, and
+     * darker still than one voxel farther out */
+    CHECK(ao[20 * 40 + 14] < 230);
+    CHECK(ao[20 * 40 + 14] < ao[20 * 40 + 11]);
+    bvox_preimage_destroy(p);
+    bvox_volume_destroy(v);
+    return 0;
+}
+
+TEST(shadows_of_a_block)
+{
+    bvox_volume *v = make(40, floor_block);
+    CHECK(v != NULL);
+    bvox_preimage *p;
+    CHECK_OK(bvox_cast_axis(v, BVOX_VIEW_POS_Z, &p));
+    /* light from the right (+x) at 45 degrees towards the viewer (-z): a
+     * floor point (x, y, 30) sees it along (1, 0, -1), which crosses the
+     * block (x = 15, z = 30 - (15 - x) in 10..29) for x in -4..14 */
+    bvox_light light = BVOX_LIGHT_INIT;
+    light.azimuth = 0, light.elevation = 45;
+    uint8_t lit[1600];
+    CHECK_OK(bvox_preimage_shadows(v, p, &light, 0, lit));
+    for (int y = 17; y < 23; y++) {
+        for (int x = 2; x < 12; x++) CHECK_EQ(lit[y * 40 + x], 0);  /* behind the block */
+        for (int x = 28; x < 38; x++) CHECK_EQ(lit[y * 40 + x], 1); /* in front of it */
+        for (int x = 17; x < 23; x++) CHECK_EQ(lit[y * 40 + x], 1); /* its top */
+    }
+    for (int x = 2; x < 12; x++) CHECK_EQ(lit[5 * 40 + x], 1); /* beside the shadow */
+    /* the light from the left: the shadow moves to the other side */
+    light.azimuth = 180;
+    CHECK_OK(bvox_preimage_shadows(v, p, &light, 0, lit));
+    CHECK_EQ(lit[20 * 40 + 5], 1);
+    CHECK_EQ(lit[20 * 40 + 30], 0);
+    bvox_preimage_destroy(p);
+    bvox_volume_destroy(v);
+    return 0;
+}
+
+static int golden_lit(const char *name, bvox_shade_mode mode, int ao, int shadows, int ss,
+                      int32_t want_w, double elevation);
+
+/* ---- golden pictures of the new modes: the built-in specimen from the iso
+ * view, compared pixel by pixel (mean absolute difference at most 1 gray
+ * level, and no pixel off by more than 24: a moved edge or a changed shade
+ * fails). BVOX_UPDATE_GOLDEN=1 rewrites them and fails (see harness.h). */
+static int golden(const char *name, bvox_shade_mode mode, int ao, int shadows, int ss,
+                  int32_t want_w)
+{
+    return golden_lit(name, mode, ao, shadows, ss, want_w, 45);
+}
+
+static int golden_lit(const char *name, bvox_shade_mode mode, int ao, int shadows, int ss,
+                      int32_t want_w, double elevation)
+{
+    bvox_volume *v;
+    CHECK_OK(bvox_demo_specimen(&v));
+    bvox_render_opts o = bvox_render_opts_default();
+    CHECK_OK(bvox_render_parse_view("iso", &o));
+    o.proj.width = o.proj.height = 128;
+    o.shade = mode, o.ao = ao, o.shadows = shadows, o.supersample = ss;
+    o.light.azimuth = 150, o.light.elevation = elevation; /* low: long shadows */
+    bvox_image *img;
+    CHECK_OK(bvox_render(v, &o, &img, NULL));
+    bvox_volume_destroy(v);
+    CHECK_EQ(img->width, want_w);
+    CHECK_EQ(img->channels, 1);
+    char path[96];
+    snprintf(path, sizeof path, "golden/%s.png", name);
+    if (harness_golden_update(img, path)) {
+        bvox_image_destroy(img);
+        return 1;
+    }
+    bvox_image *gold;
+    CHECK_OK(bvox_image_read_png(harness_golden_path(path), &gold));
+    CHECK_EQ(gold->width, img->width);
+    CHECK_EQ(gold->height, img->height);
+    CHECK_EQ(gold->channels, img->channels);
+    size_t n = (size_t)gold->width * gold->height * gold->channels;
+    double sum = 0;
+    int worst = 0;
+    for (size_t i = 0; i < n; i++) {
+        int d = abs((int)gold->pixels[i] - (int)img->pixels[i]);
+        sum += d;
+        worst = d > worst ? d : worst;
+    }
+    fprintf(stderr, "%s: mean absolute difference %.4f, largest %d\n", name, sum / (double)n, worst);
+    CHECK(sum / (double)n <= 1.0);
+    CHECK(worst <= 24);
+    bvox_image_destroy(gold);
+    bvox_image_destroy(img);
+    return 0;
+}
+
+TEST(golden_smooth) { return golden("shade_smooth", BVOX_SHADE_SMOOTH, 0, 0, 0, 128); }
+TEST(golden_binary_preimage)
+{
+    return golden("shade_binary_preimage", BVOX_SHADE_PREIMAGE_BINARY, 0, 0, 0, 128);
+}
+TEST(golden_enlarged_gradient)
+{
+    return golden("shade_enlarged_gradient", BVOX_SHADE_ENLARGED_GRADIENT, 0, 0, 0, 256);
+}
+TEST(golden_ao) { return golden("shade_smooth_ao", BVOX_SHADE_SMOOTH, 1, 0, 0, 128); }
+TEST(golden_shadows)
+{
+    return golden_lit("shade_smooth_shadows", BVOX_SHADE_SMOOTH, 0, 1, 0, 128, 15);
+}
+TEST(golden_supersample)
+{
+    return golden_lit("shade_smooth_ss3", BVOX_SHADE_SMOOTH, 1, 1, 3, 128, 15);
+}
