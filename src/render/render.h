@@ -87,17 +87,18 @@ int bvox__preimage_ok(const bvox_preimage *pre);
 /* ---- smooth.c: normals per pixel in the eye frame (right, up, towards the
  * viewer), as bvox_preimage_normals documents them ---- */
 /* Smooth normals are interpolated between the ball moments of the 8 voxels
- * around a pixel's hit point; neighbouring pixels share most of them, so a
- * thread keeps the last moments it computed in a small direct-mapped cache
- * (on its stack; NULL: none). */
-#define BVOX_MOMENT_CACHE 509
+ * around a pixel's hit point; neighbouring pixels (and rows) share most of
+ * them, so each chunk of rows keeps the moments it computed in a
+ * direct-mapped cache (bvox__moment_cache_new: a zeroed one, or NULL when
+ * memory is short, which only costs time; NULL means none). */
+#define BVOX_MOMENT_CACHE 8191
 typedef struct bvox__moment_cache {
     uint64_t key[BVOX_MOMENT_CACHE]; /* 0: empty */
     int32_t m[BVOX_MOMENT_CACHE][3];
 } bvox__moment_cache;
-static inline void bvox__moment_cache_init(bvox__moment_cache *mc)
+static inline bvox__moment_cache *bvox__moment_cache_new(void)
 {
-    for (int k = 0; k < BVOX_MOMENT_CACHE; k++) mc->key[k] = 0;
+    return bvox__mem_zalloc(1, sizeof(bvox__moment_cache));
 }
 void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
                              int32_t c, int32_t r, double n[3], bvox__moment_cache *mc);

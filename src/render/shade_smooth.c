@@ -8,6 +8,7 @@
 #include "render.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 typedef struct shade_ctx {
@@ -24,8 +25,7 @@ static void shade_rows(void *arg, int64_t y0, int64_t y1)
 {
     const shade_ctx *g = arg;
     const bvox_preimage *p = g->pre;
-    bvox__moment_cache mc;
-    bvox__moment_cache_init(&mc);
+    bvox__moment_cache *mc = g->mode == BVOX_SHADE_SMOOTH ? bvox__moment_cache_new() : NULL;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
         for (int32_t x = 0; x < p->width; x++) {
             size_t i = (size_t)y * (size_t)p->width + (size_t)x;
@@ -34,9 +34,10 @@ static void shade_rows(void *arg, int64_t y0, int64_t y1)
                 continue;
             }
             double n[3];
-            bvox__pixel_normal(g->vol, p, g->mode, g->radius, x, y, n, &mc);
+            bvox__pixel_normal(g->vol, p, g->mode, g->radius, x, y, n, mc);
             g->img->pixels[i] = (uint8_t)(bvox__phong(g->light, g->l, n, BVOX_CODE_CUE(p->code[i])) + 0.5);
         }
+    free(mc);
 }
 
 bvox_status bvox__shade_normals(const bvox_volume *vol, const bvox_preimage *pre,

@@ -17,16 +17,18 @@
 #include "occupancy.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
-/* The ball's column (i, j) reaches h voxels up and down; -1: not in it. */
-static int ball_half_height(int r, int i, int j)
-{
-    int left = r * r + r - i * i - j * j, h = 0;
-    if (left < 0) return -1;
-    while ((h + 1) * (h + 1) <= left) h++;
-    return h;
-}
+/* The ball's column (i, j) reaches h = floor(sqrt(r^2 + r - i^2 - j^2))
+ * voxels up and down; -1: not in it. By radius and i^2 + j^2 (0..18). */
+static const int8_t half_height[4][19] = {
+    {0},
+    {1, 1, 0, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+    {2, 2, 2, 1, 1, 1, 0, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+    {3, 3, 3, 3, 2, 2, 2, 2, 2, 1, 1, 1, 0, -1, -1, -1, -1, -1, -1},
+};
+static int ball_half_height(int r, int i, int j) { return half_height[r][i * i + j * j]; }
 
 /* The first moment of the occupancy over the ball, in index units. */
 static void ball_moment(const bvox_volume *v, int32_t x, int32_t y, int32_t z, int r, int64_t m[3])
@@ -235,8 +237,7 @@ static void normal_rows(void *arg, int64_t y0, int64_t y1)
 {
     const normals_ctx *g = arg;
     const bvox_preimage *p = g->pre;
-    bvox__moment_cache mc;
-    bvox__moment_cache_init(&mc);
+    bvox__moment_cache *mc = g->mode == BVOX_SHADE_SMOOTH ? bvox__moment_cache_new() : NULL;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
         for (int32_t x = 0; x < p->width; x++) {
             size_t i = (size_t)y * (size_t)p->width + (size_t)x;
@@ -246,9 +247,10 @@ static void normal_rows(void *arg, int64_t y0, int64_t y1)
                 continue;
             }
             double n[3];
-            bvox__pixel_normal(g->vol, p, g->mode, g->radius, x, y, n, &mc);
+            bvox__pixel_normal(g->vol, p, g->mode, g->radius, x, y, n, mc);
             o[0] = (float)n[0], o[1] = (float)n[1], o[2] = (float)n[2];
         }
+    free(mc);
 }
 
 bvox_status bvox_preimage_normals(const bvox_volume *vol, const bvox_preimage *pre,

@@ -367,3 +367,37 @@ TEST(golden_supersample)
 {
     return golden_lit("shade_smooth_ss3", BVOX_SHADE_SMOOTH, 1, 1, 3, 128, 15);
 }
+
+TEST(shade_codes_smooth)
+{
+    /* the viewer's path: smooth codes are the gradient layout, made from the
+     * volume; the sphere's middle faces the viewer, its left rim the left */
+    bvox_volume *v = make(SN, in_sphere);
+    CHECK(v != NULL);
+    bvox_preimage *p;
+    CHECK_OK(bvox_cast_axis(v, BVOX_VIEW_NEG_Z, &p));
+    uint16_t *codes = calloc((size_t)SN * SN, sizeof *codes);
+    CHECK(codes != NULL);
+    bvox_shade_opts o = BVOX_SHADE_OPTS_INIT;
+    o.mode = BVOX_SHADE_SMOOTH;
+    CHECK_STATUS(bvox_shade_codes(p, &o, codes), BVOX_EINVAL);
+    CHECK_OK(bvox_shade_codes_volume(v, p, &o, codes));
+    const unsigned mid = codes[48 * SN + 48], rim = codes[48 * SN + 9];
+    CHECK((mid & 63) >= 31 && (mid & 63) <= 33 && (mid >> 6) >= 31 && (mid >> 6) <= 33);
+    CHECK((rim & 63) < 8);                        /* pointing left: right component ~ -1 */
+    CHECK((rim >> 6) >= 28 && (rim >> 6) <= 35);  /* neither up nor down */
+    CHECK_EQ(codes[0], BVOX_SCODE_BACKGROUND);
+    /* the table lights the bins: facing the viewer is bright, the rim dim */
+    bvox_shade_table *t = malloc(sizeof *t);
+    CHECK(t != NULL);
+    o.light.azimuth = 0, o.light.elevation = 90;
+    CHECK_OK(bvox_shade_table_build(p, &o, t));
+    CHECK(t->rgb[mid][0] > 240 && t->rgb[rim][0] < 100);
+    o.smooth_radius = 4;
+    CHECK_STATUS(bvox_shade_codes_volume(v, p, &o, codes), BVOX_EINVAL);
+    free(t);
+    free(codes);
+    bvox_preimage_destroy(p);
+    bvox_volume_destroy(v);
+    return 0;
+}
