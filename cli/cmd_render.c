@@ -27,7 +27,6 @@ typedef struct render_args {
 
 static int take_view(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *target);
-static int take_light(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_size(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_stereo(const char *cmd, const cli_opt *o, const char *v, void *target);
 
@@ -75,7 +74,7 @@ static const cli_opt render_opts[] = {
     {"--light", 0, CLI_STR, "AZ,EL",
      "light direction: azimuth in the image plane (0 from the right, 90 from the top), "
      "elevation towards the viewer (default 135,45)",
-     A(o.light), .fn = take_light, .bad = "--light: '%s' is not AZ,EL"},
+     A(o.light), .fn = cli_take_light, .bad = CLI_BAD_LIGHT},
     {"--size", 0, CLI_STR, "W,H",
      "image size: the view becomes a projection of W x H pixels that fits the object (default "
      "for AZ,EL and iso: 512,512)",
@@ -163,15 +162,6 @@ static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *ta
     int m = bvox_shade_mode_parse(v);
     if (m < 0) return CLI_OPT_BAD;
     *(bvox_shade_mode *)target = (bvox_shade_mode)m;
-    return CLI_OPT_OK;
-}
-
-static int take_light(const char *cmd, const cli_opt *o, const char *v, void *target)
-{
-    double x[2];
-    if (parse_list(v, 2, x)) return CLI_OPT_BAD;
-    bvox_light *light = target;
-    light->azimuth = x[0], light->elevation = x[1];
     return CLI_OPT_OK;
 }
 

@@ -1042,6 +1042,21 @@ BVOX_API bvox_status bvox_preimage_normals(const bvox_volume *vol, const bvox_pr
  * background. Codes are replicated. Pixel size halves; the frame is kept.
  * *out owned by the caller. */
 BVOX_API bvox_status bvox_preimage_enlarge(const bvox_preimage *pre, bvox_preimage **out);
+/* A pre-image from a 16-bit depth map as bvox_preimage_depth_map writes it
+ * (0 background, else depth + 1): unit pixels and depth steps, the +z axis
+ * view's frame, normal codes "none". For running the pre-image operators on
+ * a picture alone (`bvox image enlarge|shade`). BVOX_EINVAL for an image
+ * that is not 16-bit gray. *out owned by the caller. */
+BVOX_API bvox_status bvox_preimage_from_depth_map(const bvox_image *map, bvox_preimage **out);
+/* An 8-bit gray picture of pre lit by light (bvox_light's Phong model, the
+ * codes' 3-bit cue), with the normals of mode: smooth (needs vol, the
+ * volume pre was cast from), binary-preimage, gradient, or
+ * enlarged-gradient (pre enlarged first: twice the size). BVOX_EINVAL for
+ * another mode, a bad radius (0..3) or missing inputs. *out owned by the
+ * caller. Thread-safe. */
+BVOX_API bvox_status bvox_shade_preimage(const bvox_volume *vol, const bvox_preimage *pre,
+                                         bvox_shade_mode mode, int radius,
+                                         const bvox_light *light, bvox_image **out);
 /* Ambient occlusion per pixel (0..255 = the light that reaches it): around
  * the hit voxel, moved 1 + r voxels out along the smooth normal, the share
  * of 1-voxels in the cube of half-size r for r = 2, 4 and 8 (popcounts of

@@ -119,3 +119,33 @@ bvox_status bvox__image_shrink(const bvox_image *in, int factor, bvox_image **ou
             }
     return BVOX_OK;
 }
+
+bvox_status bvox_shade_preimage(const bvox_volume *vol, const bvox_preimage *pre,
+                                bvox_shade_mode mode, int radius, const bvox_light *light,
+                                bvox_image **out)
+{
+    *out = NULL;
+    if (!pre || !pre->depth || !pre->code || !light)
+        return bvox__fail(BVOX_EINVAL, "shade: missing pre-image or light");
+    if (radius < 0 || radius > 3)
+        return bvox__fail(BVOX_EINVAL, "shade: smooth radius %d is not 1, 2 or 3 (0: 2)", radius);
+    switch (mode) {
+    case BVOX_SHADE_GRADIENT: return bvox_shade_gradient(pre, BVOX_GRADIENT_SOBEL, light, out);
+    case BVOX_SHADE_ENLARGED_GRADIENT: {
+        bvox_preimage *big;
+        bvox_status st = bvox_preimage_enlarge(pre, &big);
+        if (st) return st;
+        st = bvox_shade_gradient(big, BVOX_GRADIENT_SOBEL, light, out);
+        bvox_preimage_destroy(big);
+        return st;
+    }
+    case BVOX_SHADE_SMOOTH:
+        if (!vol) return bvox__fail(BVOX_EINVAL, "shade: smooth shading needs the volume");
+        /* fall through */
+    case BVOX_SHADE_PREIMAGE_BINARY: return bvox__shade_normals(vol, pre, mode, radius, light, out);
+    default:
+        return bvox__fail(BVOX_EINVAL, "shade: %s is not a per-pixel normal shading (smooth, "
+                                       "binary-preimage, gradient, enlarged-gradient)",
+                          bvox_shade_mode_name(mode));
+    }
+}
