@@ -148,7 +148,8 @@ void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int
 {
     /* The moments of the 8 voxels around the ray's entry point (the middle
      * of its depth step), trilinearly interpolated: the normal then turns
-     * smoothly across a voxel instead of jumping at its border. */
+     * smoothly across a voxel instead of jumping at its border (pixels
+     * smaller than voxels; else the nearest voxel's). */
     const size_t i = (size_t)r * (size_t)p->width + (size_t)c;
     const double *e = p->eye;
     const double t = p->depth[i] + 0.5;
@@ -165,7 +166,17 @@ void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int
         base[a] = (int32_t)b;
         f[a] = u - b;
     }
-    for (int k = 0; k < 8; k++) {
+    /* pixels as large as voxels or larger: each pixel meets its own voxels
+     * anyway, so the nearest voxel's moment alone (8 times less work) */
+    const double *sp = vol->geom.spacing;
+    const double px = p->pixel_size[0] < p->pixel_size[1] ? p->pixel_size[0] : p->pixel_size[1];
+    const int nearest = px >= fmin(sp[0], fmin(sp[1], sp[2]));
+    if (nearest)
+        for (int a = 0; a < 3; a++) {
+            base[a] += f[a] >= 0.5;
+            f[a] = 0;
+        }
+    for (int k = 0; k < (nearest ? 1 : 8); k++) {
         const int32_t q[3] = {base[0] + (k & 1), base[1] + (k >> 1 & 1), base[2] + (k >> 2 & 1)};
         const double w = (k & 1 ? f[0] : 1 - f[0]) * (k >> 1 & 1 ? f[1] : 1 - f[1]) *
                          (k >> 2 & 1 ? f[2] : 1 - f[2]);

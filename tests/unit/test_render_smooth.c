@@ -141,19 +141,22 @@ TEST(sphere_normals_within_10_degrees)
 {
     bvox_volume *v = make(SN, in_sphere);
     CHECK(v != NULL);
-    const double views[3][2] = {{0, 0}, {30, 20}, {-50, 65}};
-    for (int k = 0; k < 3; k++) {
+    /* 200 pixels: smaller than a voxel (interpolated normals); 90: larger
+     * (the nearest voxel's) */
+    const double views[4][3] = {{0, 0, 200}, {30, 20, 200}, {-50, 65, 200}, {30, 20, 90}};
+    for (int k = 0; k < 4; k++) {
         bvox_projection proj = BVOX_PROJECTION_INIT;
         proj.azimuth = views[k][0], proj.elevation = views[k][1];
-        proj.width = proj.height = 200;
+        proj.width = proj.height = (int32_t)views[k][2];
         bvox_preimage *p;
         CHECK_OK(bvox_cast_projection(v, &proj, &p));
         double smooth = share_within(v, p, BVOX_SHADE_SMOOTH, 2);
         double smooth3 = share_within(v, p, BVOX_SHADE_SMOOTH, 3);
         double binary = share_within(v, p, BVOX_SHADE_BINARY, 0);
         double gradient = share_within(v, p, BVOX_SHADE_GRADIENT, 0);
-        fprintf(stderr, "view %g,%g: within 10 degrees: smooth %.3f (radius 3: %.3f), binary %.3f, "
-                        "gradient %.3f\n", views[k][0], views[k][1], smooth, smooth3, binary, gradient);
+        fprintf(stderr, "view %g,%g at %g pixels: within 10 degrees: smooth %.3f (radius 3: %.3f), "
+                        "binary %.3f, gradient %.3f\n", views[k][0], views[k][1], views[k][2], smooth,
+                smooth3, binary, gradient);
         CHECK(smooth >= 0.95);
         CHECK(smooth3 >= 0.95);
         CHECK(binary >= 0 && binary < 0.5);
