@@ -285,6 +285,22 @@ int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *targ
     return CLI_OPT_OK;
 }
 
+/* --light AZ,EL (render, image): two finite numbers into a bvox_light's
+ * azimuth and elevation. */
+int cli_take_light(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    char buf[128];
+    const char *comma = strchr(v, ',');
+    if (!comma || (size_t)(comma - v) >= sizeof buf) return CLI_OPT_BAD;
+    memcpy(buf, v, (size_t)(comma - v));
+    buf[comma - v] = '\0';
+    double az, el;
+    if (cli_parse_double(buf, &az) || cli_parse_double(comma + 1, &el)) return CLI_OPT_BAD;
+    bvox_light *light = target;
+    light->azimuth = az, light->elevation = el;
+    return CLI_OPT_OK;
+}
+
 /* ------------------------------------------------------------ process options */
 
 static int take_max_memory(const char *cmd, const cli_opt *o, const char *v, void *t)

@@ -152,7 +152,10 @@ typedef enum bvox_shade_mode {
     BVOX_SHADE_DEPTH = 0,
     BVOX_SHADE_BINARY = 1,
     BVOX_SHADE_GRADIENT = 2,
-    BVOX_SHADE_BINARY_DEPTH = 3
+    BVOX_SHADE_BINARY_DEPTH = 3,
+    BVOX_SHADE_SMOOTH = 4,
+    BVOX_SHADE_PREIMAGE_BINARY = 5,
+    BVOX_SHADE_ENLARGED_GRADIENT = 6
 } bvox_shade_mode;
 typedef enum bvox_stereo {
     BVOX_STEREO_NONE = 0,
@@ -195,6 +198,10 @@ typedef struct bvox_render_opts {
     uint8_t cut_color[3];
     bvox_stereo stereo;
     double stereo_angle;
+    int smooth_radius;
+    int ao;
+    int shadows;
+    int supersample;
 } bvox_render_opts;
 typedef struct bvox_csg_eval_opts {
     bvox_dims dims;

@@ -232,6 +232,22 @@ def test_render():
         v.render("sideways")
 
 
+def test_render_smooth_shading():
+    v = bvox.Volume((40, 40, 40))
+    v.draw("sphere", radius=15)
+    # lit from the viewer, smooth normals brighten steadily towards the middle
+    img = v.render("+z", shade="smooth", light=(0, 90))[20, :, 0].astype(int)
+    lit = np.nonzero(img)[0]
+    half = img[lit[0]:20]
+    assert len(set(half.tolist())) >= 8 and np.all(np.diff(half) > -30)
+    pub = v.render("iso", width=48, height=40, shade="smooth", ao=True, shadows=True,
+                   supersample=2)
+    assert pub.shape == (40, 48, 3) and pub.max() > 0
+    assert v.render("+z", shade="enlarged-gradient").shape == (80, 80, 3)
+    with pytest.raises(bvox.InvalidArgument):
+        v.render("iso", shade="smooth", supersample=9)
+
+
 def test_measure_components_match_each_alone(rng):
     a = random_mask(rng, (14, 12, 66), 0.2)
     v = bvox.Volume.from_numpy(a, spacing=(1, 1, 2), unit="um")
