@@ -308,6 +308,7 @@ static bvox_status png_write_path(const char *path, const bvox_volume *v,
             snprintf(file, flen, "%s/slice_%0*d.png", tmp, digits & 15, (int)(z0 + k));
             st = write_slice(file, slab + (size_t)k * page, (uint32_t)v->nx, (uint32_t)v->ny,
                              ppm);
+            if (!st) st = bvox__progress_steps(z0 + k + 1, v->nz);
         }
     }
     free(file);

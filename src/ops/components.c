@@ -488,7 +488,17 @@ static bvox_status check_conn(int conn)
     return BVOX_OK;
 }
 
+static bvox_status components_find(const bvox_volume *vol, int conn, bvox_components **out);
+
 bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_components **out)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "components");
+    return bvox__progress_end(&ps, components_find(vol, conn, out));
+}
+
+/* Progress is reported between the stages (labelling is most of the work). */
+static bvox_status components_find(const bvox_volume *vol, int conn, bvox_components **out)
 {
     BVOX_CHECK_VOLUME(vol);
     *out = NULL;
@@ -504,6 +514,7 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
     c->words = bvox__alloc(c->nwords * sizeof(uint64_t), false, "component words", &st);
     if (!c->words) goto fail;
     memcpy(c->words, vol->words, c->nwords * sizeof(uint64_t));
+    if ((st = bvox__progress(0.05))) goto fail;
     st = label_runs(c->words, c->wpc, (size_t)vol->nx, (size_t)vol->ny, conn, 0, &c->col_start,
                     &c->rank, &c->nruns);
     if (st) goto fail;
@@ -520,7 +531,9 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
         st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
         goto fail;
     }
+    if ((st = bvox__progress(0.7))) goto fail;
     st = sum_statistics(c, parent);
+    if (!st) st = bvox__progress(0.9);
     if (!st) st = rank_items(c, parent);
     if (st) goto fail;
     *out = c;
