@@ -58,7 +58,9 @@ static bvox_status canceled_status(void)
 static int report(double g, int forced)
 {
     if (g < last) g = last;
-    if (g > 1) g = 1;
+    /* 1 is said once, by bvox__progress_end when the outermost call
+     * succeeds: a stage that ends the range stays silent */
+    if (g >= 1 && !forced) return 0;
     int64_t t = 0;
     if (interval_ns > 0) {
         t = now_ns();

@@ -175,6 +175,7 @@ static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox
                                 (uint8_t *)g.owned + (bs ? 0 : i * slice_bytes));
             if (!st && bs) bvox__bin_stream_slices(bs, g.owned, 1);
             bvox__bytes_release(&b);
+            if (!st) st = bvox__progress_steps((int64_t)i + 1, (int64_t)n);
         }
     }
     bvox__free_paths(paths, n);

@@ -177,7 +177,8 @@ static bvox_status box26(const bvox_volume *in, bool erode, bvox_volume **out)
     bvox_status st = bvox__volume_create_uninit(d, out);
     if (st) return st;
     (*out)->geom = in->geom;
-    box26_job j = {in, *out, NULL, 1, (size_t)in->nx * in->wpc, 0, in->ny};
+    box26_job j = {.in = in, .out = *out, .nchunks = 1, .row_words = (size_t)in->nx * in->wpc,
+                   .y0 = 0, .y1 = in->ny};
     /* one chunk of rows per thread; each chunk recomputes 2 rows of zx */
     int threads = bvox__parallelism();
     j.nchunks = in->ny / 8 < threads ? in->ny / 8 : threads;
