@@ -441,6 +441,9 @@ BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, 
  * Call once, early, from the main thread of a program (the `bvox` command
  * does). BVOX_EIO if sigaction fails. */
 BVOX_API bvox_status bvox_cleanup_on_signals(void);
+/* Remove those temporaries now. Async-signal-safe: for an application that
+ * handles a signal itself and then ends (the `bvox` command's second Ctrl-C). */
+BVOX_API void bvox_remove_temp_files(void);
 
 /* Write a label volume (e.g. from bvox_components_labels) as NIfTI-1, .nii
  * or .nii.gz by the path's suffix: labels holds nx*ny*nz values, x fastest
