@@ -13,7 +13,8 @@ typedef enum bvox_status {
     BVOX_EFORMAT = 4,
     BVOX_ETOOBIG = 5,
     BVOX_ENOTFOUND = 6,
-    BVOX_EUNSUPPORTED = 7
+    BVOX_EUNSUPPORTED = 7,
+    BVOX_ECANCELED = 8
 } bvox_status;
 typedef struct bvox_dims {
     int32_t nx, ny, nz;
