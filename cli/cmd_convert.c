@@ -12,6 +12,7 @@
 
 typedef struct convert_args {
     const char *in, *out;
+    int json;
     bvox_write_opts wo;
     cli_read_args ra;
 } convert_args;
@@ -22,6 +23,9 @@ static const cli_opt convert_opts[] = {
     {"--output-format", 0, CLI_STR, "NAME",
      "force the output format ({formats}); needed for a folder of PNG slices", A(wo.format)},
     {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(wo.force)},
+    {"--json", 0, CLI_FLAG, NULL,
+     "print one JSON object: what 'bvox info --json' says of OUT, and input, output",
+     A(json)},
     {NULL},
 };
 static const cli_group convert_group = {"Options", convert_opts, NULL};
@@ -65,6 +69,7 @@ int cmd_convert(int argc, char **argv)
     bvox_volume *vol = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st = bvox_write(out, vol, &a.wo);
+    if (!st && a.json) st = cli_print_volume_json(vol, in, out, a.wo.format, NULL, NULL);
     bvox_volume_destroy(vol);
     return st ? cli_fail() : CLI_OK;
 }

@@ -6,6 +6,7 @@
  * second, one line on stderr is rewritten in place ("bvox: dilate  42%") and
  * cleared when the command ends or prints a message; never in a pipe or a
  * log, never with --json (a script reads those) or --quiet.
+ * BVOX_PROGRESS_DELAY=S changes the second (0: at once).
  *
  * Ctrl-C: the first one asks the library to stop at its next check (the
  * callback returns non-zero): the call frees what it holds, its temporary
@@ -19,13 +20,14 @@
 #include "progress.h"
 
 #include <signal.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
 static volatile sig_atomic_t interrupts;
 static int draw, drawn;
-static double t_start, t_drawn;
+static double t_start, t_drawn, delay = 1.0;
 
 static double now_s(void)
 {
@@ -48,7 +50,7 @@ static int on_progress(double fraction, const char *stage, void *user)
     if (interrupts) return 1;
     if (!draw) return 0;
     double t = now_s();
-    if (t - t_start < 1.0 || (drawn && t - t_drawn < 0.1 && fraction < 1)) return 0;
+    if (t - t_start < delay || (drawn && t - t_drawn < 0.1 && fraction < 1)) return 0;
     fprintf(stderr, "\r\033[Kbvox: %s %3d%%", stage, (int)(fraction * 100));
     fflush(stderr);
     drawn = 1;
@@ -60,6 +62,10 @@ void cli_progress_install(int draw_line)
 {
     draw = draw_line;
     t_start = now_s();
+    /* BVOX_PROGRESS_DELAY: seconds of work before the line shows (default 1;
+     * the tests set 0) */
+    const char *env = getenv("BVOX_PROGRESS_DELAY");
+    if (env && *env) delay = atof(env);
     bvox_set_progress(on_progress, NULL);
     /* Installed before bvox_cleanup_on_signals, which then leaves SIGINT to
      * this handler (and keeps its own for SIGTERM and SIGHUP). */
