@@ -3,7 +3,8 @@
 # (python3's pty) `bvox morph` draws the self-updating line on stderr
 # ("\r\033[Kbvox: dilate  42%") and erases it at the end; with stderr a pipe,
 # with --json or with --quiet it draws nothing. Ctrl-C (SIGINT) during the
-# work ends the command with 130, leaves no output file and no temporary.
+# work ends the command with 130 and leaves no output (a turntable's frames
+# written so far are removed).
 # BVOX_PROGRESS_DELAY=0 shows the line at once (the default waits 1 s).
 # Usage: sh progress.sh BVOX DATADIR
 set -eu
@@ -70,17 +71,19 @@ run_pty "$tmp/quiet.txt" --quiet morph "$tmp/ball.nii" erode -o "$tmp/e.nii" || 
     fail "morph with stderr in a file"
 [ -s "$tmp/pipe.txt" ] && fail "stderr not a terminal but got: $(cat "$tmp/pipe.txt")"
 
-# Ctrl-C after the line shows: exit 130, no output, no temporary
+# Ctrl-C after the line shows, in a 360-frame turntable (PNG files written one
+# by one, seconds of work): exit 130, no frame left, no temporary
+mkdir "$tmp/frames"
 python3 - "$BVOX" "$tmp" <<'PY' || fail "Ctrl-C"
 import os, pty, signal, sys
 bvox, tmp = sys.argv[1:]
-out = os.path.join(tmp, "int.nii")
+frames = os.path.join(tmp, "frames")
 pid, fd = pty.fork()
 if pid == 0:
-    os.execv(bvox, [bvox, "morph", os.path.join(tmp, "ball.nii"), "dilate", "--radius", "6",
-                    "-o", out])
+    os.execv(bvox, [bvox, "render", os.path.join(tmp, "ball.nii"), "--turntable", "360",
+                    "-o", os.path.join(frames, "f.png")])
 text = b""
-while b"dilate" not in text:
+while b"turntable" not in text:
     try:
         d = os.read(fd, 4096)
     except OSError:
@@ -99,10 +102,8 @@ while True:
     text += d
 _, st = os.waitpid(pid, 0)
 rc = os.waitstatus_to_exitcode(st)
-assert rc == 130, (rc, text)
-assert b"canceled" in text, text
-assert not os.path.exists(out), "output left after Ctrl-C"
-left = [f for f in os.listdir(tmp) if f.startswith(".")]
-assert not left, left
+assert rc == 130, (rc, text[-300:])
+assert b"canceled" in text, text[-300:]
+assert os.listdir(frames) == [], "frames left after Ctrl-C: %d" % len(os.listdir(frames))
 PY
 exit 0
