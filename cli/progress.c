@@ -4,7 +4,8 @@
  * The library reports long work through the thread's progress callback
  * (bvox_set_progress). On a terminal, once a command has run for about a
  * second, one line on stderr is rewritten in place ("bvox: dilate  42%") and
- * cleared when the command ends or prints a message; never in a pipe or a
+ * erased when a library call ends (before the command prints its result) or
+ * when it prints a message; never in a pipe or a
  * log, never with --json (a script reads those) or --quiet.
  * BVOX_PROGRESS_DELAY=S changes the second (0: at once).
  *
@@ -49,8 +50,12 @@ static int on_progress(double fraction, const char *stage, void *user)
     (void)user;
     if (interrupts) return 1;
     if (!draw) return 0;
+    if (fraction >= 1) { /* a call is done: erased before the command prints its result */
+        cli_progress_clear();
+        return 0;
+    }
     double t = now_s();
-    if (t - t_start < delay || (drawn && t - t_drawn < 0.1 && fraction < 1)) return 0;
+    if (t - t_start < delay || (drawn && t - t_drawn < 0.1)) return 0;
     fprintf(stderr, "\r\033[Kbvox: %s %3d%%", stage, (int)(fraction * 100));
     fflush(stderr);
     drawn = 1;
