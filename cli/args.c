@@ -7,6 +7,7 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "progress.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@
 int cli_fail(void)
 {
     const char *msg = bvox_errmsg();
+    cli_progress_clear();
     fprintf(stderr, "bvox: %s\n", msg && *msg ? msg : "failed (no message)");
     return CLI_FAIL;
 }
