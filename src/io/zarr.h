@@ -87,4 +87,38 @@ typedef struct bvox__zarr_attrs {
 bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *name,
                                    bvox__zarr_attrs *out);
 
+/* ---- zarr.c: reading boxes and writing slab by slab (out of core) ---- */
+
+/* An opened array: metadata parsed and checked, nothing else read. */
+typedef struct bvox__zarr_in {
+    char name[4200];    /* the user's path, for messages */
+    char arr[4200];     /* the array folder */
+    bvox__zarr_meta m;
+    bvox__zarr_attrs attrs;
+    bvox_dims dims;
+    bvox_geometry geom; /* spacing and unit from the multiscales metadata */
+    bool swap;          /* samples in the other byte order than the CPU's */
+    uint8_t fill[8];    /* the fill value as one sample (m.has_fill) */
+} bvox__zarr_in;
+bvox_status bvox__zarr_in_open(const char *path, bvox__zarr_in *zi);
+/* The voxels of box (inside the array) binarised by how (NULL: nonzero),
+ * reading only the chunks the box touches, one row of chunks along z at a
+ * time. Otsu's threshold needs the whole array (BVOX_EUNSUPPORTED for a
+ * smaller box). The volume gets the array's spacing and unit, origin 0. */
+bvox_status bvox__zarr_in_read_box(const bvox__zarr_in *zi, bvox_box box,
+                                   const bvox_binarize *how, bvox_volume **out);
+
+/* A .zarr folder written in slabs along z: open writes the metadata into a
+ * temporary folder, each put adds the next slab (whole rows of chunks along z:
+ * z_at and the slab's depth multiples of the chunk depth, except the last),
+ * close(keep) renames the folder into place when keep and *st is BVOX_OK,
+ * else removes it (*st gets the commit's status). */
+typedef struct bvox__zarr_out bvox__zarr_out;
+bvox_status bvox__zarr_out_open(const char *path, bvox_dims dims, const bvox_geometry *geom,
+                                const bvox_write_opts *opts, bvox__zarr_out **out);
+bvox_status bvox__zarr_out_put(bvox__zarr_out *w, const bvox_volume *slab, int32_t z_at);
+void bvox__zarr_out_close(bvox__zarr_out *w, bool keep, bvox_status *st);
+/* The chunk depth along z (slabs are multiples of it). */
+int32_t bvox__zarr_out_chunk_z(const bvox__zarr_out *w);
+
 #endif
