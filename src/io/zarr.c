@@ -617,6 +617,11 @@ bvox_status bvox__zarr_out_put(bvox__zarr_out *w, const bvox_volume *v, int32_t 
 
 int32_t bvox__zarr_out_chunk_z(const bvox__zarr_out *w) { return (int32_t)w->c[2]; }
 
+size_t bvox__zarr_out_bytes(const bvox__zarr_out *w)
+{
+    return w->slab_bytes + w->chunk_bytes + w->zbound;
+}
+
 static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
                                    const bvox_write_opts *opts)
 {

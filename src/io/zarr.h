@@ -120,5 +120,7 @@ bvox_status bvox__zarr_out_put(bvox__zarr_out *w, const bvox_volume *slab, int32
 void bvox__zarr_out_close(bvox__zarr_out *w, bool keep, bvox_status *st);
 /* The chunk depth along z (slabs are multiples of it). */
 int32_t bvox__zarr_out_chunk_z(const bvox__zarr_out *w);
+/* The bytes its buffers hold (for the out-of-core planning). */
+size_t bvox__zarr_out_bytes(const bvox__zarr_out *w);
 
 #endif

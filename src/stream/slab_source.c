@@ -160,6 +160,7 @@ bvox_status bvox__slab_sink_zarr(const char *path, bvox_dims dims, const bvox_ge
     bvox_status st = bvox__zarr_out_open(path, dims, geom, opts, &w);
     if (st) return st;
     out->align = bvox__zarr_out_chunk_z(w);
+    out->bytes = bvox__zarr_out_bytes(w);
     out->put = zarr_put;
     out->close = zarr_sink_close;
     out->ctx = w;

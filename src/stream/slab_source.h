@@ -40,6 +40,7 @@ typedef struct bvox__slab_sink bvox__slab_sink;
 struct bvox__slab_sink {
     int32_t align;       /* slabs start at multiples of it and are multiples of it deep
                             (but the last) */
+    size_t bytes;        /* what the sink holds while open (its buffers) */
     /* Slices z_at.. z_at + slab->nz - 1, in order. */
     bvox_status (*put)(bvox__slab_sink *s, const bvox_volume *slab, int32_t z_at);
     /* keep: the output is complete (commit); else discard. *st gets the

@@ -27,8 +27,10 @@
 bool bvox__stream_needed(bvox_dims dims);
 /* Slab depth: a multiple of align (at least align, at most nz rounded up),
  * as deep as the budget allows for slabs of depth + 2 * halo slices of which
- * `copies` are held at once. */
-int32_t bvox__stream_depth(const bvox__slab_source *src, int32_t halo, int32_t align, int copies);
+ * `copies` are held at once, beside what the source's reader and `extra`
+ * (a sink's buffers) hold. */
+int32_t bvox__stream_depth(const bvox__slab_source *src, int32_t halo, int32_t align, int copies,
+                           size_t extra);
 /* Test hook: slabs no deeper than cap slices (rounded down to the alignment,
  * at least one alignment step); 0 lifts it. */
 void bvox__stream_set_depth_cap(int32_t cap);

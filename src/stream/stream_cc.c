@@ -236,7 +236,7 @@ bvox_status bvox__stream_components(const bvox__slab_source *src, int conn, int6
     bvox__stream_cc *cc = NULL;
     bvox_status st = bvox__stream_cc_begin(src->dims, conn, false, false, items != NULL, &cc);
     if (st) return st;
-    int32_t nz = src->dims.nz, t = bvox__stream_depth(src, 1, src->chunk_z, 4);
+    int32_t nz = src->dims.nz, t = bvox__stream_depth(src, 1, src->chunk_z, 4, 0);
     /* slabs [z0, z1) with z1 the next slab's first slice + 1; the last ends at nz */
     for (int32_t z0 = 0, z1 = 0; !st && z1 < nz; z0 = z1 - 1) {
         z1 = z0 + t + 1 < nz ? z0 + t + 1 : nz; /* and the next slab's first slice */

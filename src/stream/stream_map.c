@@ -24,7 +24,8 @@ bvox_status bvox__stream_map(const bvox__slab_source *const *src, int nsrc, int3
                               "%dx%dx%d)", s0->name, src[i]->name, (int)s0->dims.nx,
                               (int)s0->dims.ny, (int)s0->dims.nz, (int)src[i]->dims.nx,
                               (int)src[i]->dims.ny, (int)src[i]->dims.nz);
-    int32_t nz = s0->dims.nz, t = bvox__stream_depth(s0, halo, sink->align, copies + nsrc);
+    int32_t nz = s0->dims.nz,
+            t = bvox__stream_depth(s0, halo, sink->align, copies + nsrc, sink->bytes);
     bvox_status st = BVOX_OK;
     bvox_volume *in[2] = {NULL, NULL};
     if (nsrc > 2) return bvox__fail(BVOX_EINVAL, "stream: at most two sources");

@@ -24,7 +24,7 @@ bvox_status bvox__stream_info(const bvox__slab_source *src, bvox_info *out)
     memset(out, 0, sizeof *out);
     out->dims = src->dims;
     out->geometry = src->geom;
-    int32_t nz = src->dims.nz, t = bvox__stream_depth(src, 0, src->chunk_z, 1);
+    int32_t nz = src->dims.nz, t = bvox__stream_depth(src, 0, src->chunk_z, 1, 0);
     bvox_box box = {0};
     bvox_status st = BVOX_OK;
     int64_t count = 0;
@@ -102,7 +102,7 @@ bvox_status bvox__stream_measure(const bvox__slab_source *src, bvox_measures *ou
     bvox_status st = bvox__stream_cc_begin(d, 26, false, false, false, &cc[0]);
     if (!st) st = bvox__stream_cc_begin(d, 6, true, true, false, &cc[1]);
     if (!st) st = bvox__stream_cc_begin(d, 26, true, true, false, &cc[2]);
-    int32_t nz = d.nz, t = bvox__stream_depth(src, 1, src->chunk_z, 6);
+    int32_t nz = d.nz, t = bvox__stream_depth(src, 1, src->chunk_z, 6, 0);
     /* slabs [z0, z1) with z1 the next slab's first slice + 1; the last ends at nz */
     for (int32_t z0 = 0, z1 = 0; !st && z1 < nz; z0 = z1 - 1) {
         z1 = z0 + t + 1 < nz ? z0 + t + 1 : nz;
