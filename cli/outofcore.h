@@ -20,4 +20,11 @@ int cli_ooc_refuse(const char *cmd, const char *in, const char *what);
 int cli_ooc_sink(const char *cmd, const char *out, const bvox__slab_source *src,
                  const bvox_write_opts *wo, bvox__slab_sink *sink);
 
+/* `bvox csg EXPR -o OUT` by slabs when EXPR's first file (the output grid)
+ * is a .zarr over the budget: 1 done (info filled, as bvox_info_compute of
+ * the result), 0 not streamed (evaluate in memory), -1 error (printed). */
+int cli_ooc_csg(const char *cmd, const char *expr, const bvox_csg_eval_opts *opts,
+                const cli_read_args *ra, const char *out, const bvox_write_opts *wo,
+                bvox_info *info);
+
 #endif
