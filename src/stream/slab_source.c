@@ -61,6 +61,8 @@ static void zarr_close(bvox__slab_source *s)
     s->ctx = NULL;
 }
 
+bool bvox__slab_source_is_zarr(const char *path) { return bvox__zarr_is_dir(path); }
+
 bvox_status bvox__slab_source_zarr(const char *path, const bvox_binarize *how,
                                    bvox__slab_source *out)
 {

@@ -30,6 +30,8 @@ struct bvox__slab_source {
 
 /* The slabs of vol (borrowed: it must outlive the source). */
 bvox_status bvox__slab_source_memory(const bvox_volume *vol, bvox__slab_source *out);
+/* Whether path is a Zarr array or group folder. */
+bool bvox__slab_source_is_zarr(const char *path);
 /* The array of a .zarr folder, binarised by how (NULL: nonzero; not Otsu). */
 bvox_status bvox__slab_source_zarr(const char *path, const bvox_binarize *how,
                                    bvox__slab_source *out);
