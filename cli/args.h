@@ -57,6 +57,13 @@ int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *filt
 #define CLI_OPT_OUTPUT_FORMAT(type, member)                                                 \
     {"--output-format", 0, CLI_STR, "NAME", "force the output format ({formats})",           \
      CLI_AT(type, member)}
+/* --force beside it: a folder output may go into a folder holding other files
+ * (bvox's own file names are replaced, nothing is removed); the member is
+ * the command's bvox_write_opts.force. */
+#define CLI_FORCE_HELP                                                                       \
+    "a folder output may go into a folder holding other files (bvox's own file names are "  \
+    "replaced, nothing is removed)"
+#define CLI_OPT_FORCE(type, member) {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, CLI_AT(type, member)}
 
 /* bvox_read with the parsed options, then the --voxel-size/--unit override
  * (a PNG stack or an uncalibrated TIFF has no z spacing of its own). */

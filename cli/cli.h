@@ -33,6 +33,19 @@ int cmd_demo(int argc, char **argv);
 int cmd_morph(int argc, char **argv);
 int cmd_components(int argc, char **argv);
 int cmd_measure(int argc, char **argv);
+int cmd_labels(int argc, char **argv);
+int cmd_interpolate(int argc, char **argv);
+/* cli/mesh_labels.c: `bvox mesh IN --labels LIST -o DIR` after cmd_mesh's
+ * parsing; returns the exit status. */
+struct cli_read_args;
+/* cmd_labels.c: read the lookup table (if lut) and the label volume, apply
+ * --voxel-size/--unit; the table's warnings go to the warning handler, the
+ * labels it lacks are warned about here (not with --quiet). 0, or -1 with bvox_errmsg() set. */
+int cli_labels_load(const char *path, const struct cli_read_args *ra, const char *lut,
+                    int64_t max_labels, bvox_labelset **set, bvox_label_table **table);
+int cli_mesh_labels(const char *in, const struct cli_read_args *ra, const char *labels,
+                    const char *lut, int64_t max_labels, const char *out, const char *fmt,
+                    int ascii);
 int cmd_edit(int argc, char **argv);
 int cmd_cut(int argc, char **argv);
 int cmd_csg(int argc, char **argv);
@@ -53,6 +66,8 @@ extern const struct cli_spec cli_spec_demo;
 extern const struct cli_spec cli_spec_morph;
 extern const struct cli_spec cli_spec_components;
 extern const struct cli_spec cli_spec_measure;
+extern const struct cli_spec cli_spec_labels;
+extern const struct cli_spec cli_spec_interpolate;
 extern const struct cli_spec cli_spec_edit;
 extern const struct cli_spec cli_spec_cut;
 extern const struct cli_spec cli_spec_csg;

@@ -41,6 +41,7 @@ static const cli_opt components_opts[] = {
      "largest component; uint16 when there are at most 65535, else uint32",
      A(labels)},
     {"--output-format", 0, CLI_STR, "NAME", "force the format of -o ({formats})", A(wo.format)},
+    {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(wo.force)},
     {NULL},
 };
 static const cli_group components_group = {"Options", components_opts, NULL};

@@ -14,7 +14,7 @@
 
 typedef struct contours_args {
     const char *in, *out, *output_format;
-    int axis;
+    int axis, force;
     cli_read_args ra;
 } contours_args;
 
@@ -29,6 +29,7 @@ static const cli_opt contours_opts[] = {
     /* refused below: kept so that the message says why */
     {"--output-format", 0, CLI_STR, "NAME", "not used: OUT.json or a folder says the format",
      A(output_format)},
+    {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(force)},
     {NULL},
 };
 static const cli_group contours_group = {"Options", contours_opts, NULL};
@@ -65,6 +66,8 @@ int cmd_contours(int argc, char **argv)
     if (!out) return cli_usage_error(cmd, "missing -o OUT.json|DIR");
     if (a.output_format) return cli_usage_error(cmd, "--output-format does not apply: OUT.json or a folder");
 
+    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
+    wo.force = a.force;
     bvox_volume *vol = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_contour_stack *stack = NULL;
@@ -73,7 +76,7 @@ int cmd_contours(int argc, char **argv)
         rc = cli_fail();
     } else {
         bvox_status st = bvox__ends_with_ci(out, ".json") ? bvox_stack_write_json(out, stack)
-                                             : bvox_stack_write_svg_dir(out, stack);
+                                             : bvox_stack_write_svg_dir_opts(out, stack, &wo);
         if (st) {
             rc = cli_fail();
         } else {

@@ -35,10 +35,14 @@ static int take_chunks(const char *cmd, const cli_opt *o, const char *v, void *t
 static const cli_opt convert_opts[] = {
     {"--output-format", 0, CLI_STR, "NAME",
      "force the output format ({formats}); needed for a folder of PNG slices", A(wo.format)},
+    {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(wo.force)},
     {"--chunks", 0, CLI_STR, "X,Y,Z", "chunk shape of a .zarr output (default: up to 64 per axis)",
      A(wo), .fn = take_chunks, .bad = "--chunks needs X,Y,Z (each 1..65535), not '%s'"},
     {"--compressor", 0, CLI_CHOICE, NULL, "chunk codec of a .zarr output (blosc: bit-shuffled lz4)",
      A(wo_codec), .def = "zlib", .choices = zarr_codecs},
+    {"--levels", 0, CLI_INT, "N", "resolution levels of a .zarr output (0: halve until a side "
+     "is under one chunk; 1: no pyramid)", A(wo.zarr_levels), .lo = 0, .hi = 16,
+     .bad = "--levels: '%s' is not a count 0..16"},
     {NULL},
 };
 static const cli_group convert_group = {"Options", convert_opts, NULL};

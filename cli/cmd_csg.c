@@ -35,6 +35,7 @@ static const cli_opt csg_opts[] = {
      A(grid), .fn = cli_take_origin, .bad = "--origin: '%s' is not X,Y,Z"},
     {"--json", 0, CLI_FLAG, NULL, "print the info as one JSON object", A(json)},
     CLI_OPT_OUTPUT_FORMAT(csg_args, wo.format),
+    CLI_OPT_FORCE(csg_args, wo.force),
     {NULL},
 };
 static const cli_group csg_group = {"Options", csg_opts, NULL};

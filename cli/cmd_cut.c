@@ -28,6 +28,7 @@ static const cli_opt cut_opts[] = {
     {"--output", 'o', CLI_PATH, "OUT", "the file to write (required)", A(out)},
     {"--json", 0, CLI_FLAG, NULL, "print the report as one JSON object", A(json)},
     CLI_OPT_OUTPUT_FORMAT(cut_args, wo.format),
+    CLI_OPT_FORCE(cut_args, wo.force),
     {NULL},
 };
 static const cli_group cut_group = {"Options", cut_opts, NULL};

@@ -71,6 +71,7 @@ static const cli_opt edit_opts[] = {
     {"--output", 'o', CLI_PATH, "OUT", "the file to write (required)", A(out)},
     {"--json", 0, CLI_FLAG, NULL, "print the report as one JSON object", A(json)},
     CLI_OPT_OUTPUT_FORMAT(edit_args, wo.format),
+    CLI_OPT_FORCE(edit_args, wo.force),
     {NULL},
 };
 static const cli_group edit_group = {"Options", edit_opts, NULL};

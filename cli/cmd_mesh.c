@@ -3,6 +3,8 @@
  * options, bvox_mesh_from_volume (marching cubes or cuberille, optional
  * Taubin smoothing), bvox_mesh_write in the format OUT's extension names
  * (STL, PLY, OBJ, OFF; binary unless --ascii). Prints one summary line.
+ * With --labels, a label volume becomes one mesh per label in a folder
+ * (cli/mesh_labels.c).
  */
 #include "args.h"
 #include "cli.h"
@@ -12,6 +14,8 @@
 
 typedef struct mesh_args {
     const char *in, *out, *fmt;
+    const char *labels, *lut;
+    int64_t max_labels;
     int ascii;
     bvox_mesh_opts mo;
     cli_read_args ra;
@@ -38,6 +42,15 @@ static const cli_opt mesh_opts[] = {
     {"--ascii", 0, CLI_FLAG, NULL, "ASCII STL or PLY instead of binary", A(ascii)},
     {"--mesh-format", 0, CLI_STR, "NAME", "stl, ply, obj or off, whatever OUT's extension",
      A(fmt), .choices = cli_mesh_formats},
+    {"--labels", 0, CLI_STR, "all|L,L,...",
+     "IN is a label volume: one cuberille mesh per label in the folder OUT, named "
+     "LABEL_NAME.EXT (--mesh-format, default ply); touching labels share their boundary",
+     A(labels)},
+    {"--lut", 0, CLI_PATH, "TABLE", "label names for the file names (see 'bvox labels')",
+     A(lut)},
+    {"--max-labels", 0, CLI_INT, "N", "refuse label volumes with more distinct labels",
+     A(max_labels), .def = "65535", .lo = 1, .hi = 2147483647,
+     .bad = "--max-labels needs a count from 1 to 2147483647, not '%s'"},
     {NULL},
 };
 static const cli_group mesh_group = {"Options", mesh_opts, NULL};
@@ -60,7 +73,8 @@ const cli_spec cli_spec_mesh = {
     .uses = {{&mesh_group, 0}, CLI_USE_READ(mesh_args, ra), CLI_USE_PROCESS},
     .examples = "  bvox mesh embryo.nii.gz -o embryo.stl\n"
                 "  bvox mesh atlas.nii.gz --label 37 -o hippocampus.ply --smooth 10\n"
-                "  bvox mesh cells.tif -o cells.obj --method cuberille\n",
+                "  bvox mesh cells.tif -o cells.obj --method cuberille\n"
+                "  bvox mesh aal.nii.gz --labels all --lut aal.nii.txt -o aal_meshes/\n",
 };
 
 int cmd_mesh(int argc, char **argv)
@@ -72,6 +86,21 @@ int cmd_mesh(int argc, char **argv)
     const char *in = a.in, *out = a.out, *fmt = a.fmt;
     bvox_mesh_opts mo = a.mo;
     if (!in) return cli_usage_error(cmd, "needs IN");
+    int method_given = 0; /* the table's default cannot tell */
+    for (int i = 1; i < argc && strcmp(argv[i], "--"); i++)
+        if (!strncmp(argv[i], "--method", 8)) method_given = 1;
+    if (a.labels || a.lut) {
+        if (!a.labels) return cli_usage_error(cmd, "--lut goes with --labels");
+        if (!out) return cli_usage_error(cmd, "needs -o FOLDER for the per-label meshes");
+        if (method_given && mo.method != BVOX_MESH_CUBERILLE)
+            return cli_usage_error(cmd, "per-label meshes are cuberille (shared boundaries); "
+                                        "--method mc does not apply");
+        if (mo.smooth > 0)
+            return cli_usage_error(cmd, "per-label meshes are not smoothed (shared "
+                                        "boundaries would part)");
+        return cli_mesh_labels(in, &a.ra, a.labels, a.lut, a.max_labels, out, fmt ? fmt : "ply",
+                               a.ascii);
+    }
     if (!out) return cli_usage_error(cmd, "needs -o OUT (.stl, .ply, .obj or .off)");
     if (!fmt && !bvox_mesh_format_for_path(out))
         return cli_usage_error(cmd, "%s: the extension must be .stl, .ply, .obj or .off", out);

@@ -45,6 +45,7 @@ static const cli_opt morph_opts[] = {
     {"--min-size", 0, CLI_INT, "N", "islands: smallest component kept, in voxels (required)",
      A(min_size), .lo = 1, .hi = INT64_MAX, .bad = "--min-size: '%s' is not a voxel count >= 1"},
     CLI_OPT_OUTPUT_FORMAT(morph_args, wo.format),
+    CLI_OPT_FORCE(morph_args, wo.force),
     {NULL},
 };
 static const cli_group morph_group = {"Options", morph_opts, NULL};

@@ -197,6 +197,7 @@ static const cli_opt recon_opts[] = {
     {"--quiet", 'q', CLI_FLAG, NULL, "no progress and no warnings on stderr", A(quiet),
      .fn = take_quiet},
     {"--output-format", 0, CLI_STR, "NAME", "force the model's format ({formats})", A(wo.format)},
+    {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(wo.force)},
     {NULL},
 };
 static const cli_group recon_group = {"Options", recon_opts, NULL};
@@ -425,7 +426,7 @@ int cmd_reconstruct(int argc, char **argv)
     if (out && bvox_write(out, vol, &a.wo)) rc = cli_fail();
     if (!rc && save) {
         st = bvox__ends_with_ci(save, ".json") ? bvox_stack_write_json(save, stack)
-                                      : bvox_stack_write_svg_dir(save, stack);
+                                      : bvox_stack_write_svg_dir_opts(save, stack, &a.wo);
         if (st) rc = cli_fail();
     }
     if (!rc && report_path) rc = save_report(report_path, rep, vol);

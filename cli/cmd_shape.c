@@ -39,6 +39,7 @@ static const cli_opt shape_opts[] = {
     {"--output", 'o', CLI_PATH, "OUT", "the file to write (required)", A(out)},
     {"--json", 0, CLI_FLAG, NULL, "print the info as one JSON object", A(json)},
     CLI_OPT_OUTPUT_FORMAT(shape_args, wo.format),
+    CLI_OPT_FORCE(shape_args, wo.force),
     {NULL},
 };
 static const cli_group shape_group = {"Options", shape_opts, NULL};

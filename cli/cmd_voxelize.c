@@ -80,6 +80,7 @@ static const cli_opt voxelize_opts[] = {
     {"--mesh-format", 0, CLI_STR, "NAME", "stl, obj, ply or off (default: by extension/content)",
      A(fmt), .choices = cli_mesh_formats},
     CLI_OPT_OUTPUT_FORMAT(voxelize_args, wo.format),
+    CLI_OPT_FORCE(voxelize_args, wo.force),
     {NULL},
 };
 static const cli_group voxelize_group = {"Options", voxelize_opts, NULL};

@@ -17,6 +17,8 @@ static const cli_command commands[] = {
     {cmd_morph, &cli_spec_morph},
     {cmd_components, &cli_spec_components},
     {cmd_measure, &cli_spec_measure},
+    {cmd_labels, &cli_spec_labels},
+    {cmd_interpolate, &cli_spec_interpolate},
     {cmd_edit, &cli_spec_edit},
     {cmd_cut, &cli_spec_cut},
     {cmd_csg, &cli_spec_csg},
@@ -40,6 +42,8 @@ static const cli_spec *const specs[] = {
     &cli_spec_morph,
     &cli_spec_components,
     &cli_spec_measure,
+    &cli_spec_labels,
+    &cli_spec_interpolate,
     &cli_spec_edit,
     &cli_spec_cut,
     &cli_spec_csg,
@@ -171,6 +175,9 @@ int main(int argc, char **argv)
         if (name[0] == '-') return cli_usage_error(NULL, "unknown option '%s'", name);
         return cli_usage_error(NULL, "unknown command '%s'", name);
     }
+    /* Ctrl-C, SIGTERM or SIGHUP during a write removes its temporary files.
+     * Not for the viewer, whose window library turns Ctrl-C into a quit. */
+    if (c->run != cmd_view && bvox_cleanup_on_signals()) return cli_fail();
     int rc = c->run(argc - 1, argv + 1);
     /* A full disk or closed pipe on stdout is a failure too. */
     if (fflush(stdout) != 0 || ferror(stdout)) {

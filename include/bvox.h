@@ -326,11 +326,12 @@ typedef struct bvox_read_opts {
     uint64_t raw_offset;    /* bytes to skip (a header) */
     double raw_spacing[3];  /* 0: 1.0 */
     const char *raw_unit;   /* NULL: "" */
+    int32_t zarr_level;     /* zarr only: the multiscales level read (0: the finest) */
 } bvox_read_opts;
 
 #define BVOX_READ_OPTS_INIT \
     { NULL, { BVOX_BIN_NONZERO, 0.0, 0.0, 0.0, 0.0 }, { 0, 0, 0 }, BVOX_DT_U8, 0, 0, \
-      { 0.0, 0.0, 0.0 }, NULL }
+      { 0.0, 0.0, 0.0 }, NULL, 0 }
 
 /* Read a file (a folder for PNG slices). opts may be NULL (defaults). The
  * size claimed by a header is checked against the limits and the budget before
@@ -373,11 +374,16 @@ typedef struct bvox_write_opts {
     const char *format; /* NULL: by extension ("png" for a path ending in '/' or
                            without extension is not guessed: give it) */
     int raw_bits;       /* raw only: 8 (0/1 bytes, default) */
+    int force;          /* folder outputs: write into a folder that holds other
+                           files (replacing files of bvox's names, removing
+                           nothing else); 0 refuses such a folder */
     int32_t chunks[3];  /* zarr only: chunk shape x, y, z (0: up to 64 per axis) */
     const char *compressor; /* zarr only: "zlib" (NULL: the default) or "blosc" */
+    int32_t zarr_levels;    /* zarr only: resolution levels (0: automatic, halving
+                               until a side is under one chunk; 1: no pyramid) */
 } bvox_write_opts;
 
-#define BVOX_WRITE_OPTS_INIT { NULL, 8, { 0, 0, 0 }, NULL }
+#define BVOX_WRITE_OPTS_INIT { NULL, 8, 0, { 0, 0, 0 }, NULL, 0 }
 
 /* The dimensions bvox_read(path, opts) would give, from the header alone
  * (no voxel data is read or decoded), so that a caller can refuse an
@@ -392,13 +398,36 @@ BVOX_API bvox_status bvox_read_dims(const char *path, const bvox_read_opts *opts
  * BVOX_ETOOBIG). Writes nothing. */
 BVOX_API bvox_status bvox_write_check(const char *path, bvox_dims dims, const bvox_write_opts *opts);
 /* Write a volume. The output is first written under a temporary name in the
- * target folder, synced and then renamed: a failure leaves no partial file
- * and an existing file unchanged. */
+ * target folder, synced and then renamed, and the folder is synced: a
+ * failure leaves no partial file and an existing file unchanged.
+ * What is overwritten:
+ *  - a regular file: replaced whole; it keeps its permission bits and group
+ *    (new files get 0666 less the umask);
+ *  - a symlink: followed; its final target is replaced the same way (the
+ *    temporary file is made beside that target) and the link stays;
+ *  - a folder, device, FIFO or socket where a file is written: refused
+ *    (BVOX_EIO), never replaced;
+ *  - a folder output (PNG slices): goes into a new or empty folder, or over
+ *    bvox's own earlier output of the same kind (recognised by the manifest
+ *    ".bvox-manifest" it writes there, listing its files), whose listed files
+ *    are replaced or removed; a folder holding anything else is refused
+ *    unless opts->force, and even then only files of bvox's names
+ *    (slice_NNNN.png) are replaced and nothing is removed.
+ * bvox never removes a file it did not write. */
 BVOX_API bvox_status bvox_write(const char *path, const bvox_volume *vol,
                                 const bvox_write_opts *opts);
 /* Write size bytes as the file path the same way (temporary file in the
  * target folder, fsync, rename): for reports and other small outputs. */
 BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size);
+
+/* Remove the temporary files and folders of writes in progress when the
+ * process is ended by SIGINT, SIGTERM or SIGHUP: installs a handler for each
+ * of those signals whose action is the default (an ignored signal, or one the
+ * application handles itself, is left alone), which removes the temporaries
+ * (async-signal-safely) and then ends the process by the signal as before.
+ * Call once, early, from the main thread of a program (the `bvox` command
+ * does). BVOX_EIO if sigaction fails. */
+BVOX_API bvox_status bvox_cleanup_on_signals(void);
 
 /* Write a label volume (e.g. from bvox_components_labels) as NIfTI-1, .nii
  * or .nii.gz by the path's suffix: labels holds nx*ny*nz values, x fastest
@@ -584,6 +613,96 @@ BVOX_API bvox_status bvox_measure(const bvox_volume *vol, bvox_measures *out);
  * empty volume. BVOX_EINVAL for another conn, BVOX_ENOMEM / BVOX_ETOOBIG. */
 BVOX_API bvox_status bvox_measure_components(const bvox_volume *vol, int conn,
                                              bvox_measures **per_component, int64_t *n);
+
+/* ----------------------------------------------------------- label volumes */
+
+/* A label volume (atlas, segmentation: 0 background, other integers objects)
+ * read once and split into one binary volume per label, each cropped to its
+ * label's bounding box grown by one voxel (clipped to the volume), so memory
+ * follows the objects, not labels x volume. */
+#define BVOX_LABELS_MAX_DEFAULT 65535
+
+typedef struct bvox_label_object {
+    int64_t label;       /* the value in the file (never 0) */
+    int64_t count;       /* voxels */
+    bvox_box bbox;       /* tight, half-open, in the label volume's voxel indices */
+    bvox_box crop;       /* the part of the label volume `volume` holds */
+    bvox_volume *volume; /* the label's voxels within crop; the origin is moved so
+                            that voxels keep their world position (bvox_volume_crop) */
+} bvox_label_object;
+
+/* Two labels that touch: voxel faces between a voxel of one and a voxel of
+ * the other (6-neighbours), per axis, and their area in unit^2. */
+typedef struct bvox_label_contact {
+    int64_t a, b;     /* indices into objects, a < b */
+    int64_t faces[3]; /* faces perpendicular to x, y, z */
+    double area;      /* faces[0]*sy*sz + faces[1]*sx*sz + faces[2]*sx*sy */
+} bvox_label_contact;
+
+typedef struct bvox_labelset {
+    bvox_dims dims;          /* of the label volume */
+    bvox_geometry geometry;  /* of the label volume */
+    int64_t background;      /* voxels of label 0 */
+    int64_t n;               /* objects, by ascending label */
+    bvox_label_object *objects;
+    int64_t ncontacts;       /* sorted by (a, b) */
+    bvox_label_contact *contacts;
+} bvox_labelset;
+
+/* Read a label volume (NIfTI, TIFF or raw: integer samples, or floats that
+ * hold integers; scl_slope/inter applied) in two passes over its samples.
+ * opts: format and raw options (binarize is ignored; NULL: defaults).
+ * max_labels (<= 0: BVOX_LABELS_MAX_DEFAULT) bounds the distinct non-zero
+ * labels: more is BVOX_ETOOBIG before any per-label volume is made. A
+ * sample that is not an integer is BVOX_EFORMAT naming the voxel; binvox
+ * and PNG files are BVOX_EUNSUPPORTED. *out is released with
+ * bvox_labelset_destroy. Thread-safe. */
+BVOX_API bvox_status bvox_labels_read(const char *path, const bvox_read_opts *opts, int64_t max_labels,
+                             bvox_labelset **out);
+BVOX_API bvox_status bvox_labels_read_memory(const void *data, size_t size, const char *name,
+                                    const bvox_read_opts *opts, int64_t max_labels,
+                                    bvox_labelset **out);
+/* Release a label set and its volumes; NULL is fine. */
+BVOX_API void bvox_labelset_destroy(bvox_labelset *set);
+/* Give the label volume a new geometry (e.g. a voxel size the file lacks):
+ * every crop follows, keeping its place in the volume. BVOX_EINVAL for an
+ * invalid geometry (as bvox_volume_set_geometry). */
+BVOX_API bvox_status bvox_labelset_set_geometry(bvox_labelset *set, const bvox_geometry *geom);
+/* Index of label in set->objects, or -1. */
+BVOX_API int64_t bvox_labelset_find(const bvox_labelset *set, int64_t label);
+/* bvox_measure of object `index`, reported in the label volume's frame
+ * (bbox, extents and centroid as bvox_measure gives them for the volume of
+ * that label alone, e.g. `bvox measure --label N`): the crop changes nothing
+ * but the work. BVOX_EINVAL for an index out of range. */
+BVOX_API bvox_status bvox_labelset_measure(const bvox_labelset *set, int64_t index, bvox_measures *out);
+
+/* A lookup table of label names and colours, as segmentation tools write
+ * them: FreeSurfer *LUT.txt and 3D Slicer colour tables ("index name R G B
+ * A"), ITK-SNAP label descriptions ("index R G B A visible mesh \"name\""),
+ * the AAL text list ("index name code"). '#' starts a comment. */
+typedef struct bvox_label_entry {
+    int64_t label;
+    char name[96];
+    unsigned char rgba[4];
+    int has_color;
+} bvox_label_entry;
+
+typedef struct bvox_label_table {
+    int64_t n;
+    bvox_label_entry *entries;  /* by ascending label; a duplicate keeps the first */
+    int sorted;                 /* internal: entries are sorted */
+    int nwarnings;              /* duplicates, unreadable lines: not failures; each
+                                   also goes to the warning handler */
+} bvox_label_table;
+
+/* Read a table. BVOX_ENOTFOUND, BVOX_EFORMAT (no line could be read).
+ * Release with bvox_label_table_destroy. */
+BVOX_API bvox_status bvox_label_table_read(const char *path, bvox_label_table **out);
+BVOX_API bvox_status bvox_label_table_parse(const char *text, size_t size, const char *name,
+                                   bvox_label_table **out);
+BVOX_API void bvox_label_table_destroy(bvox_label_table *table);
+/* The entry for label, or NULL. */
+BVOX_API const bvox_label_entry *bvox_label_table_find(const bvox_label_table *table, int64_t label);
 
 /* ------------------------------------------------------------------ render */
 

@@ -91,6 +91,9 @@ static inline uint64_t bvox__extract_bits(const uint64_t *col, size_t nwords, in
     uint64_t hi = (w + 1 >= 0 && (size_t)(w + 1) < nwords) ? col[w + 1] : 0;
     return (lo >> s) | (hi << (64 - s));
 }
+/* volume_box.c: move g's origin by a voxel offset (di, dj, dk) along its
+ * axes so that voxels keep their world position (crops, pads). */
+void bvox__geometry_shift(bvox_geometry *g, double di, double dj, double dk);
 /* Set (value) or clear bits z0..z1-1 of one column. */
 void bvox__column_fill(uint64_t *col, int32_t z0, int32_t z1, int value);
 

@@ -1,6 +1,7 @@
 /* harness.c — the runner behind harness.h (see there). */
 #include "harness.h"
 
+#include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -125,4 +126,16 @@ int main(int argc, char **argv)
         return 2;
     }
     return failed ? 1 : 0;
+}
+
+int harness_count_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
+    closedir(d);
+    return n;
 }

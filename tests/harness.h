@@ -22,6 +22,9 @@ void harness_register(const char *name, harness_fn fn);
 const char *harness_tmpdir(void);
 /* Path inside the scratch directory (static buffer, rotates over 8 slots). */
 const char *harness_path(const char *name);
+/* Entries of dir other than . and .. (-1 if it cannot be read): what an
+ * output folder holds after a write or a failure. */
+int harness_count_entries(const char *dir);
 /* Deterministic random numbers (xorshift), seeded per case. */
 uint64_t harness_rand(void);
 /* Folder with the test data files (tests/data). */

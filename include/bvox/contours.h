@@ -224,6 +224,11 @@ BVOX_API bvox_status bvox_stack_read_reconstruct_section_memory(const char *data
  * <circle class="marker">). */
 BVOX_API bvox_status bvox_stack_write_json(const char *path, const bvox_contour_stack *stack);
 BVOX_API bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *stack);
+/* The same with write options: only opts->force is used (NULL: not forced);
+ * see bvox_write for what a folder output may overwrite (here the files are
+ * section_NNNN.svg). */
+BVOX_API bvox_status bvox_stack_write_svg_dir_opts(const char *dir, const bvox_contour_stack *stack,
+                                                   const bvox_write_opts *opts);
 
 /* ------------------------------------------------- model -> contours */
 
@@ -245,5 +250,14 @@ BVOX_API bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contou
  * *out is owned by the caller. */
 BVOX_API bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis,
                                              bvox_contour_stack **out);
+
+/* Fill the z slices of a mask that were not annotated by shape-based
+ * interpolation between the annotated slices around them (signed distance
+ * maps blended linearly, as bvox_stack_to_volume does between sections).
+ * annotated: nz flags (NULL: a slice is annotated when it holds a 1-voxel).
+ * Annotated slices are kept; slices outside the first..last annotated one
+ * are kept as they are. *out has in's size and geometry. */
+BVOX_API bvox_status bvox_interpolate_slices(const bvox_volume *in, const uint8_t *annotated,
+                                    bvox_volume **out);
 
 #endif /* BVOX_CONTOURS_H */

@@ -150,4 +150,25 @@ BVOX_API bvox_status bvox_mesh_voxelize(const bvox_mesh *mesh, const bvox_voxeli
 BVOX_API bvox_status bvox_mesh_voxelize_dims(const bvox_mesh *mesh,
                                              const bvox_voxelize_opts *opts, bvox_dims *dims);
 
+/* ------------------------------------------------- label sets -> meshes */
+
+/* The cuberille surface of object `index` of a label set, in world
+ * coordinates. Two labels that touch share their boundary exactly: every
+ * voxel face between them is a triangle pair of both meshes, with bitwise
+ * equal vertices and opposite orientations (no gap, no overlap). */
+BVOX_API bvox_status bvox_labelset_mesh(const bvox_labelset *set, int64_t index, bvox_mesh **out);
+/* "LABEL_NAME.EXT" (NAME reduced to letters, digits, '-', '_', '.'; runs of
+ * anything else become one '_'; at most 64 characters) or "LABEL.EXT"
+ * without a name, into buf. */
+BVOX_API void bvox_label_file_name(int64_t label, const char *name, const char *ext, char *buf,
+                          size_t size);
+/* One mesh file per listed object (indices into set->objects; names[i] its
+ * name or NULL; names may be NULL) in folder dir, named by
+ * bvox_label_file_name, format "stl", "ply", "obj" or "off". The folder is
+ * written under a temporary name and renamed into place only when every
+ * mesh is written. */
+BVOX_API bvox_status bvox_labelset_write_meshes(const bvox_labelset *set, const int64_t *indices,
+                                       int64_t n, const char *const *names, const char *dir,
+                                       const char *format, int ascii);
+
 #endif /* BVOX_MESH_H */

@@ -55,7 +55,13 @@ long bvox__alloc_fail_pending(void) { return atomic_load(&fail_countdown); }
 static bool injected_failure(void)
 {
     long c = atomic_load(&fail_countdown);
-    return c > 0 && atomic_fetch_sub(&fail_countdown, 1) == 1;
+    /* Decrement only while positive (compare-and-swap): a plain fetch_sub let
+     * two threads that both saw 1 drive the countdown to -1, and the sweep then
+     * thought the failed allocation was never reached. */
+    while (c > 0) {
+        if (atomic_compare_exchange_weak(&fail_countdown, &c, c - 1)) return c == 1;
+    }
+    return false;
 }
 
 void bvox__format_bytes(char *buf, size_t len, size_t bytes)

@@ -63,8 +63,9 @@ static void copy_column(uint64_t *dst, const bvox_volume *dv, const uint64_t *sr
     dst[dv->wpc - 1] &= dv->tail_mask;
 }
 
-/* Move the origin by a voxel offset so that voxels keep their world position. */
-static void shift_origin(bvox_geometry *g, double di, double dj, double dk)
+/* Move the origin by a voxel offset so that voxels keep their world position
+ * (also used by the label splitter, labels_read.c, for its crops). */
+void bvox__geometry_shift(bvox_geometry *g, double di, double dj, double dk)
 {
     double d[3] = {di * g->spacing[0], dj * g->spacing[1], dk * g->spacing[2]};
     for (int r = 0; r < 3; r++)
@@ -89,7 +90,7 @@ bvox_status bvox_volume_crop(const bvox_volume *vol, bvox_box box, bvox_volume *
             copy_column(bvox__column(c, x, y), c, bvox__column_c(vol, x + box.x0, y + box.y0),
                         vol, box.z0);
     c->geom = vol->geom;
-    shift_origin(&c->geom, box.x0, box.y0, box.z0);
+    bvox__geometry_shift(&c->geom, box.x0, box.y0, box.z0);
     *out = c;
     BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;
@@ -113,7 +114,7 @@ bvox_status bvox_volume_pad(const bvox_volume *vol, const int32_t before[3],
             copy_column(bvox__column(p, x + before[0], y + before[1]), p,
                         bvox__column_c(vol, x, y), vol, -(int64_t)before[2]);
     p->geom = vol->geom;
-    shift_origin(&p->geom, -before[0], -before[1], -before[2]);
+    bvox__geometry_shift(&p->geom, -before[0], -before[1], -before[2]);
     *out = p;
     BVOX_CHECK_VOLUME(*out);
     return BVOX_OK;

@@ -450,5 +450,5 @@ static const char *const binvox_extensions[] = {".binvox", NULL};
 
 const bvox__format bvox__format_binvox = {
     "binvox", binvox_extensions, binvox_sniff, binvox_read_memory, NULL, binvox_write_path,
-    NULL, NULL,
+    NULL, NULL, NULL,
 };

@@ -12,11 +12,12 @@
 
 static const bvox__format *const formats[] = {
     &bvox__format_nifti, &bvox__format_binvox, &bvox__format_tiff,
-    &bvox__format_png,   &bvox__format_raw,  &bvox__format_zarr,
+    &bvox__format_png,   &bvox__format_raw,    &bvox__format_nrrd,
+    &bvox__format_zarr,
 };
 #define NFORMATS (sizeof formats / sizeof formats[0])
 
-const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, zarr"; }
+const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd, zarr"; }
 
 static const bvox__format *by_name(const char *name)
 {
@@ -83,6 +84,19 @@ static bvox_status finish(bvox_status st, bvox_volume **out)
     return st;
 }
 
+/* The format of a buffer: the forced one, else by content. */
+static bvox_status memory_format(const void *data, size_t size, const char *name,
+                                 const char *forced, const bvox__format **f)
+{
+    bvox_status st = resolve(forced, NULL, f);
+    if (st) return st;
+    if (!*f) *f = sniff(data, size);
+    if (!*f)
+        return bvox__fail(BVOX_EFORMAT, "%s: unrecognised content (give the format: %s)", name,
+                          bvox_format_list());
+    return BVOX_OK;
+}
+
 bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
                              const bvox_read_opts *opts, bvox_volume **out)
 {
@@ -92,12 +106,8 @@ bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
     if (!opts) opts = &defaults;
     if (!name) name = "input";
     const bvox__format *f;
-    bvox_status st = resolve(opts->format, NULL, &f);
+    bvox_status st = memory_format(data, size, name, opts->format, &f);
     if (st) return st;
-    if (!f) f = sniff(data, size);
-    if (!f)
-        return bvox__fail(BVOX_EFORMAT, "%s: unrecognised content (give the format: %s)", name,
-                          bvox_format_list());
     st = f->read_memory(data, size, name, opts, out);
     return finish(st, out);
 }
@@ -176,7 +186,7 @@ bvox_status bvox_write_check(const char *path, bvox_dims dims, const bvox_write_
     bvox__clear_error();
     bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
     if (!opts) opts = &defaults;
-    const bvox__format *f;
+    const bvox__format *f = NULL;
     bvox_status st = output_format(path, opts, &f);
     size_t bytes;
     if (!st && f->write_limits) st = f->write_limits(path, dims);
@@ -190,7 +200,7 @@ bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_writ
     bvox__clear_error();
     bvox_write_opts defaults = BVOX_WRITE_OPTS_INIT;
     if (!opts) opts = &defaults;
-    const bvox__format *f;
+    const bvox__format *f = NULL;
     bvox_status st = output_format(path, opts, &f);
     if (st) return st;
     if (f->write_limits) {
@@ -198,4 +208,62 @@ bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_writ
         if (st) return st;
     }
     return f->write_path(path, vol, opts);
+}
+
+/* ---------------------------------------------- typed samples (label volumes) */
+
+static bvox_status no_samples(const bvox__format *f, const char *name)
+{
+    return bvox__fail(BVOX_EUNSUPPORTED,
+                      "%s: %s files hold binary voxels, not labels (label volumes are read "
+                      "from nifti, tiff, raw or nrrd)",
+                      name, f->name);
+}
+
+bvox_status bvox__read_gray_memory(const void *data, size_t size, const char *name,
+                                   const bvox_read_opts *opts, bvox__gray *g)
+{
+    bvox__gray_init(g);
+    bvox_read_opts defaults = BVOX_READ_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    if (!name) name = "input";
+    const bvox__format *f;
+    bvox_status st = memory_format(data, size, name, opts->format, &f);
+    if (st) return st;
+    if (!f->gray_memory) return no_samples(f, name);
+    return f->gray_memory(data, size, name, opts, g);
+}
+
+bvox_status bvox__read_gray(const char *path, const bvox_read_opts *opts, bvox__bytes *file,
+                            bvox__gray *g)
+{
+    bvox__gray_init(g);
+    memset(file, 0, sizeof *file);
+    bvox_read_opts defaults = BVOX_READ_OPTS_INIT;
+    if (!opts) opts = &defaults;
+    const bvox__format *f;
+    bvox_status st = resolve(opts->format, path, &f);
+    if (st) return st;
+    struct stat sb;
+    if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
+    if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png;
+    if (f && !f->gray_memory) return no_samples(f, path);
+    st = bvox__read_file(path, file);
+    if (st) return st;
+    if (!f) f = sniff(file->data, file->size);
+    if (!f || !f->gray_memory) {
+        bvox__bytes_release(file);
+        memset(file, 0, sizeof *file);
+        if (f) return no_samples(f, path);
+        return bvox__fail(BVOX_EFORMAT,
+                          "%s: unknown file type (extension not recognised and content not "
+                          "identified; give --format, one of: %s)",
+                          path, bvox_format_list());
+    }
+    st = f->gray_memory(file->data, file->size, path, opts, g);
+    if (st) {
+        bvox__bytes_release(file);
+        memset(file, 0, sizeof *file);
+    }
+    return st;
 }

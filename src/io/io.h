@@ -86,30 +86,98 @@ bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, siz
 typedef struct bvox__sink {
     FILE *file;
     char *tmp_path;
-    char *final_path;
+    char *final_path; /* where the rename goes: a symlink's final target */
+    char *name;    /* the path as given, for messages */
     void *gz;      /* z_stream when compressing, else NULL */
     bool failed;   /* a write failed: commit will refuse */
     bvox_status status;
+    int slot;      /* bvox__temp_register's slot, -1 if none */
 } bvox__sink;
 
 /* Open a temporary file next to path (".name.XXXXXX" in the same folder).
- * gzip != 0 compresses what is written (for .nii.gz). */
+ * gzip != 0 compresses what is written (for .nii.gz). Refused (BVOX_EIO):
+ * a path that names a folder, a device, a FIFO or a socket. A symlink is
+ * followed: the temporary file is made beside its final target, which the
+ * rename replaces (the link stays a link). An existing file's permission
+ * bits (and group, where allowed) are kept; a new file gets 0666 less the
+ * umask. */
 bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s);
 bvox_status bvox__sink_write(bvox__sink *s, const void *data, size_t size);
-/* Flush, fsync, close and rename over path. On failure the temporary file is
- * removed and an existing file at path is unchanged. Always releases s. */
+/* Flush, fsync, close, rename over path and fsync the folder. On failure
+ * the temporary file is removed and an existing file at path is unchanged.
+ * Always releases s. */
 bvox_status bvox__sink_commit(bvox__sink *s);
 /* Close and remove the temporary file; releases s. Safe after a failed open. */
 void bvox__sink_abort(bvox__sink *s);
 /* Test hook: make the n-th following bvox__sink_write fail (1: the next). */
 void bvox__sink_fail_after(long n);
+/* Test hook: how many times a folder was fsync'ed after a rename into it. */
+long bvox__folder_syncs(void);
+/* fsync the folder that holds path (after a rename into it). */
+bool bvox__sync_parent(const char *path);
+struct stat;
+/* Follow path while it is a symlink (relative targets are relative to the
+ * link's folder, at most 40 links). *out: the final path (free() it); *sb
+ * its lstat, or *exists = false when nothing is there yet. false with errno
+ * on failure (ELOOP, ENOMEM, ...). */
+bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *exists);
 
-/* Directory outputs (PNG slices): a temporary folder next to path, renamed
- * over path on commit (an existing folder is replaced only then). A failed
- * commit removes the temporary folder, as abort does. */
-bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir);
-bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path);
-void bvox__dir_sink_abort(const char *tmp_dir);
+/* Folder outputs (PNG slices, SVG sections): the files are written into a
+ * temporary folder beside the target (tmp), then
+ *  - a target that does not exist: the temporary folder is renamed into place;
+ *  - an empty target, or one holding only an earlier bvox output of the
+ *    same kind (its manifest, MANIFEST_NAME, lists the files bvox wrote, and
+ *    every name in it has the kind's pattern): the new files are renamed
+ *    into it one by one, the listed files that are not written again are
+ *    removed, and the manifest is rewritten; the folder itself is kept;
+ *  - anything else is refused (BVOX_EIO, naming a file found there) before
+ *    anything is written, and again at commit; with force, the new files
+ *    replace files of the same names and nothing else is removed.
+ * Nothing but the listed files is ever deleted. The temporary folder is
+ * removed on every failure, and by bvox_cleanup_on_signals' handler.
+ *
+ * BVOX__DIR_ZARR is a whole tree (level folders of chunk files) and is put
+ * in place whole: a new or empty target gets the temporary folder renamed
+ * onto it; bvox's own earlier .zarr output (manifest of kind zarr naming
+ * every entry at its top) is replaced only when forced (swapped, then the
+ * old tree removed); a folder holding anything else is refused even when
+ * forced, since replacing a Zarr tree means deleting it. */
+typedef enum {
+    BVOX__DIR_PNG_SLICES,   /* slice_NNNN.png */
+    BVOX__DIR_SVG_SECTIONS, /* section_NNNN.svg */
+    BVOX__DIR_LABEL_MESHES, /* LABEL[_NAME].stl|ply|obj|off (bvox mesh --labels) */
+    BVOX__DIR_ZARR          /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
+} bvox__dir_kind;
+#define BVOX__MANIFEST_NAME ".bvox-manifest"
+typedef struct bvox__dir_sink {
+    char *target;  /* trailing slashes removed, a symlink resolved */
+    char *tmp;     /* the temporary folder: writers put their files here */
+    const char *name; /* the path as given, for messages */
+    bvox__dir_kind kind;
+    bool force;
+    int slot;
+} bvox__dir_sink;
+bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool force,
+                                bvox__dir_sink *d);
+/* Put the files in place as described above; always releases d. */
+bvox_status bvox__dir_sink_commit(bvox__dir_sink *d);
+/* Remove the temporary folder; releases d. Safe after a failed open. */
+void bvox__dir_sink_abort(bvox__dir_sink *d);
+
+/* ---- temporary names and signal cleanup (temp_files.c) ---- */
+
+/* "DIR/.BASE.XXXXXX" for path "DIR/BASE" (malloc'ed; NULL when out of memory). */
+char *bvox__temp_name(const char *path);
+/* Make a unique file (returns an open fd, mode 0666 less the umask) or
+ * folder (returns 0, mode 0777 less the umask) from templ, whose last six
+ * characters are replaced. -1 with errno on failure. */
+int bvox__temp_create(char *templ, bool is_dir);
+/* Track a temporary path so that a signal removes it; returns the slot for
+ * bvox__temp_unregister (-1: not tracked, which unregister accepts). */
+int bvox__temp_register(const char *path, bool is_dir);
+void bvox__temp_unregister(int slot);
+/* Remove every tracked temporary (what the signal handler does). */
+void bvox__temp_remove_all_signal_safe(void);
 
 /* ---- the format table (format.c) ---- */
 
@@ -129,6 +197,11 @@ typedef struct bvox__format {
     bvox_status (*probe_dims)(const char *path, const bvox_read_opts *opts, bvox_dims *dims);
     /* the writer's own limits on dimensions (NULL: none beyond BVOX_MAX_DIM) */
     bvox_status (*write_limits)(const char *path, bvox_dims dims);
+    /* Decode to typed samples without binarising (label volumes read them
+     * once, labels.c); NULL for formats that hold only binary voxels. On
+     * success g->data points into data or into g->owned. */
+    bvox_status (*gray_memory)(const uint8_t *data, size_t size, const char *name,
+                               const bvox_read_opts *opts, bvox__gray *g);
 } bvox__format;
 
 extern const bvox__format bvox__format_nifti;
@@ -136,9 +209,19 @@ extern const bvox__format bvox__format_binvox;
 extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
+extern const bvox__format bvox__format_nrrd; /* read only (nrrd.c) */
 extern const bvox__format bvox__format_zarr;
 /* A folder holding .zarray or .zgroup (zarr.c). */
 bool bvox__zarr_is_dir(const char *path);
+
+/* The typed samples of a file or buffer, for readers of label volumes: the
+ * format resolved as bvox_read does (forced, extension, content). On success
+ * g->data may point into *file (released by the caller after g) or into
+ * g->owned. BVOX_EUNSUPPORTED for formats without samples (binvox, png). */
+bvox_status bvox__read_gray(const char *path, const bvox_read_opts *opts, bvox__bytes *file,
+                            bvox__gray *g);
+bvox_status bvox__read_gray_memory(const void *data, size_t size, const char *name,
+                                   const bvox_read_opts *opts, bvox__gray *g);
 
 /* The TIFF writer, in its own file (tiff_write.c) beside the reader (tiff.c). */
 bvox_status bvox__tiff_write(const char *path, const bvox_volume *vol,

@@ -351,13 +351,14 @@ static bvox_status read_streamed(nsrc *src, const char *name, uint64_t file_size
                                  uint64_t gz_size, const bvox_read_opts *opts,
                                  bvox_volume **out);
 
+static bvox_status decode_whole(const uint8_t *data, size_t size, const char *name,
+                                const char *why, bvox__gray *g);
+
 static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const char *name,
                                      const bvox_read_opts *opts, bvox_volume **out)
 {
     *out = NULL;
     if (!name) name = "input";
-    bvox__bytes unz = {0};
-    header hd;
     bvox_status st;
     if (bvox__is_gzip(data, size) && bvox__bin_stream_ok(opts ? &opts->binarize : NULL)) {
         nsrc src;
@@ -368,22 +369,41 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
         if (src.zinit) inflateEnd(&src.z);
         return st;
     }
+    /* a plain buffer is binarised in place; a gzip one only for Otsu, which
+     * needs every sample first */
+    bvox__gray g;
+    st = decode_whole(data, size, name, "Otsu's threshold needs", &g);
+    if (!st) st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
+    bvox__gray_release(&g);
+    return st;
+}
+
+/* The whole file decoded into a gray volume, not binarised: g->data points
+ * into data, or into the inflated copy that g owns (.nii.gz, within the
+ * memory budget; why names who needs it, for the refusal). */
+static bvox_status decode_whole(const uint8_t *data, size_t size, const char *name,
+                                const char *why, bvox__gray *g)
+{
+    bvox__gray_init(g);
+    if (!name) name = "input";
+    bvox__bytes unz = {0};
+    header hd;
+    bvox_status st;
     if (bvox__is_gzip(data, size)) {
         uint8_t head[HDR_SIZE];
         long got = gunzip_head(data, size, head, sizeof head);
         if (got < 0) return bvox__fail(BVOX_EFORMAT, "%s: corrupt gzip data", name);
         st = parse_header(head, (size_t)got, name, &hd);
         if (st) return st;
-        /* The whole file may not decompress to more than the header promises. */
         uint64_t need = hd.vox_offset + hd.data_bytes;
         if (need + GZ_SLACK > bvox_memory_budget()) {
             char what[32], lim[32];
             bvox__format_bytes(what, sizeof what, (size_t)need);
             bvox__format_bytes(lim, sizeof lim, bvox_memory_budget());
             return bvox__fail(BVOX_ETOOBIG,
-                              "%s: Otsu's threshold needs the whole inflated file (%s), over "
-                              "the memory budget of %s",
-                              name, what, lim);
+                              "%s: %s the whole inflated file (%s), over the memory budget "
+                              "of %s",
+                              name, why, what, lim);
         }
         st = bvox__gunzip(data, size, name, (size_t)need + GZ_SLACK, &unz);
         if (st) return st;
@@ -400,21 +420,29 @@ static bvox_status nifti_read_memory(const uint8_t *data, size_t size, const cha
                         "%s: truncated: header claims %llu bytes of voxel data, file has %llu",
                         name, (unsigned long long)hd.data_bytes,
                         (unsigned long long)(size - hd.vox_offset));
-    if (st == BVOX_OK) {
-        bvox__gray g;
-        bvox__gray_init(&g);
-        g.dims = hd.dims;
-        g.dtype = hd.dtype;
-        g.data = data + hd.vox_offset; /* no copy: the binariser reads in place */
-        g.byteswap = hd.swap && hd.elem > 1;
-        g.slope = hd.slope;
-        g.inter = hd.inter;
-        g.geom = hd.geom;
-        st = bvox__binarize(&g, opts ? &opts->binarize : NULL, name, out);
-        bvox__gray_release(&g);
+    if (st) {
+        if (unz.data) bvox__bytes_release(&unz);
+        return st;
     }
-    if (unz.data) bvox__bytes_release(&unz);
-    return st;
+    g->dims = hd.dims;
+    g->dtype = hd.dtype;
+    g->data = data + hd.vox_offset;
+    g->owned = unz.data;
+    g->owned_bytes = unz.alloc_bytes;
+    g->byteswap = hd.swap && hd.elem > 1;
+    g->slope = hd.slope;
+    g->inter = hd.inter;
+    g->geom = hd.geom;
+    return BVOX_OK;
+}
+
+/* Typed samples without binarising (label volumes read them once,
+ * labels_read.c). */
+static bvox_status nifti_gray_memory(const uint8_t *data, size_t size, const char *name,
+                                     const bvox_read_opts *opts, bvox__gray *g)
+{
+    (void)opts;
+    return decode_whole(data, size, name ? name : "input", "the label samples need", g);
 }
 
 /* ---------------------------------------------------------- streamed reading */
@@ -805,5 +833,5 @@ static const char *const nifti_extensions[] = {".nii.gz", ".nii", NULL};
 
 const bvox__format bvox__format_nifti = {
     "nifti", nifti_extensions, nifti_sniff, nifti_read_memory, nifti_read_path,
-    nifti_write_path, nifti_probe_dims, nifti_write_limits,
+    nifti_write_path, nifti_probe_dims, nifti_write_limits, nifti_gray_memory,
 };

@@ -280,7 +280,6 @@ static bvox_status write_slice(const char *file, const uint8_t *pixels, uint32_t
 static bvox_status png_write_path(const char *path, const bvox_volume *v,
                                   const bvox_write_opts *opts)
 {
-    (void)opts;
     uint32_t ppm[2] = {0, 0};
     double mpu = metres_per_unit(v->geom.unit);
     for (int a = 0; a < 2 && mpu > 0; a++) {
@@ -296,8 +295,9 @@ static bvox_status png_write_path(const char *path, const bvox_volume *v,
     bvox_status st;
     uint8_t *slab = bvox__alloc(slab_bytes, false, "PNG slices", &st);
     if (!slab) return st;
-    char *tmp = NULL;
-    st = bvox__dir_sink_open(path, &tmp);
+    bvox__dir_sink ds;
+    st = bvox__dir_sink_open(path, BVOX__DIR_PNG_SLICES, opts->force != 0, &ds);
+    const char *tmp = st ? NULL : ds.tmp;
     size_t flen = tmp ? strlen(tmp) + 32 : 0;
     char *file = tmp ? bvox__mem_alloc(flen) : NULL;
     if (!st && !file) st = bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -313,9 +313,8 @@ static bvox_status png_write_path(const char *path, const bvox_volume *v,
     free(file);
     bvox__free(slab, slab_bytes);
     if (tmp) {
-        if (st) bvox__dir_sink_abort(tmp);
-        else st = bvox__dir_sink_commit(tmp, path);
-        free(tmp);
+        if (st) bvox__dir_sink_abort(&ds);
+        else st = bvox__dir_sink_commit(&ds);
     }
     return st;
 }
@@ -324,5 +323,5 @@ static const char *const png_extensions[] = {".png", NULL};
 
 const bvox__format bvox__format_png = {
     "png", png_extensions, png_sniff, png_read_memory, png_read_path, png_write_path,
-    png_probe_dims, NULL,
+    png_probe_dims, NULL, NULL,
 };

@@ -12,10 +12,11 @@
 #include <math.h>
 #include <string.h>
 
-static bvox_status raw_read_memory(const uint8_t *data, size_t size, const char *name,
-                                   const bvox_read_opts *opts, bvox_volume **out)
+/* Decode into a gray volume pointing into data (no copy). */
+static bvox_status raw_gray_memory(const uint8_t *data, size_t size, const char *name,
+                                   const bvox_read_opts *opts, bvox__gray *gout)
 {
-    *out = NULL;
+    bvox__gray_init(gout);
     if (!name) name = "input";
     if (!opts || opts->raw_dims.nx == 0 || opts->raw_dims.ny == 0 || opts->raw_dims.nz == 0)
         return bvox__fail(BVOX_EINVAL, "%s: raw needs --dims NX,NY,NZ", name);
@@ -61,6 +62,18 @@ static bvox_status raw_read_memory(const uint8_t *data, size_t size, const char 
     bool host_big = *(const uint8_t *)&probe == 0;
     g.data = data + opts->raw_offset;
     g.byteswap = elem > 1 && (opts->raw_big_endian != 0) != host_big;
+    *gout = g;
+    return BVOX_OK;
+}
+
+static bvox_status raw_read_memory(const uint8_t *data, size_t size, const char *name,
+                                   const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    if (!name) name = "input";
+    bvox__gray g;
+    bvox_status st = raw_gray_memory(data, size, name, opts, &g);
+    if (st) return st;
     st = bvox__binarize(&g, &opts->binarize, name, out);
     bvox__gray_release(&g);
     return st;
@@ -80,4 +93,5 @@ static const char *const raw_extensions[] = {".raw", NULL};
 
 const bvox__format bvox__format_raw = {
     "raw", raw_extensions, NULL, raw_read_memory, NULL, raw_write_path, NULL, NULL,
+    raw_gray_memory,
 };

@@ -2,13 +2,20 @@
  * stream.c — whole files in memory, gzip decompression with a size cap, and
  * the output sink that never leaves a partial file: everything is written to
  * a temporary file in the target folder, flushed, fsync'ed and renamed over
- * the target only when complete (the rename is atomic within one folder).
+ * the target only when complete (the rename is atomic within one folder),
+ * then the folder is fsync'ed so that the rename survives a power loss.
+ * Only regular files are written: a device, FIFO or socket at the output
+ * path is refused, a symlink is followed to its final target (the temporary
+ * file is made beside that target, so the rename stays within one folder
+ * and the link stays a link). Replacing a file keeps its permission bits and
+ * group. Folder outputs are in dir_sink.c, temporary names in temp_files.c.
  */
 #include "io.h"
 
 #include <errno.h>
 #include <limits.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,18 +25,34 @@
 
 /* ------------------------------------------------------------- reading */
 
+/* What a non-regular file is, for messages. */
+static const char *file_kind(mode_t m)
+{
+    return S_ISDIR(m) ? "a folder" : S_ISCHR(m) ? "a character device" : S_ISBLK(m) ? "a block device"
+         : S_ISFIFO(m) ? "a FIFO" : S_ISSOCK(m) ? "a socket" : "not a regular file";
+}
+
+
 bvox_status bvox__read_file(const char *path, bvox__bytes *out)
 {
     memset(out, 0, sizeof *out);
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    /* O_NONBLOCK: opening a FIFO for reading would otherwise wait forever for
+     * a writer; it is refused below like any file that cannot be sized. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
         if (errno == ENOENT) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
         return bvox__fail(BVOX_EIO, "%s: cannot open: %s", path, strerror(errno));
     }
     struct stat sb;
-    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+    if (fstat(fd, &sb) != 0) {
+        int e = errno;
         close(fd);
-        return bvox__fail(BVOX_EIO, "%s: not a regular file", path);
+        return bvox__fail(BVOX_EIO, "%s: cannot open: %s", path, strerror(e));
+    }
+    if (!S_ISREG(sb.st_mode)) {
+        close(fd);
+        return bvox__fail(BVOX_EIO, "%s: not a regular file (%s); bvox reads only regular files",
+                          path, file_kind(sb.st_mode));
     }
     size_t size = (size_t)sb.st_size;
     bvox_status st;
@@ -169,20 +192,73 @@ bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, siz
 /* ------------------------------------------------------------- writing */
 
 static atomic_long sink_fail_countdown;
+static atomic_long folder_syncs;
 
 void bvox__sink_fail_after(long n) { atomic_store(&sink_fail_countdown, n); }
+long bvox__folder_syncs(void) { return atomic_load(&folder_syncs); }
 
-static char *temp_name_for(const char *path)
+bool bvox__sync_parent(const char *path)
 {
+    /* no allocation here: this runs after the rename, when a failure could
+     * only misreport a finished write */
+    char dir[PATH_MAX];
     const char *slash = strrchr(path, '/');
-    size_t dirlen = slash ? (size_t)(slash - path + 1) : 0;
-    const char *base = slash ? slash + 1 : path;
-    size_t n = strlen(path) + 16;
-    char *t = bvox__mem_alloc(n);
-    /* ".NAME.XXXXXX" must itself be a valid name: a long NAME is cut */
-    int keep = (int)strlen(base) > NAME_MAX - 8 ? NAME_MAX - 8 : (int)strlen(base);
-    if (t) snprintf(t, n, "%.*s.%.*s.XXXXXX", (int)dirlen, path, keep, base);
-    return t;
+    size_t n = slash ? (slash == path ? 1 : (size_t)(slash - path)) : 1;
+    if (n >= sizeof dir) return true; /* cannot name it: leave it unsynced */
+    if (slash) memcpy(dir, path, n);
+    else dir[0] = '.';
+    dir[n] = '\0';
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return true; /* a folder we may write but not read: cannot sync it */
+    int rc = fsync(fd), e = errno;
+    close(fd);
+    if (rc == 0) atomic_fetch_add(&folder_syncs, 1);
+    errno = e;
+    return rc == 0 || e == EINVAL; /* EINVAL: this file system cannot sync folders */
+}
+
+/* Follow path while it is a symlink (relative targets are relative to the
+ * link's folder). *out: the final path (free() it); *sb its lstat, or
+ * *exists = false when nothing is there yet. errno on failure. */
+bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *exists)
+{
+    char *cur = bvox__mem_strdup(path);
+    if (!cur) errno = ENOMEM;
+    for (int hops = 0; cur; hops++) {
+        if (lstat(cur, sb) != 0) {
+            if (errno != ENOENT) break;
+            *exists = false;
+            *out = cur;
+            return true;
+        }
+        if (!S_ISLNK(sb->st_mode)) {
+            *exists = true;
+            *out = cur;
+            return true;
+        }
+        if (hops == 40) {
+            errno = ELOOP;
+            break;
+        }
+        char link[PATH_MAX];
+        ssize_t n = readlink(cur, link, sizeof link - 1);
+        if (n < 0) break;
+        link[n] = '\0';
+        const char *slash = strrchr(cur, '/');
+        size_t dirlen = link[0] != '/' && slash ? (size_t)(slash - cur + 1) : 0;
+        char *next = bvox__mem_alloc(dirlen + (size_t)n + 1);
+        if (next) {
+            memcpy(next, cur, dirlen);
+            memcpy(next + dirlen, link, (size_t)n + 1);
+        }
+        free(cur);
+        cur = next;
+        if (!cur) errno = ENOMEM;
+    }
+    int e = errno;
+    free(cur);
+    errno = e;
+    return false;
 }
 
 static void sink_release(bvox__sink *s)
@@ -192,34 +268,58 @@ static void sink_release(bvox__sink *s)
         free(s->gz);
     }
     if (s->file) fclose(s->file);
+    bvox__temp_unregister(s->slot);
     free(s->tmp_path);
     free(s->final_path);
+    free(s->name);
     memset(s, 0, sizeof *s);
+    s->slot = -1;
 }
 
 bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
 {
     memset(s, 0, sizeof *s);
+    s->slot = -1;
     const char *base = strrchr(path, '/');
     base = base ? base + 1 : path;
     if (!*base) return bvox__fail(BVOX_EINVAL, "%s: output path names a folder, not a file", path);
-    s->final_path = bvox__mem_strdup(path);
-    s->tmp_path = temp_name_for(path);
-    if (!s->final_path || !s->tmp_path) {
+    if (!(s->name = bvox__mem_strdup(path))) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    struct stat old;
+    bool exists;
+    if (!bvox__resolve_output(path, &s->final_path, &old, &exists)) {
+        int e = errno;
+        sink_release(s);
+        return bvox__fail(e == ENOMEM ? BVOX_ENOMEM : BVOX_EIO, "%s: cannot follow the path: %s",
+                          path, strerror(e));
+    }
+    /* bvox writes regular files only: renaming over a device or a FIFO
+     * would replace it (run as root against /dev/null, the system's). */
+    if (exists && !S_ISREG(old.st_mode)) {
+        sink_release(s);
+        return bvox__fail(BVOX_EIO, "%s: is %s; bvox writes only regular files", path,
+                          file_kind(old.st_mode));
+    }
+    s->tmp_path = bvox__temp_name(s->final_path);
+    if (!s->tmp_path) {
         sink_release(s);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
     }
-    int fd = mkstemp(s->tmp_path);
+    int fd = bvox__temp_create(s->tmp_path, false);
     if (fd < 0) {
         int e = errno;
         sink_release(s);
         return bvox__fail(e == ENOENT ? BVOX_ENOTFOUND : BVOX_EIO, "%s: cannot create: %s",
                           path, e == ENOENT ? "no such folder" : strerror(e));
     }
-    /* mkstemp makes 0600; give the file the usual permissions (umask applies) */
-    mode_t mask = umask(0);
-    umask(mask);
-    fchmod(fd, 0666 & ~mask);
+    s->slot = bvox__temp_register(s->tmp_path, false);
+    if (exists) {
+        /* replacing a file keeps its permissions and group (the owner too
+         * when run as root); new files got 0666 less the umask from open */
+        if (fchown(fd, old.st_uid, old.st_gid) != 0 && fchown(fd, (uid_t)-1, old.st_gid) != 0) {
+            /* not a member of that group: the file keeps ours */
+        }
+        fchmod(fd, old.st_mode & 01777); /* never set-user/group-ID on new content */
+    }
     s->file = fdopen(fd, "wb");
     if (!s->file) {
         close(fd);
@@ -252,7 +352,7 @@ static bool raw_write(bvox__sink *s, const void *data, size_t size)
 static bvox_status write_failed(bvox__sink *s)
 {
     s->failed = true;
-    s->status = bvox__fail(BVOX_EIO, "%s: write failed: %s", s->final_path, strerror(errno));
+    s->status = bvox__fail(BVOX_EIO, "%s: write failed: %s", s->name, strerror(errno));
     return s->status;
 }
 
@@ -267,7 +367,7 @@ static bvox_status deflate_some(bvox__sink *s, int flush)
         rc = deflate(z, flush);
         if (rc == Z_STREAM_ERROR) {
             s->failed = true;
-            return s->status = bvox__fail(BVOX_EIO, "%s: zlib error", s->final_path);
+            return s->status = bvox__fail(BVOX_EIO, "%s: zlib error", s->name);
         }
         size_t n = sizeof out - z->avail_out;
         if (n && !raw_write(s, out, n)) return write_failed(s);
@@ -309,14 +409,26 @@ bvox_status bvox__sink_commit(bvox__sink *s)
         bvox__sink_abort(s);
         return st;
     }
-    if (rename(s->tmp_path, s->final_path) != 0) {
-        st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished file into place: %s",
-                        s->final_path, strerror(errno));
+    /* the target may have become a folder or a device since the open */
+    struct stat sb;
+    if (lstat(s->final_path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+        st = bvox__fail(BVOX_EIO, "%s: is %s; bvox writes only regular files", s->name,
+                        file_kind(sb.st_mode));
         bvox__sink_abort(s);
         return st;
     }
+    if (rename(s->tmp_path, s->final_path) != 0) {
+        st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished file into place: %s",
+                        s->name, strerror(errno));
+        bvox__sink_abort(s);
+        return st;
+    }
+    /* the rename itself is on disk only once the folder is */
+    if (!bvox__sync_parent(s->final_path))
+        st = bvox__fail(BVOX_EIO, "%s: written, but its folder could not be synced: %s", s->name,
+                        strerror(errno));
     sink_release(s);
-    return BVOX_OK;
+    return st;
 }
 
 void bvox__sink_abort(bvox__sink *s)
@@ -327,147 +439,6 @@ void bvox__sink_abort(bvox__sink *s)
     }
     if (s->tmp_path) unlink(s->tmp_path);
     sink_release(s);
-}
-
-/* ---------------------------------------------------- folder outputs */
-
-bvox_status bvox__dir_sink_open(const char *path, char **tmp_dir)
-{
-    *tmp_dir = NULL;
-    size_t len = strlen(path);
-    while (len > 1 && path[len - 1] == '/') len--;
-    char *trimmed = bvox__mem_strndup(path, len);
-    if (!trimmed) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    struct stat sb;
-    if (stat(trimmed, &sb) == 0 && !S_ISDIR(sb.st_mode)) {
-        free(trimmed);
-        return bvox__fail(BVOX_EIO, "%s: exists and is not a folder", path);
-    }
-    char *t = temp_name_for(trimmed);
-    free(trimmed);
-    if (!t) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    if (!mkdtemp(t)) {
-        int e = errno;
-        free(t);
-        return bvox__fail(e == ENOENT ? BVOX_ENOTFOUND : BVOX_EIO, "%s: cannot create: %s",
-                          path, e == ENOENT ? "no such parent folder" : strerror(e));
-    }
-    chmod(t, 0777 & ~(mode_t)0022);
-    *tmp_dir = t;
-    return BVOX_OK;
-}
-
-static void remove_dir_tree(const char *dir);
-static bool sync_dir_files(const char *dir);
-
-static bvox_status dir_commit(const char *tmp_dir, const char *path);
-
-bvox_status bvox__dir_sink_commit(const char *tmp_dir, const char *path)
-{
-    bvox_status st = dir_commit(tmp_dir, path);
-    if (st) remove_dir_tree(tmp_dir); /* a failed commit leaves no partial folder */
-    return st;
-}
-
-static bvox_status dir_commit(const char *tmp_dir, const char *path)
-{
-    /* the files must be on disk before the folder is renamed into place */
-    if (!sync_dir_files(tmp_dir))
-        return bvox__fail(BVOX_EIO, "%s: cannot sync the written files: %s", path,
-                          strerror(errno));
-    size_t len = strlen(path);
-    while (len > 1 && path[len - 1] == '/') len--;
-    char *target = bvox__mem_strndup(path, len);
-    if (!target) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    /* rename(2) replaces an empty folder only: move an existing one aside first,
-     * and remove it once the new one is in place. */
-    char *old = NULL;
-    struct stat sb;
-    if (stat(target, &sb) == 0) {
-        size_t n = len + 16;
-        old = bvox__mem_alloc(n);
-        if (!old) {
-            free(target);
-            return bvox__fail(BVOX_ENOMEM, "out of memory");
-        }
-        snprintf(old, n, "%s.old.XXXXXX", target);
-        if (!mkdtemp(old) || rename(target, old) != 0) {
-            bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot replace the existing folder: %s",
-                                        path, strerror(errno));
-            rmdir(old);
-            free(old);
-            free(target);
-            return st;
-        }
-    }
-    if (rename(tmp_dir, target) != 0) {
-        bvox_status st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished folder into place: %s",
-                                    path, strerror(errno));
-        if (old) rename(old, target); /* put the old one back */
-        free(old);
-        free(target);
-        return st;
-    }
-    if (old) remove_dir_tree(old);
-    free(old);
-    free(target);
-    return BVOX_OK;
-}
-
-#include <dirent.h>
-
-static bool sync_dir_files(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return false;
-    bool ok = true;
-    struct dirent *e;
-    while (ok && (e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        int fd = openat(dirfd(d), e->d_name, O_RDONLY | O_CLOEXEC);
-        if (fd < 0 || fsync(fd) != 0) ok = false;
-        if (fd >= 0) close(fd);
-    }
-    if (ok && fsync(dirfd(d)) != 0) ok = false;
-    closedir(d);
-    return ok;
-}
-
-/* Remove what the folder open as dfd holds, then close dfd. Works on names
- * relative to the folder, so cleaning up after a failed write never needs
- * an allocation that could itself fail. */
-static void remove_dir_contents(int dfd)
-{
-    DIR *d = fdopendir(dfd);
-    if (!d) {
-        close(dfd);
-        return;
-    }
-    struct dirent *e;
-    while ((e = readdir(d))) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-        struct stat sb;
-        if (fstatat(dirfd(d), e->d_name, &sb, AT_SYMLINK_NOFOLLOW) == 0 && S_ISDIR(sb.st_mode)) {
-            int sub = openat(dirfd(d), e->d_name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-            if (sub >= 0) remove_dir_contents(sub);
-            unlinkat(dirfd(d), e->d_name, AT_REMOVEDIR);
-        } else {
-            unlinkat(dirfd(d), e->d_name, 0);
-        }
-    }
-    closedir(d);
-}
-
-static void remove_dir_tree(const char *dir)
-{
-    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
-    if (fd >= 0) remove_dir_contents(fd);
-    rmdir(dir);
-}
-
-void bvox__dir_sink_abort(const char *tmp_dir)
-{
-    if (tmp_dir) remove_dir_tree(tmp_dir);
 }
 
 bvox_status bvox_write_file_atomic(const char *path, const void *data, size_t size)

@@ -366,7 +366,7 @@ static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *
         return bvox__fail(BVOX_ETOOBIG, "%s: pixel data overflows the address space", name);
     bvox__bin_stream *bs = NULL;
     uint8_t *page = NULL;
-    if (bvox__bin_stream_ok(how)) {
+    if (out && bvox__bin_stream_ok(how)) { /* no out: the samples are wanted */
         st = bvox__bin_stream_begin(g, how, name, &bs);
         if (st) return st;
         page = bvox__alloc(page_bytes, false, "TIFF page", &st);
@@ -411,6 +411,24 @@ static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *
         return st;
     }
     return bvox__bin_stream_finish(bs, out);
+}
+
+/* Decode every page into a gray volume that owns its samples (no
+ * binarising: label volumes read the typed samples, labels_read.c). */
+static bvox_status tiff_gray_memory(const uint8_t *data, size_t size, const char *name,
+                                    const bvox_read_opts *opts, bvox__gray *g)
+{
+    (void)opts;
+    bvox__gray_init(g);
+    if (!name) name = "TIFF";
+    bvox__tiff_src src;
+    TIFF *tif;
+    bvox_status st = bvox__tiff_open_memory(data, size, name, &src, &tif);
+    if (st) return st;
+    st = read_pages(tif, &src, name, g, NULL, NULL);
+    TIFFClose(tif);
+    if (st) bvox__gray_release(g);
+    return st;
 }
 
 static bvox_status tiff_read_memory(const uint8_t *data, size_t size, const char *name,
@@ -463,5 +481,5 @@ static const char *const tiff_extensions[] = {".tif", ".tiff", NULL};
 
 const bvox__format bvox__format_tiff = {
     "tiff", tiff_extensions, tiff_sniff, tiff_read_memory, tiff_read_path, bvox__tiff_write,
-    NULL, NULL,
+    NULL, NULL, tiff_gray_memory,
 };

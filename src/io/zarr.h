@@ -83,44 +83,69 @@ typedef struct bvox__zarr_attrs {
     double spacing[3]; /* x, y, z */
     bool have_scale;
     char unit[16];
+    int32_t nlevels;   /* datasets in the multiscales (0 when none) */
 } bvox__zarr_attrs;
 bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *name,
                                    bvox__zarr_attrs *out);
+/* The same for dataset `level` (0 finest); BVOX_EINVAL when there is none. */
+bvox_status bvox__zarr_attrs_parse_level(const char *text, size_t size, const char *name,
+                                         int32_t level, bvox__zarr_attrs *out);
 
-/* ---- zarr.c: reading boxes and writing slab by slab (out of core) ---- */
+/* ---- zarr.c: arrays read box by box and written chunk by chunk ----
+ *
+ * The interface the out-of-core code builds on; keep it stable. Boxes are
+ * in voxels, x/y/z order (bvox's), inside the array's dims. */
 
-/* An opened array: metadata parsed and checked, nothing else read. */
-typedef struct bvox__zarr_in {
-    char name[4200];    /* the user's path, for messages */
-    char arr[4200];     /* the array folder */
-    bvox__zarr_meta m;
-    bvox__zarr_attrs attrs;
-    bvox_dims dims;
-    bvox_geometry geom; /* spacing and unit from the multiscales metadata */
-    bool swap;          /* samples in the other byte order than the CPU's */
-    uint8_t fill[8];    /* the fill value as one sample (m.has_fill) */
-} bvox__zarr_in;
-bvox_status bvox__zarr_in_open(const char *path, bvox__zarr_in *zi);
-/* The voxels of box (inside the array) binarised by how (NULL: nonzero),
- * reading only the chunks the box touches, one row of chunks along z at a
- * time. Otsu's threshold needs the whole array (BVOX_EUNSUPPORTED for a
- * smaller box). The volume gets the array's spacing and unit, origin 0. */
-bvox_status bvox__zarr_in_read_box(const bvox__zarr_in *zi, bvox_box box,
-                                   const bvox_binarize *how, bvox_volume **out);
+/* An array open for reading: a group path (its multiscales level, 0 the
+ * finest) or an array folder (.zarray; level must be 0). Only metadata is
+ * read here; chunks are decoded by the box reads, only those a box touches. */
+typedef struct bvox__zarr bvox__zarr;
+bvox_status bvox__zarr_open(const char *path, bvox__zarr **out);
+bvox_status bvox__zarr_open_level(const char *path, int32_t level, bvox__zarr **out);
+void bvox__zarr_close(bvox__zarr *z);
+bvox_dims bvox__zarr_dims(const bvox__zarr *z);
+/* spacing (the level's scale) and unit; the rest default */
+const bvox_geometry *bvox__zarr_geometry(const bvox__zarr *z);
+void bvox__zarr_chunk_shape(const bvox__zarr *z, int32_t chunks[3]); /* x, y, z */
+bvox_dtype bvox__zarr_dtype(const bvox__zarr *z);
+int32_t bvox__zarr_levels(const bvox__zarr *z); /* datasets of the group (1 for an array) */
+/* The box's samples into dst (nx*ny*nz samples of bvox__zarr_dtype, x
+ * fastest, the CPU's byte order). */
+bvox_status bvox__zarr_read_box_samples(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z0,
+                                        int32_t nx, int32_t ny, int32_t nz, void *dst);
+/* The box as bits into out, whose dims must be exactly nx, ny, nz: a voxel
+ * is set when its sample is nonzero (the default read options' rule).
+ * out's geometry is left as it is. */
+bvox_status bvox__zarr_read_box(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z0, int32_t nx,
+                                int32_t ny, int32_t nz, bvox_volume *out);
 
-/* A .zarr folder written in slabs along z: open writes the metadata into a
- * temporary folder, each put adds the next slab (whole rows of chunks along z:
- * z_at and the slab's depth multiples of the chunk depth, except the last),
- * close(keep) renames the folder into place when keep and *st is BVOX_OK,
- * else removes it (*st gets the commit's status). */
-typedef struct bvox__zarr_out bvox__zarr_out;
-bvox_status bvox__zarr_out_open(const char *path, bvox_dims dims, const bvox_geometry *geom,
-                                const bvox_write_opts *opts, bvox__zarr_out **out);
-bvox_status bvox__zarr_out_put(bvox__zarr_out *w, const bvox_volume *slab, int32_t z_at);
-void bvox__zarr_out_close(bvox__zarr_out *w, bool keep, bvox_status *st);
-/* The chunk depth along z (slabs are multiples of it). */
-int32_t bvox__zarr_out_chunk_z(const bvox__zarr_out *w);
-/* The bytes its buffers hold (for the out-of-core planning). */
-size_t bvox__zarr_out_bytes(const bvox__zarr_out *w);
+/* A new OME-Zarr group written chunk by chunk into a temporary folder:
+ * uint8 0/1, fill_value 0 (a chunk never written reads as zeros).
+ * chunks: x, y, z (0: up to 64), capped by the dims; compressor "zlib"
+ * (NULL) or "blosc"; geom: spacing and unit (NULL: 1, none); levels: the
+ * resolution levels (0: automatic, halving until the smallest side is
+ * under one chunk; 1: no pyramid); force: replace bvox's own earlier
+ * .zarr (a folder holding anything else is refused). */
+typedef struct bvox__zarr_writer bvox__zarr_writer;
+bvox_status bvox__zarr_create(const char *path, bvox_dims dims, const int32_t chunks[3],
+                              const char *compressor, const bvox_geometry *geom, int32_t levels,
+                              bool force, bvox__zarr_writer **out);
+void bvox__zarr_writer_chunk_shape(const bvox__zarr_writer *w, int32_t chunks[3]);
+/* Write the chunks covered by box placed at (x0, y0, z0) of level 0: x0, y0,
+ * z0 multiples of the chunk shape, and each side of box a multiple of it or
+ * reaching the array's end. A chunk written twice is rewritten. */
+bvox_status bvox__zarr_write_box(bvox__zarr_writer *w, int32_t x0, int32_t y0, int32_t z0,
+                                 const bvox_volume *box);
+/* Build the coarser levels from level 0 (read back chunk by chunk; a
+ * coarse voxel is set when any of its 2x2x2 fine voxels is), write the
+ * metadata and put the folder in place. Always frees w. */
+bvox_status bvox__zarr_commit(bvox__zarr_writer *w);
+/* Remove everything written; frees w. */
+void bvox__zarr_abort(bvox__zarr_writer *w);
+
+/* ---- zarr_pyramid.c ---- */
+/* dst (dims ceil(src / 2) per axis) = src halved: a voxel is set when any
+ * of its (up to) 2x2x2 source voxels is; whole words along z. */
+void bvox__downsample_or(const bvox_volume *src, bvox_volume *dst);
 
 #endif

@@ -161,6 +161,12 @@ done:
 bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *name,
                                    bvox__zarr_attrs *out)
 {
+    return bvox__zarr_attrs_parse_level(text, size, name, 0, out);
+}
+
+bvox_status bvox__zarr_attrs_parse_level(const char *text, size_t size, const char *name,
+                                         int32_t level, bvox__zarr_attrs *out)
+{
     memset(out, 0, sizeof *out);
     out->spacing[0] = out->spacing[1] = out->spacing[2] = 1.0;
     bvox__jtree j;
@@ -190,7 +196,14 @@ bvox_status bvox__zarr_attrs_parse(const char *text, size_t size, const char *na
             snprintf(out->unit, sizeof out->unit, "%s", s);
         }
     }
-    const bvox__jnode *ds = bvox__jtree_at(&j, bvox__jtree_get(&j, m0, "datasets"), 0);
+    const bvox__jnode *dsets = bvox__jtree_get(&j, m0, "datasets");
+    out->nlevels = dsets && dsets->type == BVOX__JT_ARRAY ? dsets->count : 0;
+    if (level > 0 && level >= out->nlevels) {
+        st = bvox__fail(BVOX_EINVAL, "%s: no resolution level %d (the multiscales has %d)", name,
+                        (int)level, (int)out->nlevels);
+        goto done;
+    }
+    const bvox__jnode *ds = bvox__jtree_at(&j, dsets, level);
     const bvox__jnode *path = bvox__jtree_get(&j, ds, "path");
     if (path && path->type == BVOX__JT_STRING) {
         if (path->len == 0 || path->len >= sizeof out->path || strstr(path->str, "..") ||

@@ -30,8 +30,11 @@
 
 /* The hot loops are cloned for CPUs with POPCNT (GCC's target_clones: an
  * ifunc picks the clone at load time, the binary stays portable); elsewhere
- * the portable popcount. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+ * the portable popcount. Not under ThreadSanitizer: the ifunc resolver runs
+ * while the program is relocated, before TSan's runtime is ready, and
+ * crashes in its instrumentation. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(__SANITIZE_THREAD__)
 #define HOT __attribute__((target_clones("popcnt", "default")))
 #define POPCOUNT(x) ((unsigned)__builtin_popcountll(x))
 #else

@@ -865,13 +865,20 @@ static void write_section(bvox__strbuf *b, const bvox_contour_stack *s, const bv
 
 bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *stack)
 {
+    return bvox_stack_write_svg_dir_opts(dir, stack, NULL);
+}
+
+bvox_status bvox_stack_write_svg_dir_opts(const char *dir, const bvox_contour_stack *stack,
+                                          const bvox_write_opts *opts)
+{
     bvox__clear_error();
     if (!dir || !stack) return bvox__fail(BVOX_EINVAL, "bvox_stack_write_svg_dir: NULL argument");
     double box[4];
     bounds(stack, &box[0], &box[1], &box[2], &box[3]);
-    char *tmp = NULL;
-    bvox_status st = bvox__dir_sink_open(dir, &tmp);
+    bvox__dir_sink ds;
+    bvox_status st = bvox__dir_sink_open(dir, BVOX__DIR_SVG_SECTIONS, opts && opts->force, &ds);
     if (st) return st;
+    const char *tmp = ds.tmp;
     size_t flen = strlen(tmp) + 40;
     char *file = bvox__mem_alloc(flen);
     if (!file) st = bvox__fail(BVOX_ENOMEM, "out of memory");
@@ -884,8 +891,7 @@ bvox_status bvox_stack_write_svg_dir(const char *dir, const bvox_contour_stack *
         bvox__sb_free(&b);
     }
     free(file);
-    if (st) bvox__dir_sink_abort(tmp);
-    else st = bvox__dir_sink_commit(tmp, dir);
-    free(tmp);
+    if (st) bvox__dir_sink_abort(&ds);
+    else st = bvox__dir_sink_commit(&ds);
     return st;
 }

@@ -110,6 +110,17 @@ expect 1 "output folder missing" -- "$BVOX" convert "$in/good.nii" "$out/no/such
 expect 1 "output under /proc" -- "$BVOX" convert "$in/good.nii" /proc/bvox-test.nii
 [ ! -e /proc/bvox-test.nii ] || fail "/proc/bvox-test.nii exists"
 expect 1 "output is a folder" -- "$BVOX" convert "$in/good.nii" "$in/folder.nii"
+# A FIFO as input (it used to hang in open), a FIFO as output (it used to be
+# replaced by a regular file), a folder output into a folder of the user's
+# (it used to be deleted with everything in it).
+mkfifo "$in/fifo.nii"
+expect 1 "a FIFO as input" -- timeout 20 "$BVOX" info "$in/fifo.nii"
+expect 1 "output is a FIFO" -- timeout 20 "$BVOX" convert "$in/good.nii" "$in/fifo.nii"
+[ -p "$in/fifo.nii" ] || fail "the FIFO was replaced"
+mkdir "$in/p"
+echo x >"$in/p/thesis.txt"
+expect 1 "folder output, user's folder" -- "$BVOX" convert "$in/good.nii" "$in/p/" --output-format png
+[ "$(ls -A "$in/p")" = thesis.txt ] || fail "the user's folder was changed: $(ls -A "$in/p")"
 expect 1 "demo -o under /proc" -- "$BVOX" demo -o /proc/bvox-test-dir
 hidden=$(find "$in" -name '.*' ! -name .)
 [ -z "$hidden" ] || fail "temporary files left in the input folder: $hidden"

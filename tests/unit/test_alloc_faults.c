@@ -48,19 +48,6 @@ typedef bvox_status (*fault_op)(void);
         }                                                                              \
     } while (0)
 
-/* Number of entries of dir other than . and .. (-1 if it cannot be read). */
-static int dir_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-
 /* Remove dir's files and folders one level deep (outputs of a successful run). */
 static void dir_clear(const char *dir)
 {
@@ -156,9 +143,9 @@ static int sweep(const char *what, fault_op op, const char *out)
             fprintf(stderr, "%s: allocation %ld failed gave ENOMEM without a message\n", what, n);
             return 1;
         }
-        if (out && dir_entries(out) != 0) {
+        if (out && harness_count_entries(out) != 0) {
             fprintf(stderr, "%s: allocation %ld failed left %d entries in %s\n", what, n,
-                    dir_entries(out), out);
+                    harness_count_entries(out), out);
             return 1;
         }
     }
@@ -212,7 +199,7 @@ static bvox_status op_write(void)
     bvox_write_opts o = BVOX_WRITE_OPTS_INIT;
     o.format = wformat;
     bvox_status st = bvox_write(in_out(wdir, wname), fixture, &o);
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 1);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 1);
     return st;
 }
 
@@ -296,7 +283,7 @@ static uint32_t *labels;
 static bvox_status op_write_labels(void)
 {
     bvox_status st = bvox_write_labels_nifti(in_out(wdir, "l.nii.gz"), fixture, labels);
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 1);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 1);
     return st;
 }
 
@@ -507,7 +494,7 @@ static bvox_status op_mesh_write(void)
     char name[32];
     snprintf(name, sizeof name, "m.%s", mformat);
     bvox_status st = bvox_mesh_write(in_out(wdir, name), mesh, mformat, mascii);
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 1);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 1);
     return st;
 }
 
@@ -612,7 +599,7 @@ static bvox_status op_stack_write(void)
 {
     bvox_status st = svg_dir ? bvox_stack_write_svg_dir(in_out(wdir, "svg"), stack)
                              : bvox_stack_write_json(in_out(wdir, "s.json"), stack);
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 1);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 1);
     return st;
 }
 
@@ -793,14 +780,14 @@ static const char *turn_name;
 static bvox_status op_turntable(void)
 {
     bvox_status st = bvox_render_turntable(fixture, &ropt, 3, in_out(wdir, turn_name));
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == (strstr(turn_name, ".gif") ? 1 : 3));
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == (strstr(turn_name, ".gif") ? 1 : 3));
     return st;
 }
 
 static bvox_status op_png_write(void)
 {
     bvox_status st = bvox_image_write_png(rimage, in_out(wdir, "i.png"));
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 1);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 1);
     return st;
 }
 
@@ -832,7 +819,7 @@ TEST(render_sheet_mosaic_turntable)
 static bvox_status op_demo_pictures(void)
 {
     bvox_status st = bvox_demo_pictures(fixture, wdir);
-    if (st == BVOX_OK) OP_CHECK(dir_entries(wdir) == 4);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 4);
     return st;
 }
 

@@ -11,18 +11,6 @@
 #include <unistd.h>
 #include <zlib.h>
 
-static int count_entries(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d) return -1;
-    int n = 0;
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) n++;
-    closedir(d);
-    return n;
-}
-
 static int write_text(const char *path, const char *text)
 {
     FILE *f = fopen(path, "wb");
@@ -116,12 +104,12 @@ TEST(sink_commit_replaces_atomically)
     CHECK_OK(bvox__read_file(path, &b));
     CHECK_EQ(b.size, 3);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(harness_tmpdir()), 2);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 2);
     CHECK_OK(bvox__sink_commit(&s));
     CHECK_OK(bvox__read_file(path, &b));
     CHECK_EQ(b.size, 11);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -144,7 +132,7 @@ TEST(sink_injected_failure_keeps_old_file)
         CHECK_EQ(b.size, 8);
         CHECK(memcmp(b.data, "precious", 8) == 0);
         bvox__bytes_release(&b);
-        CHECK_EQ(count_entries(harness_tmpdir()), 1);
+        CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     }
     return 0;
 }
@@ -168,35 +156,9 @@ TEST(sink_gzip_and_abort)
     CHECK_OK(bvox__sink_open(harness_path("never.bin"), 0, &s));
     CHECK_OK(bvox__sink_write(&s, "abc", 3));
     bvox__sink_abort(&s);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     /* a folder that does not exist */
     CHECK_STATUS(bvox__sink_open(harness_path("nodir/x.bin"), 0, &s), BVOX_ENOTFOUND);
-    return 0;
-}
-
-TEST(dir_sink_replaces_folder)
-{
-    const char *target = harness_path("slices");
-    CHECK(mkdir(target, 0777) == 0);
-    char old_file[1100];
-    snprintf(old_file, sizeof old_file, "%s/old.png", target);
-    CHECK(write_text(old_file, "old"));
-    char *tmp;
-    CHECK_OK(bvox__dir_sink_open(target, &tmp));
-    char new_file[1100];
-    snprintf(new_file, sizeof new_file, "%s/new.png", tmp);
-    CHECK(write_text(new_file, "new"));
-    CHECK_OK(bvox__dir_sink_commit(tmp, target));
-    free(tmp);
-    CHECK_EQ(count_entries(target), 1);
-    snprintf(new_file, sizeof new_file, "%s/new.png", target);
-    struct stat sb;
-    CHECK(stat(new_file, &sb) == 0);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1); /* no leftovers beside it */
-    CHECK_OK(bvox__dir_sink_open(target, &tmp));
-    bvox__dir_sink_abort(tmp);
-    free(tmp);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -218,9 +180,9 @@ TEST(write_file_atomic)
     CHECK_OK(bvox__read_file(path, &b));
     CHECK_EQ(b.size, 9);
     bvox__bytes_release(&b);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     CHECK_STATUS(bvox_write_file_atomic(harness_path("no/such/dir/x"), "x", 1), BVOX_ENOTFOUND);
-    CHECK_EQ(count_entries(harness_tmpdir()), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 1);
     return 0;
 }
 
@@ -242,5 +204,110 @@ TEST(sink_long_names)
         CHECK(stat(path, &sb) == 0 && sb.st_size == 3);
         CHECK(unlink(path) == 0);
     }
+    return 0;
+}
+
+/* A FIFO given as input used to hang in open(2) forever, waiting for a
+ * writer: it is refused at once (the alarm fails the test if it hangs). */
+TEST(read_file_refuses_fifo)
+{
+    const char *path = harness_path("f.nii");
+    CHECK(mkfifo(path, 0600) == 0);
+    alarm(20);
+    bvox__bytes b;
+    CHECK_STATUS(bvox__read_file(path, &b), BVOX_EIO);
+    alarm(0);
+    CHECK(strstr(bvox_errmsg(), "a FIFO") != NULL);
+    return 0;
+}
+
+/* Output paths that are not regular files: a FIFO (or device, socket) is
+ * refused and stays what it was; a folder is refused. */
+TEST(sink_refuses_special_files)
+{
+    const char *fifo = harness_path("o.nii");
+    CHECK(mkfifo(fifo, 0600) == 0);
+    CHECK_STATUS(bvox_write_file_atomic(fifo, "abc", 3), BVOX_EIO);
+    CHECK(strstr(bvox_errmsg(), "is a FIFO") != NULL);
+    struct stat sb;
+    CHECK(lstat(fifo, &sb) == 0 && S_ISFIFO(sb.st_mode));
+    const char *dir = harness_path("d.nii");
+    CHECK(mkdir(dir, 0777) == 0);
+    CHECK_STATUS(bvox_write_file_atomic(dir, "abc", 3), BVOX_EIO);
+    CHECK(strstr(bvox_errmsg(), "is a folder") != NULL);
+    /* a symlink to a FIFO is refused the same way */
+    CHECK(symlink("o.nii", harness_path("l.nii")) == 0);
+    CHECK_STATUS(bvox_write_file_atomic(harness_path("l.nii"), "abc", 3), BVOX_EIO);
+    CHECK(lstat(fifo, &sb) == 0 && S_ISFIFO(sb.st_mode));
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 3);
+    return 0;
+}
+
+/* A symlink is written through: its final target (two hops, one relative
+ * into another folder) is replaced atomically with the temporary file
+ * beside it, and the links stay links. A dangling link creates its target. */
+TEST(sink_writes_through_symlinks)
+{
+    char sub[1100];
+    snprintf(sub, sizeof sub, "%s", harness_path("sub"));
+    CHECK(mkdir(sub, 0777) == 0);
+    char real[1200];
+    snprintf(real, sizeof real, "%s/real.json", sub);
+    CHECK(write_text(real, "old"));
+    CHECK(symlink("sub/real.json", harness_path("mid.json")) == 0);
+    CHECK(symlink("mid.json", harness_path("link.json")) == 0);
+    CHECK_OK(bvox_write_file_atomic(harness_path("link.json"), "new!", 4));
+    struct stat sb;
+    CHECK(lstat(harness_path("link.json"), &sb) == 0 && S_ISLNK(sb.st_mode));
+    CHECK(lstat(harness_path("mid.json"), &sb) == 0 && S_ISLNK(sb.st_mode));
+    bvox__bytes b;
+    CHECK_OK(bvox__read_file(real, &b));
+    CHECK_EQ(b.size, 4);
+    CHECK(memcmp(b.data, "new!", 4) == 0);
+    bvox__bytes_release(&b);
+    CHECK_EQ(harness_count_entries(sub), 1);
+    CHECK_EQ(harness_count_entries(harness_tmpdir()), 3);
+    CHECK(symlink("sub/made.json", harness_path("dangling.json")) == 0);
+    CHECK_OK(bvox_write_file_atomic(harness_path("dangling.json"), "x", 1));
+    CHECK_EQ(harness_count_entries(sub), 2);
+    CHECK(lstat(harness_path("dangling.json"), &sb) == 0 && S_ISLNK(sb.st_mode));
+    return 0;
+}
+
+/* Replacing a file keeps its permission bits (a 0600 file used to become
+ * 0644); a new file gets 0666 less the umask. */
+TEST(sink_keeps_mode_new_follows_umask)
+{
+    const char *path = harness_path("secret.nii");
+    CHECK(write_text(path, "old"));
+    CHECK(chmod(path, 0600) == 0);
+    CHECK_OK(bvox_write_file_atomic(path, "new", 3));
+    struct stat sb;
+    CHECK(stat(path, &sb) == 0);
+    CHECK_EQ(sb.st_mode & 07777, 0600);
+    CHECK(chmod(path, 0751) == 0);
+    CHECK_OK(bvox_write_file_atomic(path, "newer", 5));
+    CHECK(stat(path, &sb) == 0);
+    CHECK_EQ(sb.st_mode & 07777, 0751);
+    CHECK_EQ(sb.st_gid, getegid());
+    mode_t old = umask(077);
+    CHECK_OK(bvox_write_file_atomic(harness_path("fresh.nii"), "x", 1));
+    umask(old);
+    CHECK(stat(harness_path("fresh.nii"), &sb) == 0);
+    CHECK_EQ(sb.st_mode & 07777, 0600);
+    return 0;
+}
+
+/* The folder is fsync'ed after the rename (else a power loss can undo a
+ * committed write): one folder sync per commit. */
+TEST(sink_commit_syncs_folder)
+{
+    long before = bvox__folder_syncs();
+    CHECK_OK(bvox_write_file_atomic(harness_path("a.json"), "{}", 2));
+    CHECK_EQ(bvox__folder_syncs() - before, 1);
+    bvox__sink_fail_after(1);
+    CHECK_STATUS(bvox_write_file_atomic(harness_path("a.json"), "{}", 2), BVOX_EIO);
+    bvox__sink_fail_after(0);
+    CHECK_EQ(bvox__folder_syncs() - before, 1); /* nothing renamed, nothing synced */
     return 0;
 }

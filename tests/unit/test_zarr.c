@@ -54,7 +54,9 @@ TEST(roundtrip_awkward_sizes_and_chunks)
         bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
         wo.chunks[0] = s[3], wo.chunks[1] = s[4], wo.chunks[2] = s[5];
         wo.compressor = i % 2 ? "blosc" : "zlib"; /* both codecs, every shape class */
-        const char *p = harness_path("a.zarr");
+        char name[32];
+        snprintf(name, sizeof name, "a%zu.zarr", i); /* a new folder per case */
+        const char *p = harness_path(name);
         CHECK_OK(bvox_write(p, v, &wo));
         bvox_volume *w;
         CHECK_OK(bvox_read(p, NULL, &w));
