@@ -275,7 +275,9 @@ static bvox_status write_level_box(bvox__zarr_writer *w, int32_t l, int32_t x0, 
                               z0, bn[0], bn[1], bn[2], (long long)c[0], (long long)c[1],
                               (long long)c[2], w->n[l][0], w->n[l][1], w->n[l][2]);
     const size_t page = (size_t)bn[0] * (size_t)bn[1];
-    size_t slab_slices = (size_t)c[2] + 63 < (size_t)bn[2] ? (size_t)c[2] + 63 : (size_t)bn[2];
+    /* whole 64-slice blocks from the one holding the chunk row's first slice
+     * (up to 63 before it) to past its last (up to 63 after) */
+    size_t slab_slices = (size_t)c[2] + 126 < (size_t)bn[2] ? (size_t)c[2] + 126 : (size_t)bn[2];
     size_t slab_bytes;
     if (!bvox__mul_size(page, slab_slices, &slab_bytes))
         return bvox__fail(BVOX_ETOOBIG, "%s: box slices too large", w->name);
