@@ -13,7 +13,9 @@
  *   stream_cc.c       connected components: each slab labelled, labels that
  *                     meet on the shared slice joined by a union-find;
  *   stream_map.c      morphology and CSG: each slab with the halo the
- *                     operation reaches, cut back to its core, written out.
+ *                     operation reaches, cut back to its core, written out;
+ *   stream_mesh.c     marching cubes: each cell's triangles from one slab,
+ *                     vertices welded across the seams.
  */
 #ifndef BVOX_STREAM_STREAM_H
 #define BVOX_STREAM_STREAM_H
@@ -87,5 +89,12 @@ bvox_status bvox__stream_morph(const bvox__slab_source *src, bvox__stream_morph_
 /* a OP b, slab by slab (same dimensions). */
 bvox_status bvox__stream_csg(const bvox__slab_source *a, const bvox__slab_source *b,
                              bvox_csg_op op, bvox__slab_sink *sink);
+
+/* ---- stream_mesh.c ---- */
+
+/* The marching-cubes mesh of the source (bvox_mesh_from_volume with the
+ * default options), slab by slab: the same triangles and vertices as in
+ * memory, up to their order. Needs the identity direction. */
+bvox_status bvox__stream_mesh(const bvox__slab_source *src, bvox_mesh **out);
 
 #endif /* BVOX_STREAM_STREAM_H */

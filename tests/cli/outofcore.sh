@@ -67,6 +67,38 @@ for op in "dilate --conn 6" "erode --conn 26" "open --conn 18" "close --radius 2
     "$BVOX" info "$tmp/mem.nii" --json | grep -Eq '"count": ?0[,}]' && fail "morph $op: empty result"
     rm -rf "$tmp/ooc.zarr"
 done
+# marching cubes by slabs: the same triangles as in memory (sorted ASCII PLY
+# faces, vertices by position), and the refusals of what needs the volume
+"$BVOX" mesh "$tmp/all.nii" --voxel-size 0.5,0.5,1.5 -o "$tmp/mem.ply" --ascii > "$tmp/mem.txt"
+"$BVOX" mesh "$tmp/a.zarr" -o "$tmp/ooc.ply" --ascii --max-memory $M > "$tmp/ooc.txt"
+sed 's/mem\.ply/X/' "$tmp/mem.txt" > "$tmp/m3"; sed 's/ooc\.ply/X/' "$tmp/ooc.txt" > "$tmp/o3"
+cmp -s "$tmp/m3" "$tmp/o3" || fail "mesh: counts differ: $(cat "$tmp/mem.txt") / $(cat "$tmp/ooc.txt")"
+faces() { $PY - "$1" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+nv = int([l for l in lines if l.startswith("element vertex")][0].split()[2])
+start = lines.index("end_header") + 1
+verts = [tuple(l.split()) for l in lines[start:start + nv]]
+out = []
+for l in lines[start + nv:]:
+    if not l.strip():
+        continue
+    idx = [int(x) for x in l.split()[1:]]
+    tri = [verts[i] for i in idx]
+    k = tri.index(min(tri))
+    out.append(tri[k:] + tri[:k])
+for t in sorted(out):
+    print(t)
+PY
+}
+PY=/usr/bin/python3
+faces "$tmp/mem.ply" > "$tmp/mf"; faces "$tmp/ooc.ply" > "$tmp/of"
+cmp -s "$tmp/mf" "$tmp/of" || fail "mesh: slabs give other triangles than memory"
+if "$BVOX" mesh "$tmp/a.zarr" --smooth 5 -o "$tmp/s.ply" --max-memory $M 2>/dev/null; then
+    fail "--smooth over the budget was accepted"
+fi
+[ ! -e "$tmp/s.ply" ] || fail "a refused mesh left output"
+
 # CSG by slabs: a .zarr grid, a second .zarr with other chunks, a NIfTI read
 # whole, a primitive and a complement, equal to the same expression in memory
 "$BVOX" convert "$tmp/t.nii" "$tmp/b.zarr" --chunks 64,64,29
