@@ -1,6 +1,6 @@
 #!/bin/sh
 # outofcore.sh — a .zarr larger than --max-memory is streamed in slabs by
-# info, measure, components and morph, with the same answers as in memory
+# info, measure, components, morph, csg and mesh, with the same answers as in memory
 # (the JSON outputs are identical; the morphology's .zarr holds the same
 # voxels as the in-memory result), odd chunks (37 x 100 x 65) and objects
 # crossing chunk borders and corners. What needs the whole volume (--csv,
