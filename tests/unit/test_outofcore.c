@@ -4,9 +4,10 @@
  * sizes, boxes, order), morphology and CSG voxels, marching-cubes
  * triangles. Slabs are forced thin (1, 2, 7 slices) so that objects cross
  * many slab faces, and the .zarr source and sink are run with an odd chunk
- * shape (37 x 100 x 65). The specimen has noise (many small components, ties in size), a hollow box
- * (cavities), a frame (a tunnel), a diagonal line (joined only through
- * corners, 26-connected) and a ball crossing chunk corners. */
+ * shape (37 x 100 x 65). The specimen has noise (many small components,
+ * ties in size), a hollow box (cavities), a frame (a tunnel), a diagonal
+ * line (joined only through corners, 26-connected) and a ball crossing
+ * chunk corners. */
 #include "harness.h"
 #include "ref/voxref.h"
 #include "stream/stream.h"
