@@ -32,7 +32,8 @@ int32_t bvox__stream_depth(const bvox__slab_source *src, int32_t halo, int32_t a
     const bvox_dims d = src->dims;
     if (align < 1) align = 1;
     double budget = (double)bvox_memory_budget();
-    double fixed = (double)d.nx * (double)d.ny * COLUMN_BYTES + (double)src->read_bytes + (double)extra;
+    double fixed =
+        (double)d.nx * (double)d.ny * COLUMN_BYTES + (double)src->read_bytes + (double)extra;
     int32_t best = align;
     /* the deepest multiple of align that fits; slabs deeper than the volume
      * gain nothing */

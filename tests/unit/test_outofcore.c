@@ -34,8 +34,10 @@ static bvox_volume *specimen(int nx, int ny, int nz, unsigned seed_parts)
     voxref_fill_box(r, (bvox_box){nx / 3 + 22, 50, 20, nx / 3 + 34, 62, nz - 5}, 1);
     voxref_fill_box(r, (bvox_box){nx / 3 + 25, 53, 20, nx / 3 + 31, 59, nz - 5}, 0);
     /* diagonal line: each voxel touches the next by a corner only */
-    for (int k = 0; k < 40 && k + 30 < nz && ny > 90; k++) *voxref_at(r, nx / 3 + 1 + k / 2, 70 + k / 2, k + 30) = 1;
-    for (int k = 0; k < 60 && k + 60 < nz && ny > 100; k++) *voxref_at(r, nx - 2 - k / 3, 100 - k, k + 60) = 1;
+    for (int k = 0; k < 40 && k + 30 < nz && ny > 90; k++)
+        *voxref_at(r, nx / 3 + 1 + k / 2, 70 + k / 2, k + 30) = 1;
+    for (int k = 0; k < 60 && k + 60 < nz && ny > 100; k++)
+        *voxref_at(r, nx - 2 - k / 3, 100 - k, k + 60) = 1;
     /* a ball around a chunk corner (37, 100, 65) when it fits */
     if (seed_parts)
         for (int z = 0; z < nz; z++)
@@ -181,7 +183,8 @@ static bvox_status morph_in_memory(const mcase *m, const bvox_volume *v, bvox_vo
     bool ball = m->radius > 0;
     switch (m->op) {
     case BVOX__SM_DILATE:
-        return ball ? bvox_morph_dilate_ball(v, m->radius, out) : bvox_morph_dilate(v, m->conn, out);
+        return ball ? bvox_morph_dilate_ball(v, m->radius, out)
+                    : bvox_morph_dilate(v, m->conn, out);
     case BVOX__SM_ERODE:
         return ball ? bvox_morph_erode_ball(v, m->radius, out) : bvox_morph_erode(v, m->conn, out);
     case BVOX__SM_OPEN: return bvox_morph_open(v, m->conn, m->radius, out);
