@@ -98,7 +98,9 @@ bvox_status bvox__zarr_attrs_parse_level(const char *text, size_t size, const ch
 
 /* An array open for reading: a group path (its multiscales level, 0 the
  * finest) or an array folder (.zarray; level must be 0). Only metadata is
- * read here; chunks are decoded by the box reads, only those a box touches. */
+ * read here; chunks are decoded by the box reads, only those a box touches.
+ * A handle holds one chunk buffer: use one handle per thread. No chunk is
+ * cached, so boxes that share chunks (halos) decode them again. */
 typedef struct bvox__zarr bvox__zarr;
 bvox_status bvox__zarr_open(const char *path, bvox__zarr **out);
 bvox_status bvox__zarr_open_level(const char *path, int32_t level, bvox__zarr **out);

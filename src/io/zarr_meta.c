@@ -174,7 +174,12 @@ bvox_status bvox__zarr_attrs_parse_level(const char *text, size_t size, const ch
     if (st) return st;
     const bvox__jnode *ms = bvox__jtree_get(&j, &j.nodes[0], "multiscales");
     const bvox__jnode *m0 = bvox__jtree_at(&j, ms, 0);
-    if (!m0) goto done; /* a plain group: no NGFF metadata */
+    if (!m0) { /* a plain group: no NGFF metadata, only level 0 (its array "0") */
+        if (level > 0)
+            st = bvox__fail(BVOX_EINVAL, "%s: no resolution level %d (no multiscales)", name,
+                            (int)level);
+        goto done;
+    }
     const bvox__jnode *axes = bvox__jtree_get(&j, m0, "axes");
     /* the last three axes are z, y, x (NGFF puts time and channel first) */
     int32_t naxes = axes && axes->type == BVOX__JT_ARRAY ? axes->count : 0;

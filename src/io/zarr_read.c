@@ -332,6 +332,21 @@ static void swap_samples(uint8_t *p, size_t count, size_t e)
         }
 }
 
+/* n bytes of the sample fill (e bytes) repeated: memset when its bytes are
+ * equal (0 above all), else doubling copies, never one call per sample. */
+static void fill_run(uint8_t *d, size_t n, const uint8_t *fill, size_t e)
+{
+    bool same = true;
+    for (size_t k = 1; k < e; k++) same = same && fill[k] == fill[0];
+    if (same) {
+        memset(d, fill[0], n);
+        return;
+    }
+    memcpy(d, fill, e);
+    for (size_t have = e; have < n; have *= 2)
+        memcpy(d + have, d, have < n - have ? have : n - have);
+}
+
 bvox_status bvox__zarr_read_box_samples(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z0,
                                         int32_t nx, int32_t ny, int32_t nz, void *dst)
 {
@@ -367,7 +382,7 @@ bvox_status bvox__zarr_read_box_samples(bvox__zarr *z, int32_t x0, int32_t y0, i
                         uint8_t *d = out + (((size_t)(zz - z0) * (size_t)ny + (size_t)(yy - y0)) *
                                                 (size_t)nx + (size_t)(lo[0] - x0)) * e;
                         if (rc == 1) {
-                            for (size_t i = 0; i < run; i += e) memcpy(d + i, z->fill, e);
+                            fill_run(d, run, z->fill, e);
                         } else {
                             const uint8_t *s =
                                 z->chunk + ((((size_t)(zz - kz * z->c[2]) * (size_t)z->c[1]) +

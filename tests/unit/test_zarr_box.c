@@ -310,3 +310,41 @@ TEST(beyond_the_memory_budget)
     CHECK_EQ(bvox_memory_in_use(), 0);
     return 0;
 }
+
+/* Metadata claiming 65535^3 float64 samples in one chunk: opened (only
+ * metadata is read), a box of a missing chunk is the fill value without any
+ * allocation, a present chunk is refused before its buffer is allocated,
+ * and the whole-volume read is refused by the budget. */
+TEST(huge_shape_refused_before_allocation)
+{
+    const char *p = harness_path("huge.zarr");
+    char f[4300];
+    CHECK(mkdir(p, 0777) == 0);
+    snprintf(f, sizeof f, "%s/.zarray", p);
+    FILE *fp = fopen(f, "w");
+    CHECK(fp != NULL);
+    fputs("{\"zarr_format\": 2, \"shape\": [65535, 65535, 65535], \"chunks\": [65535, 65535, "
+          "65535], \"dtype\": \"<f8\", \"compressor\": null, \"fill_value\": 0, \"order\": \"C\", "
+          "\"filters\": null}", fp);
+    fclose(fp);
+    bvox__zarr *z;
+    CHECK_OK(bvox__zarr_open(p, &z));
+    bvox_volume *one;
+    CHECK_OK(bvox_volume_create((bvox_dims){1, 1, 1}, &one));
+    CHECK_OK(bvox__zarr_read_box(z, 5, 5, 5, 1, 1, 1, one));
+    CHECK_EQ(bvox_volume_count(one), 0);
+    snprintf(f, sizeof f, "%s/0.0.0", p);
+    fp = fopen(f, "w");
+    CHECK(fp != NULL);
+    fputs("not 2 PB", fp);
+    fclose(fp);
+    CHECK_STATUS(bvox__zarr_read_box(z, 5, 5, 5, 1, 1, 1, one), BVOX_ETOOBIG);
+    CHECK(strstr(bvox_errmsg(), "memory budget"));
+    bvox_volume_destroy(one);
+    bvox__zarr_close(z);
+    bvox_volume *all;
+    CHECK_STATUS(bvox_read(p, NULL, &all), BVOX_ETOOBIG);
+    CHECK(strstr(bvox_errmsg(), "memory budget"));
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
