@@ -44,7 +44,7 @@ bvox_status bvox__slab_source_memory(const bvox_volume *vol, bvox__slab_source *
 
 typedef struct zarr_ctx {
     bvox__zarr *z;
-    const char *name;
+    char *name;         /* a copy: the caller's string may not outlive the source */
     bvox_binarize how;
     bool have_how;
     int32_t chunk_z;
@@ -90,7 +90,10 @@ static bvox_status zarr_read(const bvox__slab_source *s, int32_t z0, int32_t z1,
 static void zarr_close(bvox__slab_source *s)
 {
     zarr_ctx *c = s->ctx;
-    if (c) bvox__zarr_close(c->z);
+    if (c) {
+        bvox__zarr_close(c->z);
+        free(c->name);
+    }
     free(c);
     s->ctx = NULL;
 }
@@ -105,21 +108,26 @@ bvox_status bvox__slab_source_zarr(const char *path, const bvox_binarize *how,
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: Otsu's threshold needs the whole volume in "
                           "memory (give --threshold, or a larger --max-memory)", path);
     zarr_ctx *c = bvox__mem_zalloc(1, sizeof *c);
-    if (!c) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    char *name = c ? bvox__mem_strdup(path) : NULL;
+    if (!name) {
+        free(c);
+        return bvox__fail(BVOX_ENOMEM, "out of memory");
+    }
     bvox_status st = bvox__zarr_open(path, &c->z);
     if (st) {
+        free(name);
         free(c);
         return st;
     }
     if (how) c->how = *how, c->have_how = true;
-    c->name = path;
+    c->name = name;
     int32_t ch[3];
     bvox__zarr_chunk_shape(c->z, ch);
     c->chunk_z = ch[2];
     out->dims = bvox__zarr_dims(c->z);
     out->geom = *bvox__zarr_geometry(c->z);
     out->chunk_z = ch[2];
-    out->name = path;
+    out->name = name;
     size_t elem = bvox_dtype_size(bvox__zarr_dtype(c->z));
     /* a row of samples, and the reader's decoded chunk */
     out->read_bytes = ((size_t)ch[2] * (size_t)out->dims.nx * (size_t)out->dims.ny +
