@@ -610,6 +610,7 @@ bvox_status vw_render(vw_state *s)
         double b = vw_now();
         if (s->need_code) {
             make_codes(s);
+            vw_labels_pixels(s); /* the label each pixel shows, once per cast */
             s->need_code = 0;
             s->need_lut = 1;
         }

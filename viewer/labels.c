@@ -23,6 +23,8 @@ struct vw_labels {
     size_t map_bytes;
     int64_t n;
     int64_t *label;     /* per object */
+    uint16_t *pix;      /* per pixel of the 3D pane: the map's value it shows */
+    int pw, ph;         /* its size; 0: not made for the current cast */
     uint8_t (*rgb)[3];
     char (*name)[96];
 };
@@ -31,6 +33,7 @@ void vw_labels_free(vw_labels *l)
 {
     if (!l) return;
     bvox__free(l->map, l->map_bytes);
+    free(l->pix);
     free(l->label);
     free(l->rgb);
     free(l->name);
@@ -132,27 +135,64 @@ int64_t vw_label_at(const vw_state *s, const int32_t v[3], const char **name, ui
     return k ? s->labels->label[k - 1] : 0;
 }
 
+void vw_labels_pixels(vw_state *s)
+{
+    const vw_3d *v = &s->view3d;
+    vw_labels *l = s->labels;
+    if (!l || !v->valid) return;
+    const int w = v->w, h = v->h;
+    if (l->pw != w || l->ph != h) {
+        free(l->pix);
+        l->pw = l->ph = 0;
+        l->pix = bvox__mem_alloc((size_t)w * (size_t)h * sizeof *l->pix);
+        if (!l->pix) return; /* shown without colours */
+        l->pw = w, l->ph = h;
+    }
+    /* everything in voxel index units, so a pixel costs three multiply-adds
+     * and a truncation per try: q = o + x ex + y ey + (depth + 0.5) ez,
+     * plus 0.5 so that truncating a positive q rounds it */
+    double o[3], ex[3], ey[3], ez[3], half[3];
+    const double hv = 0.5 * vw_min_spacing(s);
+    for (int a = 0; a < 3; a++) {
+        o[a] = v->origin[a] / s->sp[a] + 0.5;
+        ex[a] = v->eye[a] * v->pixel / s->sp[a];
+        ey[a] = v->eye[3 + a] * v->pixel / s->sp[a];
+        ez[a] = v->eye[6 + a] * v->step / s->sp[a];
+        half[a] = v->eye[6 + a] * hv / s->sp[a];
+    }
+    const double n[3] = {s->dims.nx, s->dims.ny, s->dims.nz};
+    const size_t nx = (size_t)s->dims.nx, nxy = nx * (size_t)s->dims.ny;
+    const uint16_t *map = l->map;
+    for (int y = 0; y < h; y++) {
+        const int32_t *depth = v->depth + (size_t)y * (size_t)v->w;
+        uint16_t *out = l->pix + (size_t)y * (size_t)w;
+        for (int x = 0; x < w; x++) {
+            int k = 0;
+            if (depth[x] >= 0) {
+                double q[3], t = depth[x] + 0.5;
+                for (int a = 0; a < 3; a++) q[a] = o[a] + x * ex[a] + y * ey[a] + t * ez[a];
+                for (int tries = 0; tries < 4 && !k; tries++) {
+                    if (q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < n[0] && q[1] < n[1] && q[2] < n[2])
+                        k = map[(size_t)q[2] * nxy + (size_t)q[1] * nx + (size_t)q[0]];
+                    for (int a = 0; a < 3; a++) q[a] += half[a];
+                }
+            }
+            out[x] = (uint16_t)k;
+        }
+    }
+}
+
 void vw_labels_tint(vw_state *s, vw_rect r)
 {
     const vw_3d *v = &s->view3d;
-    if (!s->labels || !v->valid) return;
+    const vw_labels *l = s->labels;
+    if (!l || !v->valid || l->pw != v->w || l->ph != v->h) return;
     const int w = v->w < r.w ? v->w : r.w, h = v->h < r.h ? v->h : r.h;
-    const double half = 0.5 * vw_min_spacing(s);
     for (int y = 0; y < h; y++) {
-        const int32_t *depth = v->depth + (size_t)y * (size_t)v->w;
+        const uint16_t *lab = l->pix + (size_t)y * (size_t)l->pw;
         uint8_t *px = s->rgb + ((size_t)(r.y + y) * (size_t)s->width + (size_t)r.x) * 3;
         for (int x = 0; x < w; x++, px += 3) {
-            if (depth[x] < 0) continue;
-            double t = (depth[x] + 0.5) * v->step, p[3];
-            for (int a = 0; a < 3; a++)
-                p[a] = v->origin[a] + (x * v->eye[a] + y * v->eye[3 + a]) * v->pixel + t * v->eye[6 + a];
-            int k = 0;
-            for (int tries = 0; tries < 4 && !k; tries++) {
-                int32_t vx[3];
-                for (int a = 0; a < 3; a++) vx[a] = (int32_t)lround(p[a] / s->sp[a]);
-                k = map_at(s, vx);
-                for (int a = 0; a < 3; a++) p[a] += half * v->eye[6 + a];
-            }
+            int k = lab[x];
             if (!k) continue;
             const uint8_t *c = s->labels->rgb[k - 1];
             /* the shading's brightness (gray, or the cut face's tint) times the colour */

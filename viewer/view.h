@@ -242,8 +242,10 @@ bvox_status vw_set_labels(vw_state *s, const bvox_labelset *set, const bvox_labe
 void vw_labels_free(vw_labels *l);
 /* The label at voxel v (0: none), its name ("" if none) and colour. */
 int64_t vw_label_at(const vw_state *s, const int32_t v[3], const char **name, uint8_t rgb[3]);
-/* Colour the 3D pane's object pixels (canvas rectangle r) by the label of
- * the voxel each shows. */
+/* The label of the voxel each pixel of the 3D pane shows (after a cast). */
+void vw_labels_pixels(vw_state *s);
+/* Colour the 3D pane's object pixels (canvas rectangle r) by those labels
+ * (a light change re-applies only this). */
 void vw_labels_tint(vw_state *s, vw_rect r);
 
 /* ---- pick.c: ray from a pixel of the 3D pane to the first 1-voxel ---- */
