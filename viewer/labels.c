@@ -87,8 +87,8 @@ bvox_status vw_set_labels(vw_state *s, const bvox_labelset *set, const bvox_labe
     if (!l) return BVOX_ENOMEM;
     size_t nvox = (size_t)s->dims.nx * (size_t)s->dims.ny * (size_t)s->dims.nz;
     bvox_status st = BVOX_OK;
-    l->map_bytes = nvox * sizeof *l->map;
-    l->map = bvox__alloc(l->map_bytes, true, "the viewer's label map", &st);
+    l->map = bvox__alloc(nvox * sizeof *l->map, true, "the viewer's label map", &st);
+    if (l->map) l->map_bytes = nvox * sizeof *l->map;
     l->n = set->n;
     l->label = bvox__mem_zalloc((size_t)set->n + 1, sizeof *l->label);
     l->rgb = bvox__mem_zalloc((size_t)set->n + 1, sizeof *l->rgb);
