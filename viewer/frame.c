@@ -413,7 +413,10 @@ static void draw_slice(vw_state *s, vw_pane_kind kind, vw_rect r)
                 memcpy(p, frame_bg, 3);
                 continue;
             }
-            const uint8_t *c = bvox_volume_get(vol, vx[0], vx[1], vx[2]) ? on : off;
+            const int set = bvox_volume_get(vol, vx[0], vx[1], vx[2]);
+            uint8_t lab[3];
+            const uint8_t *c = set ? on : off;
+            if (set && s->labels && vw_label_at(s, vx, NULL, lab)) c = lab; /* its label's colour */
             int col[3] = {c[0], c[1], c[2]};
             if (vx[g.u] == s->cursor[g.u] || vx[g.v] == s->cursor[g.v])
                 for (int k = 0; k < 3; k++) col[k] = (col[k] + cur[k]) / 2;

@@ -205,8 +205,9 @@ static void say_cursor(vw_state *s)
         snprintf(s->status, sizeof s->status, "cursor %d,%d,%d: label %lld %.80s", (int)c[0], (int)c[1],
                  (int)c[2], (long long)lab, name);
     else snprintf(s->status, sizeof s->status, "cursor %d,%d,%d", (int)c[0], (int)c[1], (int)c[2]);
-    if (s->labels && s->log) fprintf(s->log, "view: picked %d,%d,%d label %lld %s\n", (int)c[0],
-                                     (int)c[1], (int)c[2], (long long)lab, name);
+    if (s->labels && s->log)
+        fprintf(s->log, "view: picked %d,%d,%d label %lld%s%s\n", (int)c[0], (int)c[1], (int)c[2],
+                (long long)lab, name[0] ? " " : "", name);
 }
 
 static void brush_at(vw_state *s, int x, int y)

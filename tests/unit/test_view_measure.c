@@ -246,6 +246,18 @@ TEST(labels_in_colours)
     vw_handle(s, &e);
     CHECK(strstr(s->status, "label 7 right_part"));
     CHECK_EQ(s->cursor[2], 2); /* the +z view looks along +z: the first voxel is the slab's bottom */
+    /* the slices too: the xy pane (top right) shows both colours, left and right */
+    press(s, 'o', 0);
+    CHECK_OK(vw_render(s));
+    int sred = 0, sblue = 0;
+    for (int y = 20; y < 120; y++)
+        for (int x = 120; x < 240; x++) {
+            const uint8_t *p = s->rgb + ((size_t)y * 240 + x) * 3;
+            /* the cursor lines blend in yellow: pure colours only */
+            if (p[0] == 255 && p[1] == 0 && p[2] == 0) sred += x < 180 ? 1 : -1000;
+            if (p[0] == 0 && p[1] == 0 && p[2] == 255) sblue += x >= 180 ? 1 : -1000;
+        }
+    CHECK(sred > 200 && sblue > 200);
     vw_close(s);
     bvox_labelset_destroy(set);
     bvox_label_table_destroy(t);
