@@ -82,6 +82,14 @@ inx() { # inx NAME CMD...: stdout, stderr and status in $tmp/NAME.{out,err,rc}
     [ -s "$name.rc" ] || fail "xvfb-run did not run the viewer"
 }
 
+# --labels with a table that is not there: exit 1, one clear line, no window
+set +e
+(unset DISPLAY WAYLAND_DISPLAY; "$BVOX" view "$tmp/ball.nii" --labels --lut "$tmp/no-such-lut.txt" >"$tmp/lut.out" 2>&1)
+rc=$?
+set -e
+[ $rc -eq 1 ] || fail "--labels with a missing --lut must exit 1 (got $rc)"
+grep -q "^bvox: .*no-such-lut.txt" "$tmp/lut.out" || fail "no clear message for a missing table: $(cat "$tmp/lut.out")"
+
 # a bad script: exit 1 naming the line, before any window opens (no display here)
 printf 'key 5\njump 3 4\n' >"$tmp/bad.txt"
 set +e
