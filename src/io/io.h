@@ -146,7 +146,9 @@ typedef enum {
     BVOX__DIR_PNG_SLICES,   /* slice_NNNN.png */
     BVOX__DIR_SVG_SECTIONS, /* section_NNNN.svg */
     BVOX__DIR_LABEL_MESHES, /* LABEL[_NAME].stl|ply|obj|off (bvox mesh --labels) */
-    BVOX__DIR_ZARR          /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
+    BVOX__DIR_ZARR,         /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
+    BVOX__DIR_DEMO          /* bvox demo -o: section_NNNN.png and the names of
+                               bvox__demo_file_names */
 } bvox__dir_kind;
 #define BVOX__MANIFEST_NAME ".bvox-manifest"
 /* The voxel size of a PNG slice folder (PNG has no z): "SX SY SZ [UNIT]". */
@@ -164,6 +166,8 @@ typedef struct bvox__dir_sink {
     bool force;
     int slot;
 } bvox__dir_sink;
+/* The fixed file names of BVOX__DIR_DEMO, NULL-terminated. */
+extern const char *const bvox__demo_file_names[];
 bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool force,
                                 bvox__dir_sink *d);
 /* Put the files in place as described above; always releases d. */
