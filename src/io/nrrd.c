@@ -16,7 +16,8 @@
  * Detached data ("data file: NAME") is looked up beside the header when the
  * reader is given the header's path (bvox_read passes it as the name);
  * "LIST" and multi-file forms are refused, as are ascii/hex/bzip2
- * encodings and non-scalar (vector, 4D) volumes.
+ * encodings and non-scalar (vector, 4D) volumes. The writer is nrrd_write.c;
+ * the same reasons keep it off teem (whose writer also goes through biff).
  */
 #include "io.h"
 
@@ -277,12 +278,7 @@ static void set_geometry(const nrrd_header *h, bvox_geometry *g)
             if (h->spacings[i] > 0 && isfinite(h->spacings[i])) g->spacing[i] = h->spacings[i];
     }
     if (h->have_origin) memcpy(g->origin, h->origin, sizeof g->origin);
-    if (h->lps) { /* LPS -> RAS: negate the first two world axes */
-        for (int r = 0; r < 2; r++) {
-            g->origin[r] = -g->origin[r];
-            for (int c = 0; c < 3; c++) g->direction[r * 3 + c] = -g->direction[r * 3 + c];
-        }
-    }
+    if (h->lps) bvox__geometry_flip_lps(g);
     if (strlen(h->unit) < sizeof g->unit) strcpy(g->unit, h->unit);
 }
 
@@ -294,16 +290,6 @@ static size_t skip_lines(const uint8_t *d, size_t size, size_t pos, int64_t line
         if (pos < size) pos++;
     }
     return pos;
-}
-
-/* The folder of path, with a trailing '/', into dir ("" when none). */
-static void dir_of(const char *path, char *dir, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    size_t n = slash ? (size_t)(slash - path + 1) : 0;
-    if (n >= size) n = 0;
-    memcpy(dir, path, n);
-    dir[n] = '\0';
 }
 
 static bvox_status nrrd_gray_memory(const uint8_t *data, size_t size, const char *name,
@@ -327,11 +313,7 @@ static bvox_status nrrd_gray_memory(const uint8_t *data, size_t size, const char
     const uint8_t *src = data + h.header_end;
     size_t avail = size - h.header_end;
     if (h.data_file[0]) {
-        char path[4096], dir[2048];
-        dir_of(name, dir, sizeof dir);
-        if (h.data_file[0] == '/') snprintf(path, sizeof path, "%s", h.data_file);
-        else snprintf(path, sizeof path, "%s%s", dir, h.data_file);
-        st = bvox__read_file(path, &detached);
+        st = bvox__read_beside(name, h.data_file, &detached);
         if (st) return st;
         src = detached.data;
         avail = detached.size;
@@ -411,6 +393,6 @@ static bvox_status nrrd_read_memory(const uint8_t *data, size_t size, const char
 static const char *const nrrd_extensions[] = {".nrrd", ".nhdr", NULL};
 
 const bvox__format bvox__format_nrrd = {
-    "nrrd", nrrd_extensions, nrrd_sniff, nrrd_read_memory, NULL, NULL, NULL, NULL,
+    "nrrd", nrrd_extensions, nrrd_sniff, nrrd_read_memory, NULL, bvox__nrrd_write, NULL, NULL,
     nrrd_gray_memory,
 };
