@@ -17,7 +17,7 @@
  * stream is inflated no further than the samples the header announces.
  *
  * Written: one byte per voxel (MET_UCHAR 0/1), zlib-compressed, the geometry
- * in LPS; `.mhd` gets its data in BASE.zraw, written before the header.
+ * in LPS (a unit other than mm is warned about: the format cannot hold it); `.mhd` gets its data in BASE.zraw, written before the header.
  */
 #include "io.h"
 #include "common/names.h"
@@ -370,6 +370,11 @@ static bvox_status mha_write_path(const char *path, const bvox_volume *vol,
                                   const bvox_write_opts *opts)
 {
     (void)opts;
+    const char *unit = bvox_volume_geometry(vol)->unit;
+    if (unit[0] && strcmp(unit, "mm"))
+        bvox__warn("%s: MetaImage has no unit field (ITK reads mm); the voxel size is written "
+                   "in %s",
+                   path, unit);
     char hdr[2048];
     if (!bvox__ends_with_ci(path, ".mhd")) {
         int n = describe(vol, "LOCAL", hdr, sizeof hdr);
