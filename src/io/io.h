@@ -227,6 +227,36 @@ bvox_status bvox__nrrd_write(const char *path, const bvox_volume *vol,
  * world axes of origin and direction, in place. */
 void bvox__geometry_flip_lps(bvox_geometry *g);
 
+/* 3D Slicer segmentations (seg_nrrd.c): the Segment<N>_ keys of a NRRD
+ * header, segment N at seg[N] (present: it had a key). */
+typedef struct bvox__segment {
+    char name[96];
+    unsigned char rgb[3];
+    bool present, has_color, has_value, has_layer;
+    int64_t label_value;
+    long layer;
+} bvox__segment;
+typedef struct bvox__segs {
+    bvox__segment *seg;
+    long n, cap;
+} bvox__segs;
+bvox_status bvox__segs_parse(const uint8_t *header, size_t size, const char *name,
+                             bvox__segs *out);
+void bvox__segs_release(bvox__segs *s);
+/* The label segment i gets: its LabelValue in a 3D file, i + 1 in a
+ * layered (4D) one. */
+int64_t bvox__segs_label(const bvox__segs *s, long i, bool layered);
+/* The segments as a label table (names, colours); BVOX_EFORMAT without any. */
+bvox_status bvox__segs_table(const uint8_t *header, size_t size, const char *name, bool layered,
+                             bvox_label_table **out);
+/* g holds `layers` samples per voxel (layer fastest): replace them by one
+ * uint16 label per voxel as described in seg_nrrd.c. */
+bvox_status bvox__segs_flatten(bvox__gray *g, int64_t layers, const uint8_t *header,
+                               size_t header_size, const char *name);
+/* 1 if data is a NRRD header with a first "list" axis of layers (a
+ * segmentation with overlapping segments). For label_table.c. */
+bool bvox__nrrd_layered(const uint8_t *data, size_t size);
+
 /* The typed samples of a file or buffer, for readers of label volumes: the
  * format resolved as bvox_read does (forced, extension, content). On success
  * g->data may point into *file (released by the caller after g) or into
