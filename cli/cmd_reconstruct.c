@@ -181,6 +181,9 @@ static const cli_opt recon_opts[] = {
      "layer:NAME or NAME (default: every visible outline; a full-canvas background is "
      "skipped)",
      A(o.svg_select)},
+    {"--object", 0, CLI_STR, "NAME",
+     "a PyReconstruct .jser series: only the traces of object NAME (default: every object)",
+     A(o.object)},
     {"--strict", 0, CLI_FLAG, NULL,
      "refuse a contour that crosses itself (default: fill it even-odd and warn)", A(o.strict)},
     {"--save-contours", 0, CLI_PATH, "OUT",

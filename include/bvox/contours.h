@@ -181,7 +181,8 @@ BVOX_API void bvox_section_transform(bvox_section *sec, const bvox_xform2 *t);
 
 /* Read a contour stack: a .json file, a folder of .svg files (one per section,
  * natural sort order), a .svg file (one section), or a Reconstruct series
- * (the .ser file; its sections NAME.1, NAME.2, ... beside it). Format by
+ * (the .ser file; its sections NAME.1, NAME.2, ... beside it), or a
+ * PyReconstruct series (NAME.jser, all objects). Format by
  * extension, else by content. BVOX_EFORMAT with file and line:column on
  * malformed input. *out is owned by the caller. */
 BVOX_API bvox_status bvox_stack_read(const char *path, bvox_contour_stack **out);
@@ -201,6 +202,11 @@ typedef struct bvox_stack_read_opts {
      * one warning per file (bvox_set_warning_handler) counting what was. A
      * selection that names nothing in any section: BVOX_EINVAL. */
     const char *svg_select;
+    /* PyReconstruct .jser series only: read only the traces of this object
+     * (trace name). NULL: every object. An object with no closed trace in any
+     * section: BVOX_EINVAL naming some objects that are there. Given for any
+     * other input: BVOX_EINVAL. */
+    const char *object;
 } bvox_stack_read_opts;
 
 /* bvox_stack_read with options (opts NULL: the defaults). */
@@ -218,6 +224,13 @@ BVOX_API bvox_status bvox_stack_read_svg_memory(const char *data, size_t size, c
 BVOX_API bvox_status bvox_stack_read_reconstruct_section_memory(const char *data, size_t size,
                                                                 const char *name,
                                                                 bvox_contour_stack **stack);
+/* A PyReconstruct .jser series (both layouts: {"sections": [...], "series":
+ * {...}} and the older one key per section file): closed traces of object
+ * (NULL: all objects) as contours, the series' current alignment applied,
+ * z from the section thicknesses, unit "um". Open traces are skipped with a
+ * warning. */
+BVOX_API bvox_status bvox_stack_read_jser_memory(const char *data, size_t size, const char *name,
+                                                 const char *object, bvox_contour_stack **out);
 /* Write atomically. JSON: {"unit", "pixel", "spacing", "width", "height",
  * "sections": [{"z", "name", "contours": [[[x, y], ...], ...], "markers"}]}.
  * SVG folder: one file per section, section_0001.svg ... (markers as

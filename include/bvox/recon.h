@@ -273,6 +273,8 @@ typedef struct bvox_recon_opts {
     /* contour inputs */
     const char *svg_select;       /* SVG sections: which elements are outlines
                                      (bvox_stack_read_opts.svg_select); NULL: all visible */
+    const char *object;           /* a .jser series: only this object's traces
+                                     (bvox_stack_read_opts.object); NULL: all objects */
     int strict;                   /* 1: refuse a contour crossing itself; 0 (default): fill it
                                      even-odd and warn (contours crossing each other are
                                      always refused) */

@@ -346,6 +346,7 @@ typedef struct bvox_recon_opts {
     double z_spacing;
     int interpolate;
     const char *svg_select;
+    const char *object;
     int strict;
     const char *save_steps;
     bvox_recon_progress progress;

@@ -6,6 +6,8 @@
  *                   but exactly one .ser file, that Reconstruct series;
  *   NAME.json       the JSON stack;  NAME.svg  one section;
  *   NAME.ser        a Reconstruct series (sections NAME.1, NAME.2, ...);
+ *   NAME.jser       a PyReconstruct series (a JSON object with "tforms"
+ *                   in it, under another name, too);
  *   anything else   by content: '{' JSON, <svg SVG, <Series a series,
  *                   <Section one Reconstruct section.
  */
@@ -86,16 +88,25 @@ static bvox_status check_selection(const char *path, const char *select, bvox_co
                       select);
 }
 
+static bvox_status not_jser(const char *path, const char *object)
+{
+    return bvox__fail(BVOX_EINVAL, "%s: --object '%s' selects the traces of a PyReconstruct "
+                                   ".jser series; this is not one", path, object);
+}
+
 bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *opts,
                                  bvox_contour_stack **out)
 {
     bvox__clear_error();
     const char *select = opts ? opts->svg_select : NULL;
+    const char *object = opts && opts->object && *opts->object ? opts->object : NULL;
     if (!out) return bvox__fail(BVOX_EINVAL, "bvox_stack_read: out is NULL");
     *out = NULL;
     if (!path) return bvox__fail(BVOX_EINVAL, "bvox_stack_read: path is NULL");
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file or folder", path);
+    if (object && (S_ISDIR(sb.st_mode) || bvox__ends_with_ci(path, ".ser")))
+        return not_jser(path, object);
     if (S_ISDIR(sb.st_mode)) {
         bvox_status st = read_folder(path, select, out);
         return st ? st : check_selection(path, select, out);
@@ -107,7 +118,12 @@ bvox_status bvox_stack_read_with(const char *path, const bvox_stack_read_opts *o
     if (st) return st;
     const char *p = text;
     while (*p && isspace((unsigned char)*p)) p++;
-    if (bvox__ends_with_ci(path, ".json") || *p == '{') {
+    if (bvox__ends_with_ci(path, ".jser") ||
+        (*p == '{' && !bvox__ends_with_ci(path, ".json") && strstr(text, "\"tforms\""))) {
+        st = bvox_stack_read_jser_memory(text, size, path, object, out);
+    } else if (object) {
+        st = not_jser(path, object);
+    } else if (bvox__ends_with_ci(path, ".json") || *p == '{') {
         st = bvox_stack_read_json_memory(text, size, path, out);
     } else if (bvox__ends_with_ci(path, ".svg") || strstr(text, "<svg") || strstr(text, ":svg")) {
         st = bvox__svg_read(text, size, path, 0, select, out);

@@ -709,7 +709,7 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     if (o->markers_file)
         return bvox__fail(BVOX_EINVAL, "%s: a markers file goes with section images; a contour "
                                        "file carries its own markers", path);
-    bvox_stack_read_opts ro = {o->svg_select};
+    bvox_stack_read_opts ro = {o->svg_select, o->object};
     bvox_status st = bvox_stack_read_with(path, &ro, &stack);
     if (st) return st;
     /* contours crossing each other are a tracing mistake: refused, naming the
@@ -811,6 +811,13 @@ bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_re
             if (!is_image_name(inputs[i]))
                 return bvox__fail(BVOX_EINVAL, "%s: not a section image (.png, .tif); a contour "
                                                "file must be the only input", inputs[i]);
+    }
+    if (o.object && *o.object) {
+        for (int32_t i = 0; i < nlisted; i++) free(listed[i]);
+        free(listed);
+        return bvox__fail(BVOX_EINVAL, "reconstruct: --object '%s' selects the traces of a "
+                                       "PyReconstruct .jser series, not of section images",
+                          o.object);
     }
     bvox_image *background = NULL;
     sec_work *w = bvox__mem_zalloc((size_t)n, sizeof *w);
