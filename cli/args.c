@@ -315,19 +315,12 @@ const cli_group cli_process_group = {"Process options", process_opts, NULL};
 
 bvox_status cli_read_volume(const char *path, const cli_read_args *a, bvox_volume **out)
 {
-    bvox_volume *v = NULL;
-    bvox_status st = bvox_read(path, &a->opts, &v);
-    if (st) return st;
-    if (a->spacing_given || a->unit) {
-        const double *s = a->spacing_given ? a->spacing : bvox_volume_geometry(v)->spacing;
-        st = bvox_volume_set_spacing(v, s[0], s[1], s[2], a->unit);
-        if (st) {
-            bvox_volume_destroy(v);
-            return st;
-        }
-    }
-    *out = v;
-    return BVOX_OK;
+    /* --voxel-size / --unit go to the reader, which applies them to any
+     * format and so knows not to warn about a voxel size the file lacks */
+    bvox_read_opts o = a->opts;
+    if (a->spacing_given) memcpy(o.spacing, a->spacing, sizeof o.spacing);
+    if (a->unit) o.unit = a->unit;
+    return bvox_read(path, &o, out);
 }
 
 const char *cli_input_format(const char *path, const cli_read_args *a)

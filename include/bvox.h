@@ -326,11 +326,16 @@ typedef struct bvox_read_opts {
     uint64_t raw_offset;    /* bytes to skip (a header) */
     double raw_spacing[3];  /* 0: 1.0 */
     const char *raw_unit;   /* NULL: "" */
+    /* any format: the voxel size (all three > 0) and unit to use instead of
+     * the file's; zeros / NULL keep the file's. Given, they also silence the
+     * warnings about a voxel size the file does not hold (a PNG folder's z). */
+    double spacing[3];
+    const char *unit;
 } bvox_read_opts;
 
 #define BVOX_READ_OPTS_INIT \
     { NULL, { BVOX_BIN_NONZERO, 0.0, 0.0, 0.0, 0.0 }, { 0, 0, 0 }, BVOX_DT_U8, 0, 0, \
-      { 0.0, 0.0, 0.0 }, NULL }
+      { 0.0, 0.0, 0.0 }, NULL, { 0.0, 0.0, 0.0 }, NULL }
 
 /* Read a file (a folder for PNG slices). opts may be NULL (defaults). The
  * size claimed by a header is checked against the limits and the budget before

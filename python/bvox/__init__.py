@@ -63,11 +63,13 @@ def read(path, *, format=None, threshold=None, range=None, label=None, nonzero=N
         opts.raw_dtype = _raw_dtype(dtype)
     opts.raw_big_endian = 1 if big_endian else 0
     opts.raw_offset = int(offset)
-    if spacing is not None:
+    if spacing is not None:  # a raw file's voxel size, and any other file's override
         opts.raw_spacing = [float(s) for s in spacing]
+        opts.spacing = [float(s) for s in spacing]
     if unit is not None:
         keep.append(cstr(unit))
         opts.raw_unit = keep[-1]
+        opts.unit = keep[-1]
     out = ffi.new("bvox_volume **")
     check(lib.bvox_read(os.fsencode(path), opts, out))
     return Volume._own(out[0])

@@ -96,6 +96,8 @@ typedef struct bvox_read_opts {
     uint64_t raw_offset;
     double raw_spacing[3];
     const char *raw_unit;
+    double spacing[3];
+    const char *unit;
 } bvox_read_opts;
 typedef struct bvox_write_opts {
     const char *format;

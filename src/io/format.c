@@ -71,8 +71,16 @@ static const bvox__format *sniff(const uint8_t *data, size_t size)
     return NULL;
 }
 
-static bvox_status finish(bvox_status st, bvox_volume **out)
+static bvox_status finish(bvox_status st, const bvox_read_opts *opts, bvox_volume **out)
 {
+    if (st == BVOX_OK && *out && (bvox__read_spacing_given(opts) || opts->unit)) {
+        const double *s = bvox__read_spacing_given(opts) ? opts->spacing : (*out)->geom.spacing;
+        st = bvox_volume_set_spacing(*out, s[0], s[1], s[2], opts->unit);
+        if (st) {
+            bvox_volume_destroy(*out);
+            *out = NULL;
+        }
+    }
     if (st == BVOX_OK && *out) {
         /* every reader must leave the invariants intact */
         bvox_status chk = bvox_volume_check(*out);
@@ -110,7 +118,7 @@ bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
     bvox_status st = memory_format(data, size, name, opts->format, &f);
     if (st) return st;
     st = f->read_memory(data, size, name, opts, out);
-    return finish(st, out);
+    return finish(st, opts, out);
 }
 
 bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume **out)
@@ -125,7 +133,7 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
     if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png; /* a folder of slices */
-    if (f && f->read_path) return finish(f->read_path(path, opts, out), out);
+    if (f && f->read_path) return finish(f->read_path(path, opts, out), opts, out);
     bvox__bytes file;
     st = bvox__read_file(path, &file);
     if (st) return st;
@@ -139,7 +147,7 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
     }
     st = f->read_memory(file.data, file.size, path, opts, out);
     bvox__bytes_release(&file);
-    return finish(st, out);
+    return finish(st, opts, out);
 }
 
 bvox_status bvox_read_dims(const char *path, const bvox_read_opts *opts, bvox_dims *dims)
