@@ -317,7 +317,7 @@ typedef struct bvox_binarize {
 
 typedef struct bvox_read_opts {
     const char *format;     /* NULL: by extension / content; else "nifti", "binvox",
-                               "tiff", "png", "raw" */
+                               "tiff", "png", "raw", "zarr" */
     bvox_binarize binarize;
     /* raw only (required there): */
     bvox_dims raw_dims;
@@ -331,11 +331,12 @@ typedef struct bvox_read_opts {
      * warnings about a voxel size the file does not hold (a PNG folder's z). */
     double spacing[3];
     const char *unit;
+    int32_t zarr_level;     /* zarr only: the multiscales level read (0: the finest) */
 } bvox_read_opts;
 
 #define BVOX_READ_OPTS_INIT \
     { NULL, { BVOX_BIN_NONZERO, 0.0, 0.0, 0.0, 0.0 }, { 0, 0, 0 }, BVOX_DT_U8, 0, 0, \
-      { 0.0, 0.0, 0.0 }, NULL, { 0.0, 0.0, 0.0 }, NULL }
+      { 0.0, 0.0, 0.0 }, NULL, { 0.0, 0.0, 0.0 }, NULL, 0 }
 
 /* Read a file (a folder for PNG slices). opts may be NULL (defaults). The
  * size claimed by a header is checked against the limits and the budget before
@@ -381,9 +382,13 @@ typedef struct bvox_write_opts {
     int force;          /* folder outputs: write into a folder that holds other
                            files (replacing files of bvox's names, removing
                            nothing else); 0 refuses such a folder */
+    int32_t chunks[3];  /* zarr only: chunk shape x, y, z (0: up to 64 per axis) */
+    const char *compressor; /* zarr only: "zlib" (NULL: the default) or "blosc" */
+    int32_t zarr_levels;    /* zarr only: resolution levels (0: automatic, halving
+                               until a side is under one chunk; 1: no pyramid) */
 } bvox_write_opts;
 
-#define BVOX_WRITE_OPTS_INIT { NULL, 8, 0 }
+#define BVOX_WRITE_OPTS_INIT { NULL, 8, 0, { 0, 0, 0 }, NULL, 0 }
 
 /* The dimensions bvox_read(path, opts) would give, from the header alone
  * (no voxel data is read or decoded), so that a caller can refuse an

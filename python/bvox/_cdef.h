@@ -98,11 +98,15 @@ typedef struct bvox_read_opts {
     const char *raw_unit;
     double spacing[3];
     const char *unit;
+    int32_t zarr_level;
 } bvox_read_opts;
 typedef struct bvox_write_opts {
     const char *format;
     int raw_bits;
     int force;
+    int32_t chunks[3];
+    const char *compressor;
+    int32_t zarr_levels;
 } bvox_write_opts;
 typedef struct bvox_component {
     int64_t voxels;

@@ -13,11 +13,12 @@
 static const bvox__format *const formats[] = {
     &bvox__format_nifti, &bvox__format_binvox, &bvox__format_tiff,
     &bvox__format_png,   &bvox__format_raw,    &bvox__format_nrrd,
+    &bvox__format_zarr,
     &bvox__format_metaimage,
 };
 #define NFORMATS (sizeof formats / sizeof formats[0])
 
-const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd, metaimage"; }
+const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd, zarr, metaimage"; }
 
 static const bvox__format *by_name(const char *name)
 {
@@ -132,7 +133,8 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
     if (st) return st;
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
-    if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png; /* a folder of slices */
+    if (S_ISDIR(sb.st_mode) && !f)
+        f = bvox__zarr_is_dir(path) ? &bvox__format_zarr : &bvox__format_png; /* else slices */
     if (f && f->read_path) return finish(f->read_path(path, opts, out), opts, out);
     bvox__bytes file;
     st = bvox__read_file(path, &file);
@@ -181,8 +183,8 @@ static bvox_status output_format(const char *path, const bvox_write_opts *opts,
     if (!f)
         return bvox__fail(BVOX_EINVAL,
                           "%s: cannot tell the output format from the extension (use one of "
-                          ".nii .nii.gz .binvox .tif .tiff .raw .nrrd .nhdr .mha .mhd, a folder with "
-                          "--format png)",
+                          ".nii .nii.gz .binvox .tif .tiff .raw .zarr .nrrd .nhdr .mha .mhd, a "
+                          "folder with --format png)",
                           path);
     if (!f->write_path)
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: writing %s is not supported", path, f->name);

@@ -8,10 +8,12 @@
  * where Zdilate_h ORs the column with itself shifted by -h..h bits (64 voxels
  * per operation) and shift_xy moves whole columns, so the xy part is a plain
  * word-array OR/AND. The 26-neighbourhood is a box and takes the separable
- * path (z, then x, then y: three 3-tap passes instead of nine). Voxels outside
- * the volume are 0 for both operations.
+ * path (z, then x, then y: three 3-tap passes instead of nine); balls stream
+ * through the cache in morph_ball.c. Voxels outside the volume are 0 for both
+ * operations.
  */
 #include "internal.h"
+#include "morph_ball.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -288,21 +290,7 @@ static bvox_status ball(const bvox_volume *in, double radius, bool erode, bvox_v
     if ((2.0 * rx + 1) * (2.0 * ry + 1) > MAX_OFFSETS)
         return bvox__fail(BVOX_EINVAL, "ball radius %g is %d x %d voxels across: too large",
                           radius, 2 * rx + 1, 2 * ry + 1);
-    offset *offs = bvox__mem_alloc(MAX_OFFSETS * sizeof *offs);
-    if (!offs) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    int n = 0;
-    double r2 = radius * radius;
-    for (int dy = -ry; dy <= ry; dy++)
-        for (int dx = -rx; dx <= rx; dx++) {
-            double rest = r2 - (dx * s[0]) * (dx * s[0]) - (dy * s[1]) * (dy * s[1]);
-            if (rest < 0) continue;
-            int h = (int)floor(sqrt(rest) / s[2] + 1e-9);
-            if (h > in->nz) h = in->nz;
-            offs[n++] = (offset){dx, dy, h};
-        }
-    bvox_status st = general(in, offs, n, erode, out);
-    free(offs);
-    return st;
+    return bvox__morph_ball(in, radius, erode, out);
 }
 
 bvox_status bvox_morph_dilate(const bvox_volume *in, int conn, bvox_volume **out)
