@@ -107,11 +107,6 @@ bvox_box bvox__box_clip(const bvox_volume *v, bvox_box b);
  * volume: its cavities). */
 bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_border,
                                    int64_t *count);
-/* For the out-of-core labelling (src/stream/): col_of[i] (y * nx + x) and
- * z_of[i] of the first voxel of component i in column order (arrays of
- * bvox_components_count entries). */
-bvox_status bvox__components_first_voxels(const bvox_components *c, int64_t *col_of,
-                                          int32_t *z_of);
 
 /* ---- parallel.c: split a range over the worker threads ---- */
 /* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n): T chunks

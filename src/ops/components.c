@@ -673,33 +673,3 @@ bvox_status bvox_components_keep_if(const bvox_components *c,
     if (!st) BVOX_CHECK_VOLUME(*out);
     return st;
 }
-
-/* For out-of-core labelling (src/stream/): the first voxel of each component
- * in column order (column y * nx + x, then z), the key of the size ties. */
-bvox_status bvox__components_first_voxels(const bvox_components *c, int64_t *col_of,
-                                          int32_t *z_of)
-{
-    for (int64_t i = 0; i < c->count; i++) col_of[i] = -1;
-    int32_t *z0 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z0);
-    int32_t *z1 = bvox__mem_alloc(((size_t)c->dims.nz / 2 + 1) * sizeof *z1);
-    if (!z0 || !z1) {
-        free(z0);
-        free(z1);
-        return bvox__fail(BVOX_ENOMEM, "out of memory");
-    }
-    for (size_t col = 0; col < c->ncol; col++) {
-        uint32_t first = c->col_start[col];
-        if (first == c->col_start[col + 1]) continue;
-        size_t n = list_runs(c->words + col * c->wpc, c->wpc, z0, z1);
-        for (size_t i = 0; i < n; i++) {
-            uint32_t k = c->rank[first + i];
-            if (col_of[k] < 0) {
-                col_of[k] = (int64_t)col;
-                z_of[k] = z0[i];
-            }
-        }
-    }
-    free(z0);
-    free(z1);
-    return BVOX_OK;
-}

@@ -99,9 +99,40 @@ static bvox_status grow(bvox__stream_cc *cc, int64_t more)
     return BVOX_OK;
 }
 
+/* col_of[i] (y * nx + x) and z_of[i] of the first voxel of component i of
+ * c (the labelling of v) in column order: the first run start of each
+ * column, walked in order, named through the public index_at (so this does
+ * not depend on how the labeller stores its runs). */
+static void first_voxels(const bvox_volume *v, const bvox_components *c, int64_t *col_of,
+                         int32_t *z_of)
+{
+    int64_t k = bvox_components_count(c), left = k;
+    for (int64_t i = 0; i < k; i++) col_of[i] = -1;
+    bvox_words_view wv = bvox_volume_words(v);
+    const size_t ncol = (size_t)v->nx * (size_t)v->ny;
+    for (size_t col = 0; col < ncol && left; col++) {
+        const uint64_t *w = wv.words + col * wv.words_per_column;
+        uint64_t carry = 0;
+        for (size_t j = 0; j < wv.words_per_column; j++) {
+            uint64_t starts = w[j] & ~((w[j] << 1) | carry);
+            carry = w[j] >> 63;
+            for (; starts; starts &= starts - 1) {
+                int32_t z = (int32_t)(j * 64 + (size_t)__builtin_ctzll(starts));
+                int64_t i = bvox_components_index_at(c, (int32_t)(col % (size_t)v->nx),
+                                                     (int32_t)(col / (size_t)v->nx), z);
+                if (i >= 0 && col_of[i] < 0) {
+                    col_of[i] = (int64_t)col;
+                    z_of[i] = z;
+                    left--;
+                }
+            }
+        }
+    }
+}
+
 /* One slab's components: pieces base .. base + k - 1. */
-static bvox_status add_pieces(bvox__stream_cc *cc, const bvox_components *c, int32_t z0,
-                              int32_t depth)
+static bvox_status add_pieces(bvox__stream_cc *cc, const bvox_volume *v,
+                              const bvox_components *c, int32_t z0, int32_t depth)
 {
     int64_t k = bvox_components_count(c), base = cc->n;
     bvox_status st = grow(cc, k);
@@ -112,7 +143,7 @@ static bvox_status add_pieces(bvox__stream_cc *cc, const bvox_components *c, int
         col = bvox__mem_alloc((size_t)k * sizeof *col);
         zf = bvox__mem_alloc((size_t)k * sizeof *zf);
         if (!col || !zf) st = bvox__fail(BVOX_ENOMEM, "out of memory");
-        if (!st) st = bvox__components_first_voxels(c, col, zf);
+        else first_voxels(v, c, col, zf);
     }
     bool last = z0 + depth == cc->dims.nz;
     for (int64_t i = 0; !st && i < k; i++) {
@@ -145,7 +176,7 @@ bvox_status bvox__stream_cc_add(bvox__stream_cc *cc, const bvox_volume *slab, in
     bvox_components *c = NULL;
     st = bvox_components_find(slab, cc->conn, &c);
     int64_t base = cc->n;
-    if (!st) st = add_pieces(cc, c, z0, slab->nz);
+    if (!st) st = add_pieces(cc, slab, c, z0, slab->nz);
     const int32_t nx = slab->nx, ny = slab->ny;
     if (!st && cc->have_face) {
         if (cc->next_z != z0) {
