@@ -93,27 +93,28 @@ def count(arr):
 
 # ------------------------------------------------------------ components
 
-def _label_block(block, conn, background, off, shape):
+def _label_block(block, conn, background, off, shape, order=True):
     """Labels of one chunk (of its background when asked): the count, each
-    label's size and first voxel (global column-order key: (y nx + x) nz + z)
-    and the chunk's six faces of labels."""
+    label's size and first voxel (global column-order key: (y nx + x) nz + z;
+    only when order is asked: the ties of the final order) and the chunk's
+    six faces of labels."""
     b = np.asarray(block)
     if background:
         b = b == 0
     labels, comps = _vol(b).components(conn)
     n = len(comps)
     sizes = np.array([c["voxels"] for c in comps], dtype=np.int64)
-    flat = labels.transpose(1, 0, 2).ravel()  # y slowest, then x, z fastest
-    u, first = np.unique(flat, return_index=True)
     keys = np.zeros(n, dtype=np.int64)
-    if n:
+    if n and order:
         nx, ny, nz = labels.shape
-        yy, xx, zz = np.unravel_index(first[u > 0], (ny, nx, nz))
-        keys[u[u > 0] - 1] = (((yy + off[1]) * shape[0] + xx + off[0]) * shape[2]
-                              + zz + off[2])
-    faces = []
-    for a in range(3):
-        faces.append((np.take(labels, 0, axis=a).copy(), np.take(labels, -1, axis=a).copy()))
+        flat = labels.transpose(1, 0, 2).ravel()  # y slowest, then x, z fastest: a copy
+        at = np.flatnonzero(flat)
+        u, first = np.unique(flat[at], return_index=True)
+        yy, xx, zz = np.unravel_index(at[first], (ny, nx, nz))
+        keys[u - 1] = ((yy + off[1]) * shape[0] + xx + off[0]) * shape[2] + zz + off[2]
+    # basic slices (views of the x-fastest label memory), copied small
+    faces = [(labels[0].copy(), labels[-1].copy()), (labels[:, 0].copy(), labels[:, -1].copy()),
+             (labels[:, :, 0].copy(), labels[:, :, -1].copy())]
     return n, sizes, keys, faces
 
 
@@ -201,7 +202,7 @@ def _merge(info, grid, conn, exclude_border):
     return lut, base, len(rank), csize[rank]
 
 
-def _label_infos(arr, conn, background):
+def _label_infos(arr, conn, background, order=True):
     """Delayed _label_block of every chunk, keyed by chunk index."""
     starts = _starts(arr.chunks)
     blocks = arr.to_delayed()
@@ -209,7 +210,7 @@ def _label_infos(arr, conn, background):
     for idx in np.ndindex(*blocks.shape):
         off = [int(starts[a][idx[a]]) for a in range(3)]
         out[idx] = dask.delayed(_label_block, pure=True)(blocks[idx], conn, background, off,
-                                                         arr.shape)
+                                                         arr.shape, order)
     return out
 
 
@@ -299,8 +300,9 @@ def measure(arr, spacing=None, unit=None, origin=None):
         blk, off = _halo_block(arr, starts, idx, 0, 1)
         core = [int(arr.chunks[a][idx[a]]) for a in range(3)]
         parts.append(dask.delayed(_measure_block, pure=True)(blk, core, off))
-    infos = [_label_infos(arr, 26, False), _label_infos(arr, 6, True),
-             _label_infos(arr, 26, True)]
+    # only the counts are needed: no first voxels
+    infos = [_label_infos(arr, 26, False, False), _label_infos(arr, 6, True, False),
+             _label_infos(arr, 26, True, False)]
     keys = list(infos[0])
     res = dask.compute(parts, *[[inf[k] for k in keys] for inf in infos])
     total = [0, [0] * 3, [0] * 6, None, 0, [0] * 7]
