@@ -406,14 +406,21 @@ def csg(a, b, op):
 
 # --------------------------------------------------------------------- mesh
 
-def _mesh_block(block, off, core0, core1, last):
+def _vkey(g, shape):
+    """One int64 per vertex from its doubled index coordinates (-1 .. 2n - 1)."""
+    my, mz = 2 * shape[1] + 4, 2 * shape[2] + 4
+    return ((g[:, 0] + 2) * my + g[:, 1] + 2) * mz + g[:, 2] + 2
+
+
+def _mesh_block(block, off, core0, core1, last, shape):
     """Marching cubes of one chunk with its halo, in the whole array's voxel
     indices; only the triangles of the cells this chunk owns (per axis: the
     cell's upper corner plane in [core0, core1), the last chunk also the
-    plane past the end; a triangle flat in a plane P belongs to P)."""
+    plane past the end; a triangle flat in a plane P belongs to P). Returns
+    the used vertices as keys (_vkey) and the triangles as indices into them."""
     v, f = _vol(block).mesh("mc")
     if not len(f):
-        return np.zeros((0, 3, 3), dtype=np.int64)
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 3), dtype=np.int32)
     # vertices at edge midpoints or cell centres: 2 v is an integer
     g = np.rint(2 * v).astype(np.int64) + 2 * np.asarray(off, dtype=np.int64)
     t = g[f]  # (m, 3 vertices, 3 axes), doubled coordinates
@@ -424,14 +431,16 @@ def _mesh_block(block, off, core0, core1, last):
     for a in range(3):
         hi_ok = owner[:, a] <= core1[a] if last[a] else owner[:, a] < core1[a]
         keep &= (owner[:, a] >= core0[a]) & hi_ok
-    return t[keep]
+    used, inv = np.unique(f[keep], return_inverse=True)
+    return _vkey(g[used], shape), inv.reshape(-1, 3).astype(np.int32)
 
 
 def mesh(arr, spacing=None, origin=None):
     """(vertices, faces) of the marching-cubes surface of the whole array,
     meshed chunk by chunk and welded: the same triangles (up to order) as
     Volume.mesh("mc") of a volume with that spacing and origin, and a closed
-    surface across chunk borders."""
+    surface across chunk borders. The weld (one sort of the chunks' vertex
+    keys) and the mesh are on the client."""
     arr = _check3(arr)
     starts, grid = _starts(arr.chunks), _grid(arr)
     tasks = []
@@ -440,11 +449,15 @@ def mesh(arr, spacing=None, origin=None):
         core0 = [int(starts[a][idx[a]]) for a in range(3)]
         core1 = [int(starts[a][idx[a] + 1]) for a in range(3)]
         last = [idx[a] == grid[a] - 1 for a in range(3)]
-        tasks.append(dask.delayed(_mesh_block, pure=True)(blk, off, core0, core1, last))
-    tris = dask.compute(*tasks)
-    t = np.concatenate(tris) if tris else np.zeros((0, 3, 3), dtype=np.int64)
-    uniq, inv = np.unique(t.reshape(-1, 3), axis=0, return_inverse=True)
+        tasks.append(dask.delayed(_mesh_block, pure=True)(blk, off, core0, core1, last,
+                                                          arr.shape))
+    parts = dask.compute(*tasks)
+    keys = np.concatenate([p[0] for p in parts])
+    base = np.concatenate([[0], np.cumsum([len(p[0]) for p in parts])])
+    faces = np.concatenate([p[1].astype(np.int64) + b for p, b in zip(parts, base)])
+    uniq, inv = np.unique(keys, return_inverse=True)
+    my, mz = 2 * arr.shape[1] + 4, 2 * arr.shape[2] + 4
+    g2 = np.stack([uniq // (my * mz) - 2, uniq // mz % my - 2, uniq % mz - 2], axis=1)
     g = _geometry(spacing, None, origin)[0]
-    sp = np.array(list(g.spacing))
-    verts = uniq.astype(np.float64) / 2.0 * sp + np.array(list(g.origin))
-    return verts, inv.reshape(-1, 3).astype(np.int32)
+    verts = g2.astype(np.float64) / 2.0 * np.array(list(g.spacing)) + np.array(list(g.origin))
+    return verts, inv[faces].astype(np.int32)
