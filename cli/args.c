@@ -7,6 +7,7 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "progress.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@
 int cli_fail(void)
 {
     const char *msg = bvox_errmsg();
+    cli_progress_clear();
     fprintf(stderr, "bvox: %s\n", msg && *msg ? msg : "failed (no message)");
     return CLI_FAIL;
 }
@@ -285,6 +287,22 @@ int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *targ
     return CLI_OPT_OK;
 }
 
+/* --light AZ,EL (render, image): two finite numbers into a bvox_light's
+ * azimuth and elevation. */
+int cli_take_light(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    char buf[128];
+    const char *comma = strchr(v, ',');
+    if (!comma || (size_t)(comma - v) >= sizeof buf) return CLI_OPT_BAD;
+    memcpy(buf, v, (size_t)(comma - v));
+    buf[comma - v] = '\0';
+    double az, el;
+    if (cli_parse_double(buf, &az) || cli_parse_double(comma + 1, &el)) return CLI_OPT_BAD;
+    bvox_light *light = target;
+    light->azimuth = az, light->elevation = el;
+    return CLI_OPT_OK;
+}
+
 /* ------------------------------------------------------------ process options */
 
 static int take_max_memory(const char *cmd, const cli_opt *o, const char *v, void *t)
@@ -317,19 +335,12 @@ const cli_group cli_process_group = {"Process options", process_opts, NULL};
 
 bvox_status cli_read_volume(const char *path, const cli_read_args *a, bvox_volume **out)
 {
-    bvox_volume *v = NULL;
-    bvox_status st = bvox_read(path, &a->opts, &v);
-    if (st) return st;
-    if (a->spacing_given || a->unit) {
-        const double *s = a->spacing_given ? a->spacing : bvox_volume_geometry(v)->spacing;
-        st = bvox_volume_set_spacing(v, s[0], s[1], s[2], a->unit);
-        if (st) {
-            bvox_volume_destroy(v);
-            return st;
-        }
-    }
-    *out = v;
-    return BVOX_OK;
+    /* --voxel-size / --unit go to the reader, which applies them to any
+     * format and so knows not to warn about a voxel size the file lacks */
+    bvox_read_opts o = a->opts;
+    if (a->spacing_given) memcpy(o.spacing, a->spacing, sizeof o.spacing);
+    if (a->unit) o.unit = a->unit;
+    return bvox_read(path, &o, out);
 }
 
 const char *cli_input_format(const char *path, const cli_read_args *a)

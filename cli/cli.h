@@ -92,11 +92,25 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format
 /* report.c: the result of bvox_info_compute, as aligned text or one JSON
  * object. source (a file name) and format may be NULL. */
 void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, const char *format);
-void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format);
-/* The keys of cli_print_info_json, written into an object the caller has
+/* The info keys (cli_print_info_json_io), written into an object the caller has
  * opened (commands that report more, like measure, start with them). */
 struct bvox__json; /* cli_json (json.h) */
 void cli_info_json_fields(struct bvox__json *j, const bvox_info *info, const char *source,
                           const char *format);
+/* "input" and "output": the file the command read and the file it wrote
+ * (null when none), the same in every command whatever its "file" means. */
+void cli_json_io(struct bvox__json *j, const char *input, const char *output);
+/* For commands that write a volume (convert, morph, voxelize): on stdout
+ * one JSON object, the info keys of vol with "file" the output and "format"
+ * its writer (format, else by OUT's name), input, output, then what extra
+ * adds (may be NULL). BVOX_ENOMEM from bvox_info_compute. */
+bvox_status cli_print_volume_json(const bvox_volume *vol, const char *input, const char *output,
+                                  const char *format,
+                                  void (*extra)(struct bvox__json *j, const bvox_volume *vol,
+                                                void *ctx),
+                                  void *ctx);
+/* One JSON object: the info keys, then input and output. */
+void cli_print_info_json_io(FILE *f, const bvox_info *info, const char *source,
+                            const char *format, const char *input, const char *output);
 
 #endif

@@ -87,7 +87,8 @@ static void print_text(const bvox_components *c, const bvox_component *list, int
     }
 }
 
-static void print_json(const bvox_components *c, const bvox_component *list, int64_t n)
+static void print_json(const bvox_components *c, const bvox_component *list, int64_t n,
+                       const char *in, const char *out)
 {
     cli_json j;
     cli_json_init(&j, stdout);
@@ -96,6 +97,7 @@ static void print_json(const bvox_components *c, const bvox_component *list, int
     cli_json_int(&j, n);
     cli_json_key(&j, "component_count"); /* = count, the name measure shares */
     cli_json_int(&j, n);
+    cli_json_io(&j, in, out);
     cli_json_key(&j, "components");
     cli_json_begin_array(&j);
     for (int64_t i = 0; i < n; i++) {
@@ -173,7 +175,7 @@ int cmd_components(int argc, char **argv)
         bvox_component *list = NULL;
         bvox_status st = bvox__stream_components(&src, conn, &n, &list);
         if (!st) {
-            if (json) print_json(NULL, list, n);
+            if (json) print_json(NULL, list, n, in, out);
             else print_text(NULL, list, n, conn, &src.geom);
         }
         free(list);
@@ -200,7 +202,7 @@ int cmd_components(int argc, char **argv)
     }
     if (rc == CLI_OK) {
         int64_t n = bvox_components_count(c);
-        if (json) print_json(c, NULL, n);
+        if (json) print_json(c, NULL, n, in, out);
         else print_text(c, NULL, n, conn, bvox_volume_geometry(vol));
     }
     free(lv);

@@ -15,7 +15,8 @@
  *     slice_0000.png
  *     ...
  *
- * Every listed name must have the kind's pattern (slice_<digits>.png), so a
+ * Every listed name must have the kind's pattern (slice_<digits>.png, and
+ * the slices' voxel_size.txt), so a
  * manifest made by someone else can at most name files that look like
  * bvox's. While files are moved in, the manifest lists the old and the new
  * files together, so an interrupted replace leaves nothing unlisted and the
@@ -82,6 +83,7 @@ static bool zarr_top_name(const char *s)
 static bool owned_name(int kind, const char *s)
 {
     if (kind == BVOX__DIR_LABEL_MESHES) return label_mesh_name(s);
+    if (kind == BVOX__DIR_PNG_SLICES && !strcmp(s, BVOX__VOXEL_SIZE_NAME)) return true;
     if (kind == BVOX__DIR_ZARR) return zarr_top_name(s);
     size_t np = strlen(kinds[kind].prefix), ns = strlen(kinds[kind].suffix), n = strlen(s);
     if (n <= np + ns || strncmp(s, kinds[kind].prefix, np) || strcmp(s + n - ns, kinds[kind].suffix))

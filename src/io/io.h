@@ -149,6 +149,13 @@ typedef enum {
     BVOX__DIR_ZARR          /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
 } bvox__dir_kind;
 #define BVOX__MANIFEST_NAME ".bvox-manifest"
+/* The voxel size of a PNG slice folder (PNG has no z): "SX SY SZ [UNIT]". */
+#define BVOX__VOXEL_SIZE_NAME "voxel_size.txt"
+/* True when the read options give the voxel size (all three axes > 0). */
+static inline bool bvox__read_spacing_given(const bvox_read_opts *opts)
+{
+    return opts && opts->spacing[0] > 0 && opts->spacing[1] > 0 && opts->spacing[2] > 0;
+}
 typedef struct bvox__dir_sink {
     char *target;  /* trailing slashes removed, a symlink resolved */
     char *tmp;     /* the temporary folder: writers put their files here */

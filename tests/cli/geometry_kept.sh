@@ -80,4 +80,19 @@ grep -q '^bvox: warning: .*e.stl: [0-9]* vertices share their position .* write 
 grep -q warning "$tmp/err" && fail "PLY warned: $(cat "$tmp/err")"
 "$BVOX" mesh "$tmp/edge.nii" -o "$tmp/m.stl" 2>"$tmp/err" || fail "mc to STL"
 grep -q warning "$tmp/err" && fail "marching cubes STL warned: $(cat "$tmp/err")"
+# PNG slices have no z: a round trip keeps it through voxel_size.txt; a
+# folder without one says what it assumed, unless --voxel-size tells it
+"$BVOX" convert "$tmp/box.nii" "$tmp/png/" 2>"$tmp/err" || fail "convert to PNG slices"
+"$BVOX" info "$tmp/png/" --json >"$tmp/i.json" 2>"$tmp/err"
+jcheck "$tmp/i.json" 'near(o["voxel_size"], [1, 1, 2]) and o["unit"] == "mm"' ||
+    fail "PNG round trip lost the z spacing: $(cat "$tmp/i.json")"
+[ ! -s "$tmp/err" ] || fail "a bvox-written folder warned: $(cat "$tmp/err")"
+rm "$tmp/png/voxel_size.txt"
+"$BVOX" info "$tmp/png/" --json >"$tmp/i.json" 2>"$tmp/err"
+grep -q '^bvox: warning: .*PNG slices hold no z spacing: 1 mm .*assumed' "$tmp/err" ||
+    fail "assumed z not warned: $(cat "$tmp/err")"
+jcheck "$tmp/i.json" 'near(o["voxel_size"], [1, 1, 1])' || fail "pHYs x/y: $(cat "$tmp/i.json")"
+"$BVOX" info "$tmp/png/" --voxel-size 1,1,2 --json >"$tmp/i.json" 2>"$tmp/err"
+[ ! -s "$tmp/err" ] || fail "--voxel-size still warned: $(cat "$tmp/err")"
+jcheck "$tmp/i.json" 'near(o["voxel_size"], [1, 1, 2])' || fail "--voxel-size: $(cat "$tmp/i.json")"
 echo "geometry_kept: ok"

@@ -65,10 +65,11 @@ cmp -s scan/scan.nii scan.copy || fail "convert into its own folder changed the 
 
 # bvox's own earlier output: replaced exactly (fewer slices: the rest go)
 "$BVOX" shape sphere r=3 --dims 8,8,8 -o own/ >/dev/null
-[ "$(ls own | wc -l)" -eq 8 ] && [ -f own/.bvox-manifest ] || fail "own/: $(ls -A own)"
+[ "$(ls own | wc -l)" -eq 9 ] && [ -f own/.bvox-manifest ] && [ -f own/voxel_size.txt ] ||
+    fail "own/: $(ls -A own)"
 chmod 0750 own
 "$BVOX" shape sphere r=2 --dims 6,6,4 -o own/ >/dev/null || fail "replacing own output"
-[ "$(ls own | tr '\n' ' ')" = "slice_0000.png slice_0001.png slice_0002.png slice_0003.png " ] ||
+[ "$(ls own | tr '\n' ' ')" = "slice_0000.png slice_0001.png slice_0002.png slice_0003.png voxel_size.txt " ] ||
     fail "own/ after replace: $(ls -A own)"
 [ "$(stat -c %a own)" = 750 ] || fail "the folder was not kept: mode $(stat -c %a own)"
 "$BVOX" info own/ | grep -q "6 x 6 x 4" || fail "own/ reads back wrong"

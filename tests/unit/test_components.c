@@ -258,3 +258,74 @@ TEST(threaded_slabs_and_both_join_paths)
     }
     return 0;
 }
+
+typedef struct ranked {
+    int64_t voxels, first; /* first voxel in column order: (y * nx + x) * nz + z */
+    int32_t x, y, z;
+} ranked;
+
+static int cmp_ranked(const void *a, const void *b)
+{
+    const ranked *p = a, *q = b;
+    if (p->voxels != q->voxels) return p->voxels < q->voxels ? 1 : -1;
+    return (p->first > q->first) - (p->first < q->first);
+}
+
+/* The documented order: largest first, ties by the first voxel in column
+ * order (x fastest, then y, then z). Sparse random volumes have many
+ * components of equal size; 26-connectivity labels 2 x 2 column groups,
+ * whose runs come in another order than the columns', so this checks that
+ * the ranking does not depend on how runs were numbered. Every SIMD path,
+ * 1 to 4 threads, odd and even sizes. */
+TEST(ties_ranked_by_first_voxel_in_column_order)
+{
+    static const int sizes[][3] = {{9, 7, 70}, {16, 33, 64}, {31, 30, 5}};
+    const int conns[3] = {6, 18, 26};
+    const bvox_simd levels[4] = {BVOX_SIMD_GENERIC, BVOX_SIMD_AVX2, BVOX_SIMD_AVX512,
+                                 BVOX_SIMD_AUTO};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+        const int *s = sizes[si];
+        voxref *r = voxref_create(s[0], s[1], s[2]);
+        voxref_random(r, 1, 10, harness_rand);
+        bvox_volume *v = voxref_to_volume(r);
+        size_t n = (size_t)s[0] * s[1] * s[2];
+        int32_t *labels = malloc(n * sizeof *labels);
+        int64_t *sizes_ref = malloc((n + 1) * sizeof *sizes_ref);
+        for (int c = 0; c < 3; c++) {
+            int64_t want = ref_label(r, conns[c], labels, sizes_ref);
+            ranked *rk = malloc(((size_t)want + 1) * sizeof *rk);
+            for (int64_t i = 0; i < want; i++) rk[i] = (ranked){sizes_ref[i], INT64_MAX, 0, 0, 0};
+            for (size_t i = 0; i < n; i++) {
+                if (!labels[i]) continue;
+                int32_t x = (int32_t)(i % (size_t)s[0]), y = (int32_t)(i / (size_t)s[0] % (size_t)s[1]),
+                        z = (int32_t)(i / ((size_t)s[0] * s[1]));
+                int64_t key = ((int64_t)y * s[0] + x) * s[2] + z;
+                ranked *k = &rk[labels[i] - 1];
+                if (key < k->first) *k = (ranked){k->voxels, key, x, y, z};
+            }
+            qsort(rk, (size_t)want, sizeof *rk, cmp_ranked);
+            for (int li = 0; li < 4; li++)
+                for (int threads = 1; threads <= 4; threads++) {
+                    if (levels[li] != BVOX_SIMD_AUTO && !bvox_simd_supported(levels[li])) continue;
+                    CHECK_OK(bvox_simd_set(levels[li]));
+                    bvox_set_threads(threads);
+                    bvox_components *comps;
+                    CHECK_OK(bvox_components_find(v, conns[c], &comps));
+                    CHECK_EQ(bvox_components_count(comps), want);
+                    for (int64_t i = 0; i < want; i++) {
+                        CHECK_EQ(bvox_components_get(comps, i)->voxels, rk[i].voxels);
+                        CHECK_EQ(bvox_components_index_at(comps, rk[i].x, rk[i].y, rk[i].z), i);
+                    }
+                    bvox_components_destroy(comps);
+                }
+            free(rk);
+        }
+        bvox_simd_set(BVOX_SIMD_AUTO);
+        bvox_set_threads(0);
+        free(labels);
+        free(sizes_ref);
+        bvox_volume_destroy(v);
+        voxref_destroy(r);
+    }
+    return 0;
+}

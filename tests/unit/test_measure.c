@@ -471,6 +471,12 @@ TEST(simd_paths_agree)
     CHECK_EQ(a.euler, b.euler);
     for (int i = 0; i < 3; i++) CHECK_EQ(a.faces[i], b.faces[i]);
     CHECK(a.area == b.area);
+    /* the moments (run or popcount sums per word) and the topology too */
+    CHECK(memcmp(a.centroid, b.centroid, sizeof a.centroid) == 0);
+    CHECK(memcmp(a.covariance, b.covariance, sizeof a.covariance) == 0);
+    CHECK_EQ(a.components, b.components);
+    CHECK_EQ(a.cavities, b.cavities);
+    CHECK_EQ(a.cavities_26, b.cavities_26);
     bvox_volume_destroy(v);
     return 0;
 }

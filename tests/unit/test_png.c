@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 typedef struct png_spec {
     uint32_t w, h;
@@ -251,9 +252,32 @@ TEST(round_trip_awkward_sizes)
     return 0;
 }
 
+static char last_warning[512];
+static int nwarnings;
+static void on_warning(const char *msg, void *user)
+{
+    (void)user;
+    snprintf(last_warning, sizeof last_warning, "%s", msg);
+    nwarnings++;
+}
+
+/* Read dir, counting the warnings it raises. */
+static bvox_volume *read_counting(const char *dir, const bvox_read_opts *o, int *warned)
+{
+    bvox_volume *v = NULL;
+    nwarnings = 0;
+    last_warning[0] = '\0';
+    bvox_set_warning_handler(on_warning, NULL);
+    if (bvox_read(dir, o, &v) != BVOX_OK) fprintf(stderr, "%s: %s\n", dir, bvox_errmsg());
+    bvox_set_warning_handler(NULL, NULL);
+    *warned = nwarnings;
+    return v;
+}
+
 TEST(phys_voxel_size)
 {
     bvox_volume *v, *w;
+    int warned;
     CHECK_OK(bvox_volume_create((bvox_dims){4, 3, 2}, &v));
     CHECK_OK(bvox_volume_set(v, 1, 1, 1, 1));
     CHECK_OK(bvox_volume_set_spacing(v, 0.5, 0.25, 3.0, "um"));
@@ -261,18 +285,60 @@ TEST(phys_voxel_size)
     wo.format = "png";
     const char *dir = harness_path("phys");
     CHECK_OK(bvox_write(dir, v, &wo));
-    CHECK_OK(bvox_read(dir, NULL, &w));
+    /* voxel_size.txt keeps z and the unit exactly, with no warning */
+    CHECK((w = read_counting(dir, NULL, &warned)) != NULL);
+    CHECK_EQ(warned, 0);
     const bvox_geometry *g = bvox_volume_geometry(w);
+    CHECK(strcmp(g->unit, "um") == 0);
+    CHECK(g->spacing[0] == 0.5 && g->spacing[1] == 0.25 && g->spacing[2] == 3.0);
+    CHECK(bvox_volume_equal(v, w));
+    bvox_volume_destroy(w);
+    /* without it: pHYs gives x and y in mm, z is assumed = x, and said */
+    CHECK(unlink(in_dir(dir, "voxel_size.txt")) == 0);
+    CHECK((w = read_counting(dir, NULL, &warned)) != NULL);
+    CHECK_EQ(warned, 1);
+    CHECK(strstr(last_warning, "no z spacing") && strstr(last_warning, "voxel_size.txt"));
+    g = bvox_volume_geometry(w);
     CHECK(strcmp(g->unit, "mm") == 0);
     CHECK_NEAR(g->spacing[0], 0.0005, 1e-12);
     CHECK_NEAR(g->spacing[1], 0.00025, 1e-12);
-    CHECK_NEAR(g->spacing[2], 0.0005, 1e-12); /* PNG has no z: same as x */
-    CHECK(bvox_volume_equal(v, w));
+    CHECK_NEAR(g->spacing[2], 0.0005, 1e-12);
     bvox_volume_destroy(w);
-    /* no metric unit: no pHYs, default geometry */
+    /* the caller's voxel size wins over the file's and silences the warning */
+    bvox_read_opts o = BVOX_READ_OPTS_INIT;
+    o.spacing[0] = 0.1, o.spacing[1] = 0.1, o.spacing[2] = 0.7, o.unit = "mm";
+    CHECK((w = read_counting(dir, &o, &warned)) != NULL);
+    CHECK_EQ(warned, 0);
+    g = bvox_volume_geometry(w);
+    CHECK(g->spacing[2] == 0.7 && strcmp(g->unit, "mm") == 0);
+    bvox_volume_destroy(w);
+    /* a user's own voxel_size.txt: commas, a comment, another unit */
+    CHECK(write_text(in_dir(dir, "voxel_size.txt"), "# from the microscope\n\n0.2, 0.2, 1.5 nm\n"));
+    CHECK((w = read_counting(dir, NULL, &warned)) != NULL);
+    CHECK_EQ(warned, 0);
+    g = bvox_volume_geometry(w);
+    CHECK(g->spacing[0] == 0.2 && g->spacing[2] == 1.5 && strcmp(g->unit, "nm") == 0);
+    bvox_volume_destroy(w);
+    /* a wrong one is an error naming it, never a silent default */
+    static const char *const bad[] = {"0.2 0.2\n", "0.2 0 1\n", "a b c\n", "# only\n",
+                                      "1 1 nan mm\n", "1 1 1 a-unit-far-too-long\n"};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+        CHECK(write_text(in_dir(dir, "voxel_size.txt"), bad[k]));
+        CHECK_STATUS(bvox_read(dir, NULL, &w), BVOX_EFORMAT);
+        CHECK(strstr(bvox_errmsg(), "voxel_size.txt") != NULL);
+    }
+    CHECK(unlink(in_dir(dir, "voxel_size.txt")) == 0);
+    /* no metric unit: no pHYs; the sidecar keeps the size, without it 1 x 1 x 1 is said */
     CHECK_OK(bvox_volume_set_spacing(v, 2, 2, 2, ""));
     CHECK_OK(bvox_write(dir, v, &wo));
-    CHECK_OK(bvox_read(dir, NULL, &w));
+    CHECK((w = read_counting(dir, NULL, &warned)) != NULL);
+    CHECK_EQ(warned, 0);
+    CHECK(bvox_volume_geometry(w)->spacing[2] == 2.0);
+    bvox_volume_destroy(w);
+    CHECK(unlink(in_dir(dir, "voxel_size.txt")) == 0);
+    CHECK((w = read_counting(dir, NULL, &warned)) != NULL);
+    CHECK_EQ(warned, 1);
+    CHECK(strstr(last_warning, "1 x 1 x 1") != NULL);
     CHECK(strcmp(bvox_volume_geometry(w)->unit, "") == 0);
     CHECK_NEAR(bvox_volume_geometry(w)->spacing[0], 1.0, 0);
     bvox_volume_destroy(w);
