@@ -1397,6 +1397,7 @@ BVOX_API bvox_status bvox_csg_eval(const char *expr, const bvox_csg_eval_opts *o
 #include "bvox/recon.h"    /* images of serial sections -> aligned contour stack -> model */
 #include "bvox/mesh.h"     /* volume <-> triangle meshes */
 #include "bvox/journal.h"  /* undo/redo of in-place edits (the viewer) */
+#include "bvox/parts.h"    /* measure sums of a volume part by part (bvox.dask) */
 
 #ifdef __cplusplus
 }

@@ -33,6 +33,8 @@ bvox_contour_stack bvox_stack_volume_opts bvox_sim2 bvox_marker_opts bvox_align_
 bvox_recon_step bvox_recon_progress bvox_recon_opts bvox_recon_section_report
 bvox_recon_report
 bvox_progress_fn""".split()
+# bvox.dask: measure sums part by part (bvox/parts.h)
+TYPES += "bvox_int128 bvox_measure_sums".split()
 
 FUNCS = """bvox_status_name bvox_errmsg bvox_version bvox_set_memory_budget bvox_memory_budget
 bvox_memory_in_use bvox_free bvox_set_threads bvox_threads bvox_simd_active bvox_simd_name
@@ -57,12 +59,15 @@ bvox_stack_write_json bvox_stack_write_svg_dir bvox_volume_to_contours bvox_reco
 bvox_recon_opts_default bvox_recon_report_destroy bvox_reconstruct_images
 bvox_reconstruct
 bvox_set_progress bvox_set_progress_interval""".split()
+# bvox.dask: measure sums part by part (bvox/parts.h)
+FUNCS += "bvox_measure_part bvox_measure_from_sums".split()
 
 
 def generate():
     src = ""
     for name in ("bvox.h", os.path.join("bvox", "mesh.h"), os.path.join("bvox", "contours.h"),
-                 os.path.join("bvox", "recon.h")):
+                 os.path.join("bvox", "recon.h"),
+                 os.path.join("bvox", "parts.h")):  # parts.h: bvox.dask
         with open(os.path.join(INCLUDE, name)) as f:
             src += f.read()
     src = re.sub(r"/\*.*?\*/", "", src, flags=re.S)

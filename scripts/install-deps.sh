@@ -34,3 +34,8 @@ $SUDO apt-get install -y -qq --no-install-recommends python3-numpy python3-scipy
 # scikit-image's marching cubes, the peers of bench_mesh.
 $SUDO apt-get install -y -qq --no-install-recommends python3-vtk9 python3-skimage >/dev/null ||
     echo "install-deps: python3-vtk9/python3-skimage not installed (only bench/compare_vtk.py needs them)" >&2
+# bvox.dask (python/bvox/dask.py) and its tests (python/tests/test_dask.py,
+# bench/bench_dask.py): Dask arrays and the distributed scheduler's
+# LocalCluster; zarr-python writes the Zarr arrays read with from_zarr
+$SUDO apt-get install -y -qq --no-install-recommends \
+    python3-dask python3-distributed python3-zarr >/dev/null

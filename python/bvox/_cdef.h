@@ -386,6 +386,18 @@ typedef struct bvox_recon_report {
     bvox_recon_section_report *sections;
 } bvox_recon_report;
 typedef int (*bvox_progress_fn)(double fraction, const char *stage, void *user);
+typedef struct bvox_int128 {
+    int64_t hi;
+    uint64_t lo;
+} bvox_int128;
+typedef struct bvox_measure_sums {
+    int64_t count;
+    bvox_int128 s[3];
+    bvox_int128 ss[6];
+    int32_t bbox[6];
+    int64_t euler;
+    int64_t trans[7];
+} bvox_measure_sums;
 const char *bvox_status_name(bvox_status status);
 const char *bvox_errmsg(void);
 const char *bvox_version(void);
@@ -487,3 +499,5 @@ bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char 
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts, bvox_volume **volume, bvox_contour_stack **stack, bvox_recon_report **report);
 void bvox_set_progress(bvox_progress_fn fn, void *user);
 void bvox_set_progress_interval(double seconds);
+bvox_status bvox_measure_part(const bvox_volume *part, const int32_t core[3], const int32_t offset[3], bvox_measure_sums *out);
+bvox_status bvox_measure_from_sums(const bvox_measure_sums *sums, const bvox_geometry *geom, bvox_measures *out);

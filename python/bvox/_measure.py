@@ -66,13 +66,18 @@ def measure_components(vol, conn):
 
 def _as_dict(vol, m):
     p = vol._p
-    g = lib.bvox_volume_geometry(p)
-    unit = ffi.string(g.unit).decode("utf-8", "replace")
     d = lib.bvox_volume_dims(p)
+    return measures_dict((d.nx, d.ny, d.nz), lib.bvox_volume_geometry(p), m)
+
+
+def measures_dict(dims, g, m):
+    """The measure dict of a bvox_measures m of a volume of those dims and
+    geometry g (bvox.dask builds one without a Volume)."""
+    unit = ffi.string(g.unit).decode("utf-8", "replace")
     empty = m.count == 0
     k = _MM.get(unit)
     return {
-        "dims": [d.nx, d.ny, d.nz],
+        "dims": [int(n) for n in dims],
         "voxel_size": list(g.spacing),
         "spacing": list(g.spacing),
         "unit": unit,

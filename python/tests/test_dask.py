@@ -1,0 +1,205 @@
+"""bvox.dask on a LocalCluster of 2 worker processes against the in-memory
+answers of bvox.Volume, on random and structured volumes with odd chunk
+shapes and objects that cross chunk faces, edges and corners; arrays from
+dask.array.from_array and from dask.array.from_zarr."""
+import os
+
+import numpy as np
+import pytest
+
+dask = pytest.importorskip("dask")
+da = pytest.importorskip("dask.array")
+distributed = pytest.importorskip("distributed")
+
+import bvox  # noqa: E402
+import bvox.dask as bd  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+@pytest.fixture(scope="module")
+def client():
+    # the workers are spawned processes: they find the package (and, through
+    # BVOX_LIBRARY, the library) by the environment
+    pkg = os.path.abspath(os.path.join(HERE, ".."))
+    old = os.environ.get("PYTHONPATH")
+    os.environ["PYTHONPATH"] = pkg + (os.pathsep + old if old else "")
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, host="127.0.0.1")
+    c = distributed.Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+    if old is None:
+        del os.environ["PYTHONPATH"]
+    else:
+        os.environ["PYTHONPATH"] = old
+
+
+def structured(shape=(90, 120, 140)):
+    """Balls (some hollow: cavities), bars and a torus (a tunnel) placed
+    across the chunk faces, edges and corners of CHUNKS, plus specks that
+    touch only diagonally across a corner."""
+    x, y, z = np.ogrid[:shape[0], :shape[1], :shape[2]]
+    m = np.zeros(shape, dtype=bool)
+    for c, r, hollow in [((37, 100, 65), 9, True), ((36, 20, 64), 7, False),
+                         ((74, 99, 130), 8, True), ((10, 60, 20), 5, False)]:
+        d2 = (x - c[0]) ** 2 + (y - c[1]) ** 2 + (z - c[2]) ** 2
+        m |= d2 <= r * r
+        if hollow:
+            m &= ~(d2 <= (r - 3) ** 2)
+    m[5:85, 98:102, 60:70] = True          # a bar along x across two chunk faces
+    m[20:24, 10:115, 63:67] = True         # along y across a face and an edge
+    # a torus around the corner (37, 100, 65)... shifted to stay clear
+    rho = np.sqrt((x - 55.0) ** 2 + (y - 40.0) ** 2)
+    m |= (rho - 12) ** 2 + (z - 65.0) ** 2 <= 9
+    # single voxels meeting only at a chunk corner (26-connected, not 18/6)
+    m[36, 99, 129] = m[37, 100, 130] = True
+    m[73, 40, 20] = m[74, 41, 20] = True   # an edge contact (18 and 26)
+    return m
+
+
+CHUNKS = (37, 100, 65)
+
+
+def random_vol(seed, shape=(50, 45, 70), p=0.35):
+    return np.random.default_rng(seed).random(shape) < p
+
+
+def same_measure(got, want):
+    assert got.keys() == want.keys()
+    for k, w in want.items():
+        g = got[k]
+        if isinstance(w, float):
+            assert g == pytest.approx(w, rel=1e-12, abs=1e-9), k
+        elif isinstance(w, list) and w and isinstance(w[0], (list, float)):
+            np.testing.assert_allclose(np.array(g, dtype=float), np.array(w, dtype=float),
+                                       rtol=1e-12, atol=1e-9, err_msg=k)
+        else:
+            assert g == w, k
+
+
+def test_count(client):
+    m = random_vol(1)
+    assert bd.count(da.from_array(m, chunks=(17, 20, 33))) == int(m.sum())
+    s = structured()
+    assert bd.count(da.from_array(s.astype(np.uint8), chunks=CHUNKS)) == int(s.sum())
+
+
+@pytest.mark.parametrize("which", ["random", "structured"])
+def test_measure(client, which):
+    m = random_vol(2) if which == "random" else structured()
+    chunks = (17, 20, 33) if which == "random" else CHUNKS
+    spacing = (0.5, 0.7, 1.3)
+    want = bvox.Volume.from_numpy(m, spacing=spacing).measure()
+    got = bd.measure(da.from_array(m, chunks=chunks), spacing=spacing)
+    same_measure(got, want)
+    if which == "structured":  # the structure shows in the topology
+        assert want["cavities"] >= 2 and want["tunnels"] >= 1 and want["components"] >= 5
+
+
+def test_measure_empty_and_one_chunk(client):
+    z = np.zeros((20, 21, 22), dtype=bool)
+    same_measure(bd.measure(da.from_array(z, chunks=7)), bvox.Volume.from_numpy(z).measure())
+    m = random_vol(3, (20, 21, 22))
+    same_measure(bd.measure(da.from_array(m, chunks=m.shape)),
+                 bvox.Volume.from_numpy(m).measure())
+
+
+@pytest.mark.parametrize("conn", [6, 18, 26])
+def test_components_random(client, conn):
+    m = random_vol(4, p=0.3)
+    want, comps = bvox.Volume.from_numpy(m).components(conn)
+    labels, n = bd.components(da.from_array(m, chunks=(17, 20, 33)), conn=conn)
+    assert isinstance(labels, da.Array) and labels.chunks == ((17, 17, 16), (20, 20, 5),
+                                                              (33, 33, 4))
+    assert n == len(comps)
+    np.testing.assert_array_equal(labels.compute(), want)
+
+
+@pytest.mark.parametrize("conn", [6, 18, 26])
+def test_components_structured(client, conn):
+    s = structured()
+    want, comps = bvox.Volume.from_numpy(s).components(conn)
+    labels, n = bd.components(da.from_array(s, chunks=CHUNKS), conn=conn)
+    assert n == len(comps)
+    np.testing.assert_array_equal(labels.compute(), want)
+    # the corner specks join at 26 only; the edge pair at 18 and 26
+    assert (want[36, 99, 129] == want[37, 100, 130]) == (conn == 26)
+    assert (want[73, 40, 20] == want[74, 41, 20]) == (conn >= 18)
+
+
+def test_morphology(client):
+    m = random_vol(5, p=0.2)
+    v = bvox.Volume.from_numpy(m)
+    a = da.from_array(m, chunks=(17, 20, 33))
+    s = structured()[20:60, 80:120, 50:90]  # hollow ball, bars, the chunk corner
+    vs = bvox.Volume.from_numpy(s, spacing=(1.0, 1.0, 1.5))
+    b = da.from_array(s, chunks=(17, 20, 21))
+    cases = [(bd.dilate(a, c), v.dilate(c)) for c in (6, 18, 26)]
+    cases += [(bd.erode(a, c), v.erode(c)) for c in (6, 18, 26)]
+    cases += [(bd.dilate_ball(b, 3.0, spacing=(1.0, 1.0, 1.5)), vs.dilate_ball(3.0)),
+              (bd.erode_ball(b, 2.0, spacing=(1.0, 1.0, 1.5)), vs.erode_ball(2.0))]
+    got = dask.compute(*[c[0] for c in cases])  # one round trip to the cluster
+    for g, (_, want) in zip(got, cases):
+        np.testing.assert_array_equal(g, want.to_numpy())
+
+
+def test_csg(client):
+    p, q = random_vol(6), random_vol(7)
+    vp, vq = bvox.Volume.from_numpy(p), bvox.Volume.from_numpy(q)
+    a = da.from_array(p, chunks=(17, 20, 33))
+    b = da.from_array(q, chunks=(25, 9, 40))  # other chunks: rechunked to a's
+    for op, want in [("union", vp | vq), ("&", vp & vq), ("-", vp - vq), ("xor", vp ^ vq)]:
+        np.testing.assert_array_equal(bd.csg(a, b, op).compute(), want.to_numpy())
+    with pytest.raises(ValueError):
+        bd.csg(a, b, "nand")
+    with pytest.raises(ValueError):
+        bd.csg(a, b[:10], "union")
+
+
+def _triangle_set(v, f):
+    """Triangles as sorted rows of rotated vertex coordinates (orientation
+    kept: each triangle rotated to start at its smallest vertex)."""
+    t = np.round(v[f] * 1e6).astype(np.int64)  # (m, 3, 3)
+    out = []
+    for tri in t:
+        rows = [tuple(r) for r in tri]
+        i = rows.index(min(rows))
+        out.append(tuple(rows[i:] + rows[:i]))
+    return sorted(out)
+
+
+def test_mesh(client):
+    s = structured()[10:80, 60:120, 40:140]  # balls and specks across the chunk corners
+    spacing = (0.5, 1.0, 2.0)
+    v0, f0 = bvox.Volume.from_numpy(s, spacing=spacing).mesh("mc")
+    v, f = bd.mesh(da.from_array(s, chunks=(27, 40, 25)), spacing=spacing)
+    assert len(v) == len(v0) and len(f) == len(f0)
+    assert _triangle_set(v, f) == _triangle_set(v0, f0)
+    info = bvox.mesh_info(v, f) if hasattr(bvox, "mesh_info") else None
+    if info is not None:
+        assert info["boundary_edges"] == 0
+
+
+def test_from_zarr(client, tmp_path):
+    zarr = pytest.importorskip("zarr")
+    s = structured()
+    path = str(tmp_path / "s.zarr")
+    z = zarr.open(path, mode="w", shape=s.shape, chunks=CHUNKS, dtype="u1")
+    z[:] = s.astype(np.uint8)
+    a = da.from_zarr(path)
+    assert a.chunks[0] == (37, 37, 16)
+    assert bd.count(a) == int(s.sum())
+    same_measure(bd.measure(a), bvox.Volume.from_numpy(s).measure())
+    want, comps = bvox.Volume.from_numpy(s).components(26)
+    labels, n = bd.components(a)
+    assert n == len(comps)
+    np.testing.assert_array_equal(labels.compute(), want)
+
+
+def test_bad_input():
+    with pytest.raises(ValueError):
+        bd.count(da.zeros((4, 4), chunks=2))
+    with pytest.raises(ValueError):
+        bd.measure(da.zeros((4, 4, 4), chunks=2), spacing=(1, -1, 1))
