@@ -127,7 +127,7 @@ static inline int32_t diag_vertex(const cub *c, int k, int32_t X, int32_t Y, int
     uint64_t m = diag_word(c, k, X, Y, w) & ((1ull << (z & 63)) - 1);
     size_t i = ((size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X) * c->g.wpc + w;
     return (int32_t)(c->dbase[k] + c->rows[Y].diag[k] + c->dpre[k][i] +
-                     2 * bvox__popcount64(m) + side);
+                     2 * POPCOUNT(m) + side);
 }
 
 static inline uint64_t cell_key(const cub *c, int32_t X, int32_t Y, int32_t Z)
@@ -154,7 +154,7 @@ static inline void ring_cell(const cub *c, int32_t X, int32_t Y, int32_t Z, ring
 }
 
 /* The vertex of the sheet of cell r that holds its cube edge e. */
-static int32_t sheet_vertex(const cub *c, const ringcell *r, int e)
+static inline int32_t sheet_vertex(const cub *c, const ringcell *r, int e)
 {
     size_t w = (size_t)r->Z >> 6;
     unsigned bit = (unsigned)r->Z & 63;
@@ -163,7 +163,7 @@ static int32_t sheet_vertex(const cub *c, const ringcell *r, int e)
         return (int32_t)(c->rows[r->Y].cells +
                          c->pre[((size_t)r->Y * (size_t)(c->g.nx + 1) + (size_t)r->X) * c->g.cw +
                                 w] +
-                         bvox__popcount64(r->mixed & ((1ull << bit) - 1)));
+                         POPCOUNT(r->mixed & ((1ull << bit) - 1)));
     uint64_t key = cell_key(c, r->X, r->Y, r->Z);
     int64_t lo = 0, hi = c->nmulti - 1;
     while (lo < hi) {
@@ -189,7 +189,7 @@ static const int8_t ring[3][4][4] = {
  * from outside. The voxel edge between two ring cells is diagonal when the
  * cells' common face is ambiguous. Returns its length; with poly == NULL
  * only counts. *mid gets the position of a midpoint (-1 if none). */
-static int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, int f, unsigned k,
+static inline int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, int f, unsigned k,
                         uint64_t mixed, int32_t *poly, int *mid)
 {
     int e = face_edge[f], c0, c1;
@@ -233,71 +233,134 @@ static int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, int f, un
     return n;
 }
 
-static void pass_count(void *ctx, int64_t begin, int64_t end)
+/* Voxels a, b, c, d around a voxel edge (a, d and b, c diagonal): where
+ * they are 1, 0, 0, 1 or 0, 1, 1, 0, the edge is "diagonal". */
+static inline uint64_t alt(uint64_t a, uint64_t b, uint64_t cc, uint64_t d)
 {
-    cub *c = ctx;
-    const bvox__grid *g = &c->g;
-    for (int64_t kk = begin; kk < end; kk++) {
-        cchunk *ch = &c->chunks[kk];
-        for (int32_t Y = ch->y0; Y < ch->y1; Y++) {
-            int64_t run = 0, tris = 0;
-            for (int32_t X = 0; X <= g->nx; X++) {
-                uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
-                for (size_t w = 0; w < g->cw; w++) {
-                    uint64_t cw[8];
-                    corners(c, X, Y, w, cw);
-                    uint64_t mixed = bvox__grid_mixed(cw);
-                    pre[w] = (uint32_t)run;
-                    run += bvox__popcount64(mixed);
-                    for (; mixed; mixed &= mixed - 1) {
-                        unsigned bit = (unsigned)__builtin_ctzll(mixed);
-                        int32_t Z = (int32_t)(w * 64 + bit);
-                        unsigned k = bvox__grid_case(cw, bit);
-                        const bvox__mc_case *cs = &c->tab[k];
-                        for (int f = 0; f < 3; f++) {
-                            if (cs->edge_loop[face_edge[f]] < 0) continue;
-                            int mid;
-                            tris += face_polygon(c, X, Y, Z, f, k, 0, NULL, &mid) - 2;
-                        }
-                        if (cs->nloops > 1 && !ch->st) {
-                            bvox_status st = bvox__buf_reserve(
-                                &ch->multis, ch->multis.size + sizeof(multi), "cuberille sheets");
-                            if (st) {
-                                ch->st = st;
-                                continue;
-                            }
-                            multi *mm = (multi *)((char *)ch->multis.data + ch->multis.size);
-                            mm->key = cell_key(c, X, Y, Z);
-                            mm->first = cs->nloops - 1;
-                            ch->multis.size += sizeof(multi);
-                        }
-                    }
-                }
-            }
-            c->rows[Y].cells = run;
-            c->rows[Y].tris = tris;
-            for (int k = 0; k < 3; k++) {
-                uint64_t drun = 0; /* see mc.c: the total check bounds it */
-                for (int32_t X = 0; X <= g->nx; X++) {
-                    uint32_t *dp =
-                        c->dpre[k] + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->wpc;
-                    for (size_t w = 0; w < g->wpc; w++) {
-                        dp[w] = (uint32_t)drun;
-                        drun += 2 * (uint64_t)bvox__popcount64(diag_word(c, k, X, Y, w));
-                    }
-                }
-                c->rows[Y].diag[k] = (int64_t)drun;
-            }
+    return (a & d & ~b & ~cc) | (b & cc & ~a & ~d);
+}
+
+/* Word w of a column, 0 past its end; the column shifted up by one (bit z
+ * = voxel z - 1) and down by one (bit z = voxel z + 1). */
+static inline uint64_t cwd(const cub *c, const uint64_t *p, size_t w)
+{
+    return w < c->g.wpc ? p[w] : 0;
+}
+static inline uint64_t shl1(const cub *c, const uint64_t *p, size_t w)
+{
+    return (cwd(c, p, w) << 1) | (w >= 1 ? cwd(c, p, w - 1) >> 63 : 0);
+}
+static inline uint64_t shr1(const cub *c, const uint64_t *p, size_t w)
+{
+    return (cwd(c, p, w) >> 1) | (cwd(c, p, w + 1) << 63);
+}
+
+/* Record the multi-sheet cells of cell word (X, Y, w): their keys, in
+ * order, with their number of extra sheets. */
+static void add_multis(const cub *c, cchunk *ch, int32_t X, int32_t Y, size_t w,
+                       const uint64_t cw[8], uint64_t mixed)
+{
+    for (; mixed && !ch->st; mixed &= mixed - 1) {
+        unsigned bit = (unsigned)__builtin_ctzll(mixed);
+        const bvox__mc_case *cs = &c->tab[bvox__grid_case(cw, bit)];
+        if (cs->nloops <= 1) continue;
+        bvox_status st =
+            bvox__buf_reserve(&ch->multis, ch->multis.size + sizeof(multi), "cuberille sheets");
+        if (st) {
+            ch->st = st;
+            return;
         }
+        multi *mm = (multi *)((char *)ch->multis.data + ch->multis.size);
+        mm->key = cell_key(c, X, Y, (int32_t)(w * 64 + bit));
+        mm->first = cs->nloops - 1;
+        ch->multis.size += sizeof(multi);
     }
 }
 
-static void pass_emit(void *ctx, int64_t begin, int64_t end)
+/* Pass 1 for cell row Y, from whole words, each word of the 3 x 3 voxel
+ * columns around cell column X read once: the mixed-cell prefixes (pre),
+ * the diagonal-edge prefixes of each direction (dpre, as diag_word), the
+ * multi-sheet cells, and the row's triangles. Triangles: each exposed face
+ * is a polygon of its 4 corners plus one midpoint per diagonal voxel edge
+ * among its sides, fanned into (that many - 2) triangles; so 2 per face
+ * plus 1 per (face, diagonal side) pair, popcounts of XORs of neighbour
+ * words. Row Y emits the x and z faces of voxel row y = Y and the y faces
+ * between voxel rows Y - 1 and Y (cube edges 3, 11 and 7 of its cells). A
+ * diagonal side implies its face is exposed, so sides need no face mask.
+ * V(x, y) is voxel column (x, y) (0 outside) = padded column (x+1, y+1):
+ * cell column X = x has corners in V(x-1..x, Y-1..Y). */
+HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
+{
+    const bvox__grid *g = &c->g;
+    int64_t run = 0, tris = 0;
+    uint64_t drun[3] = {0, 0, 0}; /* see mc.c: the total check bounds them */
+#define V(x, y) col(c, (x) + 1, (y) + 1)
+    for (int32_t x = 0; x <= g->nx; x++) {
+        const uint64_t *a0 = V(x - 1, Y - 1), *b0 = V(x, Y - 1), *c0 = V(x + 1, Y - 1);
+        const uint64_t *a1 = V(x - 1, Y), *b1 = V(x, Y), *c1 = V(x + 1, Y);
+        const uint64_t *a2 = V(x - 1, Y + 1), *b2 = V(x, Y + 1);
+        size_t at = (size_t)Y * (size_t)(g->nx + 1) + (size_t)x;
+        uint32_t *pre = c->pre + at * g->cw;
+        uint32_t *dp0 = c->dpre[0] + at * g->wpc, *dp1 = c->dpre[1] + at * g->wpc,
+                 *dp2 = c->dpre[2] + at * g->wpc;
+        for (size_t w = 0; w < g->cw; w++) {
+            uint64_t A0 = cwd(c, a0, w), B0 = cwd(c, b0, w), C0 = cwd(c, c0, w);
+            uint64_t A1 = cwd(c, a1, w), B1 = cwd(c, b1, w), C1 = cwd(c, c1, w);
+            uint64_t A2 = cwd(c, a2, w), B2 = cwd(c, b2, w);
+            uint64_t lA0 = shl1(c, a0, w), lB0 = shl1(c, b0, w);
+            uint64_t lA1 = shl1(c, a1, w), lB1 = shl1(c, b1, w);
+            uint64_t hA0 = shr1(c, a0, w), hB0 = shr1(c, b0, w);
+            uint64_t hA1 = shr1(c, a1, w), hB1 = shr1(c, b1, w);
+            /* cells: corners as corners() */
+            uint64_t cw[8] = {lA0, lB0, lA1, lB1, A0, B0, A1, B1};
+            uint64_t mixed = bvox__grid_mixed(cw);
+            pre[w] = (uint32_t)run;
+            if (mixed) {
+                run += POPCOUNT(mixed);
+                add_multis(c, ch, x, Y, w, cw, mixed);
+            }
+            if (w < g->wpc) { /* diagonal edges, diag_word's three directions */
+                dp0[w] = (uint32_t)drun[0];
+                dp1[w] = (uint32_t)drun[1];
+                dp2[w] = (uint32_t)drun[2];
+                drun[0] += 2 * (uint64_t)POPCOUNT(alt(A0, A1, hA0, hA1));
+                drun[1] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, hA0, hB0));
+                drun[2] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, A1, B1));
+            }
+            /* x faces between V(x-1, Y) and V(x, Y) */
+            uint64_t zdiag = alt(A0, B0, A1, B1); /* z edge at corner (x, Y) */
+            tris += 2 * POPCOUNT(A1 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(A1, B1, A2, B2)) +
+                    POPCOUNT(alt(lA1, lB1, A1, B1)) + POPCOUNT(alt(A1, B1, hA1, hB1));
+            if (x == g->nx) continue; /* y and z faces: voxel columns x < nx */
+            /* y faces between V(x, Y-1) and V(x, Y) */
+            tris += 2 * POPCOUNT(B0 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(B0, C0, B1, C1)) +
+                    POPCOUNT(alt(lB0, lB1, B0, B1)) + POPCOUNT(alt(B0, B1, hB0, hB1));
+            /* z faces of V(x, Y), between voxels z - 1 and z */
+            uint64_t lC1 = shl1(c, c1, w), lB2 = shl1(c, b2, w);
+            tris += 2 * POPCOUNT(B1 ^ lB1) + POPCOUNT(alt(lB0, lB1, B0, B1)) +
+                    POPCOUNT(alt(lB1, lB2, B1, B2)) + POPCOUNT(alt(lA1, lB1, A1, B1)) +
+                    POPCOUNT(alt(lB1, lC1, B1, C1));
+        }
+    }
+#undef V
+    c->rows[Y].cells = run;
+    c->rows[Y].tris = tris;
+    for (int k = 0; k < 3; k++) c->rows[Y].diag[k] = (int64_t)drun[k];
+}
+
+static void pass_count(void *ctx, int64_t begin, int64_t end)
 {
     cub *c = ctx;
+    for (int64_t kk = begin; kk < end; kk++) {
+        cchunk *ch = &c->chunks[kk];
+        for (int32_t Y = ch->y0; Y < ch->y1; Y++) count_row(c, ch, Y);
+    }
+}
+
+HOT static void emit_row(cub *c, int32_t Y)
+{
     const bvox__grid *g = &c->g;
-    for (int64_t yy = begin; yy < end; yy++) {
-        int32_t Y = (int32_t)yy;
+    {
         int64_t vi = c->rows[Y].cells;
         int32_t *t = c->tris + 3 * c->rows[Y].tris;
         for (int32_t X = 0; X <= g->nx; X++)
@@ -349,6 +412,11 @@ static void pass_emit(void *ctx, int64_t begin, int64_t end)
                     }
         }
     }
+}
+
+static void pass_emit(void *ctx, int64_t begin, int64_t end)
+{
+    for (int64_t Y = begin; Y < end; Y++) emit_row(ctx, (int32_t)Y);
 }
 
 static void cub_release(cub *c)
