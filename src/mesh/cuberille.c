@@ -142,15 +142,35 @@ typedef struct ringcell {
     uint64_t mixed;
 } ringcell;
 
-static inline void ring_cell(const cub *c, int32_t X, int32_t Y, int32_t Z, ringcell *r)
+/* The corner words and mixed-cell words of the four cell columns (X..X+1,
+ * Y..Y+1), index dx | dy << 1, at cell words w and w + 1: every ring cell
+ * of the faces a cell of word (X, Y, w) emits is among them, so they are
+ * read once per word instead of once per ring cell. */
+typedef struct wordcells {
+    uint64_t cw[4][2][8];
+    uint64_t mixed[4][2];
+} wordcells;
+
+static void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, wordcells *wc)
 {
-    uint64_t cw[8];
-    corners(c, X, Y, (size_t)Z >> 6, cw);
-    r->X = X;
-    r->Y = Y;
-    r->Z = Z;
-    r->k = bvox__grid_case(cw, (unsigned)Z & 63);
-    r->mixed = bvox__grid_mixed(cw);
+    for (int j = 0; j < 4; j++)
+        for (int d = 0; d < 2; d++) {
+            corners(c, X + (j & 1), Y + (j >> 1), w + (size_t)d, wc->cw[j][d]);
+            wc->mixed[j][d] = bvox__grid_mixed(wc->cw[j][d]);
+        }
+}
+
+/* ring_cell from the word's cached corners: cell (X+dx, Y+dy, Z+dz), Z in
+ * word w of the cells. */
+static inline void ring_cell_at(const wordcells *wc, int32_t X, int32_t Y, int32_t Z, int dx,
+                                int dy, int dz, ringcell *r)
+{
+    int j = dx | dy << 1, d = ((Z & 63) + dz) >> 6;
+    r->X = X + dx;
+    r->Y = Y + dy;
+    r->Z = Z + dz;
+    r->k = bvox__grid_case(wc->cw[j][d], (unsigned)r->Z & 63);
+    r->mixed = wc->mixed[j][d];
 }
 
 /* The vertex of the sheet of cell r that holds its cube edge e. */
@@ -189,8 +209,9 @@ static const int8_t ring[3][4][4] = {
  * from outside. The voxel edge between two ring cells is diagonal when the
  * cells' common face is ambiguous. Returns its length; with poly == NULL
  * only counts. *mid gets the position of a midpoint (-1 if none). */
-static inline int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, int f, unsigned k,
-                        uint64_t mixed, int32_t *poly, int *mid)
+static inline int face_polygon(const cub *c, const wordcells *wc, int32_t X, int32_t Y,
+                               int32_t Z, int f, unsigned k, uint64_t mixed, int32_t *poly,
+                               int *mid)
 {
     int e = face_edge[f], c0, c1;
     bvox__mc_edge_corners(e, &c0, &c1);
@@ -200,7 +221,7 @@ static inline int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, in
     ringcell rc[4];
     rc[0] = (ringcell){X, Y, Z, k, mixed};
     for (int i = 1; i < 4; i++)
-        ring_cell(c, X + ring[f][i][0], Y + ring[f][i][1], Z + ring[f][i][2], &rc[i]);
+        ring_cell_at(wc, X, Y, Z, ring[f][i][0], ring[f][i][1], ring[f][i][2], &rc[i]);
     int n = 0;
     *mid = -1;
     for (int i = 0; i < 4; i++) {
@@ -363,11 +384,18 @@ HOT static void emit_row(cub *c, int32_t Y)
     {
         int64_t vi = c->rows[Y].cells;
         int32_t *t = c->tris + 3 * c->rows[Y].tris;
-        for (int32_t X = 0; X <= g->nx; X++)
+        const int64_t row_cells = c->rows[Y + 1].cells - c->rows[Y].cells;
+        for (int32_t X = 0; X <= g->nx; X++) {
+            /* skip columns without mixed cells (their faces are none either) */
+            const uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
+            if ((X < g->nx ? (int64_t)pre[g->cw] : row_cells) == (int64_t)pre[0]) continue;
             for (size_t w = 0; w < g->cw; w++) {
+                wordcells wc;
                 uint64_t cw[8];
                 corners(c, X, Y, w, cw);
                 const uint64_t mixed_word = bvox__grid_mixed(cw);
+                if (!mixed_word) continue;
+                wordcells_init(c, X, Y, w, &wc);
                 for (uint64_t mixed = mixed_word; mixed; mixed &= mixed - 1) {
                     unsigned bit = (unsigned)__builtin_ctzll(mixed);
                     int32_t Z = (int32_t)(w * 64 + bit);
@@ -386,7 +414,7 @@ HOT static void emit_row(cub *c, int32_t Y)
                         if (cs->edge_loop[face_edge[f]] < 0) continue;
                         int32_t q[8];
                         int mid;
-                        int n = face_polygon(c, X, Y, Z, f, k, mixed_word, q, &mid);
+                        int n = face_polygon(c, &wc, X, Y, Z, f, k, mixed_word, q, &mid);
                         int s = mid < 0 ? 0 : mid;
                         for (int i = 1; i + 1 < n; i++) {
                             t[0] = q[s];
@@ -397,10 +425,12 @@ HOT static void emit_row(cub *c, int32_t Y)
                     }
                 }
             }
+        }
         /* the midpoints of this row's diagonal edges, two per edge */
         static const double off[3][3] = {{-1, -0.5, 0.5}, {-0.5, -1, 0.5}, {-0.5, -0.5, 0}};
         for (int k = 0; k < 3; k++) {
             int64_t di = c->dbase[k] + c->rows[Y].diag[k];
+            if (c->rows[Y + 1].diag[k] == c->rows[Y].diag[k]) continue; /* none */
             for (int32_t X = 0; X <= g->nx; X++)
                 for (size_t w = 0; w < g->wpc; w++)
                     for (uint64_t m = diag_word(c, k, X, Y, w); m; m &= m - 1) {
@@ -483,6 +513,10 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
             diag[k] += r.diag[k];
         }
     }
+    /* the row past the last: the totals (emit_row's counts per row) */
+    c.rows[g->ny + 1].cells = cells;
+    c.rows[g->ny + 1].tris = tris;
+    for (int k = 0; k < 3; k++) c.rows[g->ny + 1].diag[k] = diag[k];
     for (int i = 0; i < nch && !st; i++) {
         st = c.chunks[i].st;
         c.nmulti += (int64_t)(c.chunks[i].multis.size / sizeof(multi));
