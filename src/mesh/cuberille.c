@@ -261,19 +261,10 @@ static inline uint64_t alt(uint64_t a, uint64_t b, uint64_t cc, uint64_t d)
     return (a & d & ~b & ~cc) | (b & cc & ~a & ~d);
 }
 
-/* Word w of a column, 0 past its end; the column shifted up by one (bit z
- * = voxel z - 1) and down by one (bit z = voxel z + 1). */
+/* Word w of a column, 0 past its end. */
 static inline uint64_t cwd(const cub *c, const uint64_t *p, size_t w)
 {
     return w < c->g.wpc ? p[w] : 0;
-}
-static inline uint64_t shl1(const cub *c, const uint64_t *p, size_t w)
-{
-    return (cwd(c, p, w) << 1) | (w >= 1 ? cwd(c, p, w - 1) >> 63 : 0);
-}
-static inline uint64_t shr1(const cub *c, const uint64_t *p, size_t w)
-{
-    return (cwd(c, p, w) >> 1) | (cwd(c, p, w + 1) << 63);
 }
 
 /* Record the multi-sheet cells of cell word (X, Y, w): their keys, in
@@ -324,14 +315,46 @@ HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
         uint32_t *pre = c->pre + at * g->cw;
         uint32_t *dp0 = c->dpre[0] + at * g->wpc, *dp1 = c->dpre[1] + at * g->wpc,
                  *dp2 = c->dpre[2] + at * g->wpc;
+        /* the 8 columns' words below (pv), at (cu) and above (nx) word w */
+        const uint64_t *cols[8] = {a0, b0, c0, a1, b1, c1, a2, b2};
+        uint64_t pv[8], cu[8], nx[8];
+        for (int i = 0; i < 8; i++) {
+            pv[i] = 0;
+            cu[i] = cwd(c, cols[i], 0);
+            nx[i] = cwd(c, cols[i], 1);
+        }
         for (size_t w = 0; w < g->cw; w++) {
-            uint64_t A0 = cwd(c, a0, w), B0 = cwd(c, b0, w), C0 = cwd(c, c0, w);
-            uint64_t A1 = cwd(c, a1, w), B1 = cwd(c, b1, w), C1 = cwd(c, c1, w);
-            uint64_t A2 = cwd(c, a2, w), B2 = cwd(c, b2, w);
-            uint64_t lA0 = shl1(c, a0, w), lB0 = shl1(c, b0, w);
-            uint64_t lA1 = shl1(c, a1, w), lB1 = shl1(c, b1, w);
-            uint64_t hA0 = shr1(c, a0, w), hB0 = shr1(c, b0, w);
-            uint64_t hA1 = shr1(c, a1, w), hB1 = shr1(c, b1, w);
+            uint64_t o = 0, a = ~0ull, ends_o = 0, ends_a = ~0ull;
+            for (int i = 0; i < 8; i++) {
+                o |= cu[i];
+                a &= cu[i];
+                uint64_t ends = (pv[i] >> 63) | (nx[i] << 63);
+                ends_o |= ends;
+                ends_a &= ends | ~(1ull | 1ull << 63);
+            }
+            const uint64_t A0 = cu[0], B0 = cu[1], C0 = cu[2], A1 = cu[3], B1 = cu[4], C1 = cu[5],
+                           A2 = cu[6], B2 = cu[7];
+            const uint64_t lA0 = A0 << 1 | pv[0] >> 63, lB0 = B0 << 1 | pv[1] >> 63;
+            const uint64_t lA1 = A1 << 1 | pv[3] >> 63, lB1 = B1 << 1 | pv[4] >> 63;
+            const uint64_t hA0 = A0 >> 1 | nx[0] << 63, hB0 = B0 >> 1 | nx[1] << 63;
+            const uint64_t hA1 = A1 >> 1 | nx[3] << 63, hB1 = B1 >> 1 | nx[4] << 63;
+            const uint64_t lC1 = C1 << 1 | pv[5] >> 63, lB2 = B2 << 1 | pv[7] >> 63;
+            for (int i = 0; i < 8; i++) {
+                pv[i] = cu[i];
+                cu[i] = nx[i];
+                nx[i] = cwd(c, cols[i], w + 2);
+            }
+            /* all 3 x 3 x 3 voxels around every cell of the word equal: no
+             * mixed cell, face or diagonal edge (most words) */
+            if ((o | ends_o) == 0 || (a == ~0ull && ends_a == ~0ull)) {
+                pre[w] = (uint32_t)run;
+                if (w < g->wpc) {
+                    dp0[w] = (uint32_t)drun[0];
+                    dp1[w] = (uint32_t)drun[1];
+                    dp2[w] = (uint32_t)drun[2];
+                }
+                continue;
+            }
             /* cells: corners as corners() */
             uint64_t cw[8] = {lA0, lB0, lA1, lB1, A0, B0, A1, B1};
             uint64_t mixed = bvox__grid_mixed(cw);
@@ -357,7 +380,6 @@ HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
             tris += 2 * POPCOUNT(B0 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(B0, C0, B1, C1)) +
                     POPCOUNT(alt(lB0, lB1, B0, B1)) + POPCOUNT(alt(B0, B1, hB0, hB1));
             /* z faces of V(x, Y), between voxels z - 1 and z */
-            uint64_t lC1 = shl1(c, c1, w), lB2 = shl1(c, b2, w);
             tris += 2 * POPCOUNT(B1 ^ lB1) + POPCOUNT(alt(lB0, lB1, B0, B1)) +
                     POPCOUNT(alt(lB1, lB2, B1, B2)) + POPCOUNT(alt(lA1, lB1, A1, B1)) +
                     POPCOUNT(alt(lB1, lC1, B1, C1));
