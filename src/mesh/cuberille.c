@@ -153,10 +153,29 @@ typedef struct wordcells {
 
 static void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, wordcells *wc)
 {
+    /* the 3 x 3 padded columns' words w and w + 1, and shifted up by one
+     * (as corners(): bit Z = voxel Z - 1) */
+    uint64_t hi[3][3][2], lo[3][3][2];
+    const size_t wpc = c->g.wpc;
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 3; i++) {
+            const uint64_t *p = col(c, X + i, Y + j);
+            uint64_t pm = w >= 1 && w - 1 < wpc ? p[w - 1] : 0;
+            uint64_t h0 = w < wpc ? p[w] : 0, h1 = w + 1 < wpc ? p[w + 1] : 0;
+            hi[j][i][0] = h0;
+            hi[j][i][1] = h1;
+            lo[j][i][0] = h0 << 1 | pm >> 63;
+            lo[j][i][1] = h1 << 1 | h0 >> 63;
+        }
     for (int j = 0; j < 4; j++)
         for (int d = 0; d < 2; d++) {
-            corners(c, X + (j & 1), Y + (j >> 1), w + (size_t)d, wc->cw[j][d]);
-            wc->mixed[j][d] = bvox__grid_mixed(wc->cw[j][d]);
+            uint64_t *cw = wc->cw[j][d];
+            for (int b = 0; b < 4; b++) {
+                int xi = (j & 1) + (b & 1), yj = (j >> 1) + (b >> 1);
+                cw[b] = lo[yj][xi][d];
+                cw[4 + b] = hi[yj][xi][d];
+            }
+            wc->mixed[j][d] = bvox__grid_mixed(cw);
         }
 }
 
@@ -213,8 +232,9 @@ static inline int face_polygon(const cub *c, const wordcells *wc, int32_t X, int
                                int32_t Z, int f, unsigned k, uint64_t mixed, int32_t *poly,
                                int *mid)
 {
-    int e = face_edge[f], c0, c1;
-    bvox__mc_edge_corners(e, &c0, &c1);
+    /* bvox__mc_edge_corners of cube edges 3, 7, 11: corners 6, 5, 3 to 7 */
+    static const int8_t face_c0[3] = {6, 5, 3};
+    const int c0 = face_c0[f], c1 = 7;
     int outward_pos = (k >> c0) & 1; /* the lower voxel is the 1 */
     int vin = outward_pos ? c0 : c1;
     int32_t VX = X + (vin & 1), VY = Y + ((vin >> 1) & 1);
@@ -438,10 +458,13 @@ HOT static void emit_row(cub *c, int32_t Y)
                         int mid;
                         int n = face_polygon(c, &wc, X, Y, Z, f, k, mixed_word, q, &mid);
                         int s = mid < 0 ? 0 : mid;
+                        int32_t qq[16]; /* q twice: the fan from q[s] without % n */
+                        memcpy(qq, q, (size_t)n * sizeof *q);
+                        memcpy(qq + n, q, (size_t)n * sizeof *q);
                         for (int i = 1; i + 1 < n; i++) {
-                            t[0] = q[s];
-                            t[1] = q[(s + i) % n];
-                            t[2] = q[(s + i + 1) % n];
+                            t[0] = qq[s];
+                            t[1] = qq[s + i];
+                            t[2] = qq[s + i + 1];
                             t += 3;
                         }
                     }
