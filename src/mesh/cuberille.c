@@ -430,8 +430,11 @@ HOT static void emit_row(cub *c, int32_t Y)
         for (int32_t X = 0; X <= g->nx; X++) {
             /* skip columns without mixed cells (their faces are none either) */
             const uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
-            if ((X < g->nx ? (int64_t)pre[g->cw] : row_cells) == (int64_t)pre[0]) continue;
+            const int64_t col_end = X < g->nx ? (int64_t)pre[g->cw] : row_cells;
+            if (col_end == (int64_t)pre[0]) continue;
             for (size_t w = 0; w < g->cw; w++) {
+                /* the prefixes say which words hold mixed cells */
+                if ((w + 1 < g->cw ? (int64_t)pre[w + 1] : col_end) == (int64_t)pre[w]) continue;
                 wordcells wc;
                 uint64_t cw[8];
                 corners(c, X, Y, w, cw);
