@@ -151,7 +151,7 @@ typedef struct wordcells {
     uint64_t mixed[4][2];
 } wordcells;
 
-static void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, wordcells *wc)
+static inline void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, wordcells *wc)
 {
     /* the 3 x 3 padded columns' words w and w + 1, and shifted up by one
      * (as corners(): bit Z = voxel Z - 1) */
@@ -462,8 +462,7 @@ HOT static void emit_row(cub *c, int32_t Y)
                         int n = face_polygon(c, &wc, X, Y, Z, f, k, mixed_word, q, &mid);
                         int s = mid < 0 ? 0 : mid;
                         int32_t qq[16]; /* q twice: the fan from q[s] without % n */
-                        memcpy(qq, q, (size_t)n * sizeof *q);
-                        memcpy(qq + n, q, (size_t)n * sizeof *q);
+                        for (int i = 0; i < n; i++) qq[i] = qq[i + n] = q[i];
                         for (int i = 1; i + 1 < n; i++) {
                             t[0] = qq[s];
                             t[1] = qq[s + i];
