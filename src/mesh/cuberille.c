@@ -140,6 +140,7 @@ typedef struct ringcell {
     int32_t X, Y, Z;
     unsigned k;
     uint64_t mixed;
+    int64_t first; /* number of the first mixed cell of its word */
 } ringcell;
 
 /* The corner words and mixed-cell words of the four cell columns (X..X+1,
@@ -149,6 +150,7 @@ typedef struct ringcell {
 typedef struct wordcells {
     uint64_t cw[4][2][8];
     uint64_t mixed[4][2];
+    int64_t first[4][2]; /* number of the first mixed cell of each word */
 } wordcells;
 
 static inline void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, wordcells *wc)
@@ -176,6 +178,14 @@ static inline void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, 
                 cw[4 + b] = hi[yj][xi][d];
             }
             wc->mixed[j][d] = bvox__grid_mixed(cw);
+            /* cells past the grid have no number (and are never asked for) */
+            int32_t CX = X + (j & 1), CY = Y + (j >> 1);
+            size_t cwi = w + (size_t)d;
+            wc->first[j][d] =
+                CX <= c->g.nx && CY <= c->g.ny && cwi < c->g.cw
+                    ? c->rows[CY].cells +
+                          c->pre[((size_t)CY * (size_t)(c->g.nx + 1) + (size_t)CX) * c->g.cw + cwi]
+                    : 0;
         }
 }
 
@@ -190,19 +200,15 @@ static inline void ring_cell_at(const wordcells *wc, int32_t X, int32_t Y, int32
     r->Z = Z + dz;
     r->k = bvox__grid_case(wc->cw[j][d], (unsigned)r->Z & 63);
     r->mixed = wc->mixed[j][d];
+    r->first = wc->first[j][d];
 }
 
 /* The vertex of the sheet of cell r that holds its cube edge e. */
 static inline int32_t sheet_vertex(const cub *c, const ringcell *r, int e)
 {
-    size_t w = (size_t)r->Z >> 6;
     unsigned bit = (unsigned)r->Z & 63;
     int L = c->tab[r->k].edge_loop[e];
-    if (L <= 0)
-        return (int32_t)(c->rows[r->Y].cells +
-                         c->pre[((size_t)r->Y * (size_t)(c->g.nx + 1) + (size_t)r->X) * c->g.cw +
-                                w] +
-                         POPCOUNT(r->mixed & ((1ull << bit) - 1)));
+    if (L <= 0) return (int32_t)(r->first + POPCOUNT(r->mixed & ((1ull << bit) - 1)));
     uint64_t key = cell_key(c, r->X, r->Y, r->Z);
     int64_t lo = 0, hi = c->nmulti - 1;
     while (lo < hi) {
@@ -239,7 +245,7 @@ static inline int face_polygon(const cub *c, const wordcells *wc, int32_t X, int
     int vin = outward_pos ? c0 : c1;
     int32_t VX = X + (vin & 1), VY = Y + ((vin >> 1) & 1);
     ringcell rc[4];
-    rc[0] = (ringcell){X, Y, Z, k, mixed};
+    rc[0] = (ringcell){X, Y, Z, k, mixed, wc->first[0][0]};
     for (int i = 1; i < 4; i++)
         ring_cell_at(wc, X, Y, Z, ring[f][i][0], ring[f][i][1], ring[f][i][2], &rc[i]);
     int n = 0;
@@ -450,7 +456,7 @@ HOT static void emit_row(cub *c, int32_t Y)
                     bvox__grid_world(c->geo, X - 0.5, Y - 0.5, Z - 0.5, p);
                     memcpy(c->verts + 3 * vi++, p, sizeof p);
                     if (cs->nloops > 1) {
-                        ringcell self = {X, Y, Z, k, mixed_word};
+                        ringcell self = {X, Y, Z, k, mixed_word, wc.first[0][0]};
                         int32_t first = sheet_vertex(c, &self, cs->loop[1][0]);
                         for (int L = 1; L < cs->nloops; L++)
                             memcpy(c->verts + 3 * (first + L - 1), p, sizeof p);
