@@ -19,7 +19,9 @@
  * "surface_build" is the one-off boundary extraction of arbitrary views;
  * "arbitrary_view" times bvox_surface_cast ("cast_ms") and the cast plus
  * bvox_lut_light + bvox_shade_into ("ms", the per-frame cost when the object
- * turns), median over several directions.
+ * turns), median over several directions. "shading" times the publishable
+ * shading of one 512x512 view (smooth normals, the viewer's smooth codes,
+ * ambient occlusion, shadows) beside the binary table shading.
  *
  *   bench_render [--quick] [--runs N] [--sizes 256,512,1024 | --n N] [--no-ref]
  *                [--threads-list 1,2,4,8,16] [--case NAME]
@@ -317,6 +319,68 @@ static void bench_reshade(const options *o)
     bvox_preimage_destroy(p);
 }
 
+/* ---- issue 18: the per-frame cost of the publishable shading ----
+ * One 512 x 512 (o->images[0]) projection at 30,20 of the prepared surface,
+ * then, per thread count, the median of: the binary table shading (lut +
+ * remap, the baseline), smooth normals for every pixel
+ * (bvox_preimage_normals), the smooth shading codes the viewer uses
+ * (bvox_shade_codes_volume), ambient occlusion and shadows. */
+static void bench_shading(const options *o, const bvox_volume *vol, const bvox_surface *s,
+                          const char *pattern, int side)
+{
+    bvox_projection proj = BVOX_PROJECTION_INIT;
+    proj.azimuth = 30, proj.elevation = 20, proj.width = proj.height = side;
+    bvox_preimage *p;
+    if (bvox_surface_cast(s, &proj, &p)) die("cast");
+    const size_t n = (size_t)side * (size_t)side;
+    float *nrm = malloc(3 * n * sizeof *nrm);
+    uint16_t *codes = malloc(n * sizeof *codes);
+    uint8_t *f = malloc(n);
+    bvox_image *img;
+    if (!nrm || !codes || !f || bvox_image_create(side, side, 1, 8, &img)) die("buffers");
+    bvox_light l = BVOX_LIGHT_INIT;
+    bvox_shade_opts so = BVOX_SHADE_OPTS_INIT;
+    so.mode = BVOX_SHADE_SMOOTH;
+    enum { BIN, SMOOTH, CODES, AO, SHADOWS, NK };
+    static const char *const key[NK] = {"binary_ms", "smooth_ms", "smooth_codes_ms", "ao_ms",
+                                        "shadows_ms"};
+    double t[16][NK][100];
+    long long hits = 0;
+    for (size_t i = 0; i < n; i++) hits += p->depth[i] >= 0;
+    for (int r = -1; r < o->runs; r++)
+        for (int k = 0; k < o->tl.n; k++) {
+            bvox_set_threads(o->tl.t[k]);
+            double t0 = now_ms();
+            bvox_lut lut;
+            if (bvox_lut_light(p, &l, &lut) || bvox_shade_into(p, &lut, img)) die("shade");
+            double t1 = now_ms();
+            if (bvox_preimage_normals(vol, p, BVOX_SHADE_SMOOTH, 0, nrm)) die("normals");
+            double t2 = now_ms();
+            if (bvox_shade_codes_volume(vol, p, &so, codes)) die("codes");
+            double t3 = now_ms();
+            if (bvox_preimage_ao(vol, p, 0, f)) die("ao");
+            double t4 = now_ms();
+            if (bvox_preimage_shadows(vol, p, &l, 0, f)) die("shadows");
+            double t5 = now_ms();
+            if (r < 0) continue;
+            t[k][BIN][r] = t1 - t0, t[k][SMOOTH][r] = t2 - t1, t[k][CODES][r] = t3 - t2;
+            t[k][AO][r] = t4 - t3, t[k][SHADOWS][r] = t5 - t4;
+        }
+    for (int k = 0; k < o->tl.n; k++) {
+        printf("{\"case\": \"shading\", \"pattern\": \"%s\", \"n\": %d, \"image\": %d, "
+               "\"hit_pixels\": %lld, \"threads\": %d, \"runs\": %d",
+               pattern, vol->nx, side, hits, o->tl.t[k], o->runs);
+        for (int c = 0; c < NK; c++) printf(", \"%s\": %.3f", key[c], median(t[k][c], o->runs));
+        printf("}\n");
+    }
+    fflush(stdout);
+    bvox_image_destroy(img);
+    free(f);
+    free(codes);
+    free(nrm);
+    bvox_preimage_destroy(p);
+}
+
 static int parse_sizes(const char *s, options *o)
 {
     o->nsizes = 0;
@@ -354,7 +418,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_render [--quick] [--runs N (1..99)] "
                         "[--sizes 256,512,1024 | --n N (8..2048)] [--no-ref]\n"
                         "       [--threads-list 1,2,4,8,16] "
-                        "[--case reshade|axis_view|surface_build|arbitrary_view]\n");
+                        "[--case reshade|axis_view|surface_build|arbitrary_view|shading]\n");
         return 2;
     }
 
@@ -395,6 +459,7 @@ int main(int argc, char **argv)
             fflush(stdout);
             for (int k = 0; wanted(&o, "arbitrary_view") && k < 2; k++)
                 bench_arbitrary(&o, vol, s, pattern, o.images[k]);
+            if (wanted(&o, "shading")) bench_shading(&o, vol, s, pattern, o.images[0]);
             bvox_surface_destroy(s);
             bvox_volume_destroy(vol);
         }

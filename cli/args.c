@@ -7,6 +7,7 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "progress.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@
 int cli_fail(void)
 {
     const char *msg = bvox_errmsg();
+    cli_progress_clear();
     fprintf(stderr, "bvox: %s\n", msg && *msg ? msg : "failed (no message)");
     return CLI_FAIL;
 }
@@ -282,6 +284,22 @@ int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *targ
     int f = !strcmp(v, "laplace") ? BVOX_FILTER_LAPLACIAN : bvox_filter_parse(v);
     if (f < 0) return CLI_OPT_BAD;
     *(int *)target = f;
+    return CLI_OPT_OK;
+}
+
+/* --light AZ,EL (render, image): two finite numbers into a bvox_light's
+ * azimuth and elevation. */
+int cli_take_light(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    char buf[128];
+    const char *comma = strchr(v, ',');
+    if (!comma || (size_t)(comma - v) >= sizeof buf) return CLI_OPT_BAD;
+    memcpy(buf, v, (size_t)(comma - v));
+    buf[comma - v] = '\0';
+    double az, el;
+    if (cli_parse_double(buf, &az) || cli_parse_double(comma + 1, &el)) return CLI_OPT_BAD;
+    bvox_light *light = target;
+    light->azimuth = az, light->elevation = el;
     return CLI_OPT_OK;
 }
 

@@ -53,6 +53,9 @@ extern const char *const cli_mesh_formats[];
 extern const char *const cli_filter_choices[];
 int cli_take_filter(const char *cmd, const cli_opt *o, const char *v, void *filter);
 #define CLI_BAD_FILTER "--filter: '%s' is not highpass, smooth, laplace or sobel"
+/* --light AZ,EL (render, image) into a bvox_light. */
+int cli_take_light(const char *cmd, const cli_opt *o, const char *v, void *light);
+#define CLI_BAD_LIGHT "--light: '%s' is not AZ,EL"
 /* --output-format NAME into the const char * member of type. */
 #define CLI_OPT_OUTPUT_FORMAT(type, member)                                                 \
     {"--output-format", 0, CLI_STR, "NAME", "force the output format ({formats})",           \

@@ -12,6 +12,7 @@
 
 typedef struct convert_args {
     const char *in, *out;
+    int json;
     bvox_write_opts wo;
     int wo_codec; /* index into zarr_codecs */
     cli_read_args ra;
@@ -43,6 +44,9 @@ static const cli_opt convert_opts[] = {
     {"--levels", 0, CLI_INT, "N", "resolution levels of a .zarr output (0: halve until a side "
      "is under one chunk; 1: no pyramid)", A(wo.zarr_levels), .lo = 0, .hi = 16,
      .bad = "--levels: '%s' is not a count 0..16"},
+    {"--json", 0, CLI_FLAG, NULL,
+     "print one JSON object: what 'bvox info --json' says of OUT, and input, output",
+     A(json)},
     {NULL},
 };
 static const cli_group convert_group = {"Options", convert_opts, NULL};
@@ -88,6 +92,7 @@ int cmd_convert(int argc, char **argv)
     bvox_volume *vol = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st = bvox_write(out, vol, &a.wo);
+    if (!st && a.json) st = cli_print_volume_json(vol, in, out, a.wo.format, NULL, NULL);
     bvox_volume_destroy(vol);
     return st ? cli_fail() : CLI_OK;
 }

@@ -27,11 +27,11 @@ typedef struct render_args {
 
 static int take_view(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *target);
-static int take_light(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_size(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_stereo(const char *cmd, const cli_opt *o, const char *v, void *target);
 
-static const char *const shades[] = {"depth", "binary", "gradient", "binary+depth", NULL};
+static const char *const shades[] = {"depth", "binary", "gradient", "binary+depth", "smooth",
+                                     "binary-preimage", "enlarged-gradient", NULL};
 static const char *const zooms[] = {"1", "2", "4", "8", NULL};
 static const char *const stereos[] = {"sbs", "anaglyph", NULL};
 
@@ -46,13 +46,35 @@ static const cli_opt render_opts[] = {
      A(o), .fn = take_view},
     {"--shade", 0, CLI_CHOICE, "S",
      "depth, binary (binary gradient: the 26 voxel normals), gradient (from the depth map, "
-     "Sobel) or binary+depth (default)",
+     "Sobel), binary+depth (default), smooth (normals from the occupancy around the hit "
+     "voxel: the gray-level gradient over a ball, see --smooth-radius), binary-preimage (the "
+     "paper's binary gradient operator run over the pre-image) or enlarged-gradient (the "
+     "paper's Picture 2 order: the depth pre-image enlarged x2 with the Figure 5 averaging, "
+     "then the gradient operator over it; twice the size)",
      A(o.shade), .choices = shades, .fn = take_shade,
-     .bad = "--shade: '%s' is not depth, binary, gradient or binary+depth"},
+     .bad = "--shade: '%s' is not depth, binary, gradient, binary+depth, smooth, "
+            "binary-preimage or enlarged-gradient"},
+    /* --- issue 18: publishable shading --- */
+    {"--smooth-radius", 0, CLI_INT, "R",
+     "smooth normals (and --ao, --shadows) from the ball of radius R: 1 (3x3x3), 2 (5x5x5, "
+     "default) or 3 (7x7x7)",
+     A(o.smooth_radius), .lo = 1, .hi = 3,
+     .bad = "--smooth-radius: '%s' is not 1, 2 or 3"},
+    {"--ao", 0, CLI_FLAG, NULL,
+     "ambient occlusion: darken the surface by how much of the space in front of it the "
+     "object fills (at 2, 4 and 8 voxels)",
+     A(o.ao)},
+    {"--shadows", 0, CLI_FLAG, NULL,
+     "cast shadows: a surface the object hides from the light keeps only its ambient light",
+     A(o.shadows)},
+    {"--supersample", 0, CLI_INT, "N",
+     "antialiased edges: N x N rays a pixel, averaged (2..4; an axis view becomes a "
+     "projection, as with --size)",
+     A(o.supersample), .lo = 1, .hi = 4, .bad = "--supersample: '%s' is not 1, 2, 3 or 4"},
     {"--light", 0, CLI_STR, "AZ,EL",
      "light direction: azimuth in the image plane (0 from the right, 90 from the top), "
      "elevation towards the viewer (default 135,45)",
-     A(o.light), .fn = take_light, .bad = "--light: '%s' is not AZ,EL"},
+     A(o.light), .fn = cli_take_light, .bad = CLI_BAD_LIGHT},
     {"--size", 0, CLI_STR, "W,H",
      "image size: the view becomes a projection of W x H pixels that fits the object (default "
      "for AZ,EL and iso: 512,512)",
@@ -106,7 +128,9 @@ const cli_spec cli_spec_render = {
     .examples = "  bvox render embryo.nii.gz -o top.png --view +z --shade depth\n"
                 "  bvox render embryo.nii.gz -o iso.png --view iso --zoom 2 --average --filter highpass\n"
                 "  bvox render embryo.nii.gz -o half.png --view 30,20 --cut 1,0,0,-1.2 --keep below\n"
-                "  bvox render embryo.nii.gz -o spin.gif --view iso --turntable 36\n",
+                "  bvox render embryo.nii.gz -o spin.gif --view iso --turntable 36\n"
+                "  bvox render embryo.nii.gz -o pub.png --view iso --shade smooth --ao --shadows "
+                "--supersample 2\n",
 };
 
 /* "a,b,...": exactly n finite numbers. */
@@ -138,15 +162,6 @@ static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *ta
     int m = bvox_shade_mode_parse(v);
     if (m < 0) return CLI_OPT_BAD;
     *(bvox_shade_mode *)target = (bvox_shade_mode)m;
-    return CLI_OPT_OK;
-}
-
-static int take_light(const char *cmd, const cli_opt *o, const char *v, void *target)
-{
-    double x[2];
-    if (parse_list(v, 2, x)) return CLI_OPT_BAD;
-    bvox_light *light = target;
-    light->azimuth = x[0], light->elevation = x[1];
     return CLI_OPT_OK;
 }
 

@@ -52,7 +52,8 @@ typedef enum bvox_status {
     BVOX_EFORMAT = 4,     /* corrupt, truncated or unsupported input */
     BVOX_ETOOBIG = 5,     /* dimensions over the limits or the memory budget */
     BVOX_ENOTFOUND = 6,   /* a named file does not exist */
-    BVOX_EUNSUPPORTED = 7 /* a feature this build or format does not have */
+    BVOX_EUNSUPPORTED = 7, /* a feature this build or format does not have */
+    BVOX_ECANCELED = 8     /* the progress callback asked to stop (bvox_set_progress) */
 } bvox_status;
 
 /* Stable token for a status ("BVOX_OK", "BVOX_EFORMAT", ...). Never NULL. */
@@ -75,6 +76,23 @@ BVOX_API void bvox_set_warning_handler(bvox_warning_fn fn, void *user);
 /* Number of warnings raised in this thread since it started (handler or not):
  * lets a caller tell whether a call warned. */
 BVOX_API uint64_t bvox_warning_count(void);
+
+/* Progress of long work (read/write, reconstruct, mesh, measure, components,
+ * morphology, turntable renders). fn gets the fraction done of the outermost
+ * library call (0..1, never decreasing within one call; 1 once when it
+ * succeeds) and the name of the current stage ("read", "mesh", "dilate",
+ * ...). A non-zero return cancels: the call stops at its next check, frees
+ * what it holds, writes no output file and returns BVOX_ECANCELED (the return
+ * of the final call with 1 is ignored: the work is done). Like the warning
+ * handler, the callback belongs to the calling thread and is called only in
+ * it; fn NULL removes it. With no callback the checks cost a load and a
+ * branch. */
+typedef int (*bvox_progress_fn)(double fraction, const char *stage, void *user);
+BVOX_API void bvox_set_progress(bvox_progress_fn fn, void *user);
+/* The least time between two calls of this thread's callback, in seconds
+ * (default 0.005; 0: at every check, which tests use to count them). The
+ * first and the final call are never held back. */
+BVOX_API void bvox_set_progress_interval(double seconds);
 
 /* The library version, e.g. "0.1.0". */
 BVOX_API const char *bvox_version(void);
@@ -433,6 +451,9 @@ BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, 
  * Call once, early, from the main thread of a program (the `bvox` command
  * does). BVOX_EIO if sigaction fails. */
 BVOX_API bvox_status bvox_cleanup_on_signals(void);
+/* Remove those temporaries now. Async-signal-safe: for an application that
+ * handles a signal itself and then ends (the `bvox` command's second Ctrl-C). */
+BVOX_API void bvox_remove_temp_files(void);
 
 /* Write a label volume (e.g. from bvox_components_labels) as NIfTI-1, .nii
  * or .nii.gz by the path's suffix: labels holds nx*ny*nz values, x fastest
@@ -985,13 +1006,104 @@ typedef enum bvox_shade_mode {
     BVOX_SHADE_DEPTH = 0,       /* depth shading from the full depth (opts.depth) */
     BVOX_SHADE_BINARY = 1,      /* binary gradient shading of the normal codes (opts.light) */
     BVOX_SHADE_GRADIENT = 2,    /* gradient shading of the depth map (Sobel, opts.light) */
-    BVOX_SHADE_BINARY_DEPTH = 3 /* binary gradient times a depth cue from the full depth:
+    BVOX_SHADE_BINARY_DEPTH = 3, /* binary gradient times a depth cue from the full depth:
                                    1 - k t, t = depth / (depth_range - 1), k =
                                    light.depth_cue, or 0.5 when that is 0 */
+    /* --- issue 18: publishable shading --- */
+    BVOX_SHADE_SMOOTH = 4,       /* the gray-level gradient of the occupancy around the hit
+                                    voxel (Hoehne and Bernstein), bvox_smooth_normal: a
+                                    voxelized sphere looks like a sphere */
+    BVOX_SHADE_PREIMAGE_BINARY = 5,   /* the paper's second normal method: a binary gradient
+                                         operator run over the pre-image (bvox_preimage_normals) */
+    BVOX_SHADE_ENLARGED_GRADIENT = 6  /* the paper's Picture 2 order: the depth pre-image
+                                         enlarged x2 with the Figure 5 averaging
+                                         (bvox_preimage_enlarge), then the gradient operator
+                                         (Sobel) over the enlarged pre-image: twice the size */
 } bvox_shade_mode;
 BVOX_API const char *bvox_shade_mode_name(bvox_shade_mode mode); /* "depth", "binary", "gradient",
-                                                           "binary+depth" */
+                                                           "binary+depth", "smooth",
+                                                           "binary-preimage",
+                                                           "enlarged-gradient" */
 BVOX_API int bvox_shade_mode_parse(const char *name);            /* -1 if unknown */
+
+/* ---- smooth normals, ambient occlusion, shadows (issue 18) ----
+ * For still pictures (bvox_render) and for the viewer's shading path, which
+ * calls them per frame on its pane's pre-image (or bvox_smooth_normal per hit
+ * voxel). All are thread-safe and only read their inputs. */
+
+/* The smooth normal of voxel (x, y, z): minus the first moment of the
+ * occupancy over the ball of offsets i^2 + j^2 + k^2 <= r^2 + r around it
+ * (radius r = 1: inside the 3x3x3 cube, 2: inside 5x5x5, 3: 7x7x7; 0 means
+ * 2), i.e. the gray-level gradient of Hoehne and Bernstein. Each column of
+ * the ball is one window of the packed words, counted 64 voxels at a time by
+ * popcounts of shifted masks. Scaled by 1/spacing into physical units (the
+ * volume's axis-aligned frame) and made unit length. Returns 1, or 0 with n
+ * zero where the occupancy is symmetric (no direction) or the arguments are
+ * bad (outside voxels read as 0). */
+BVOX_API int bvox_smooth_normal(const bvox_volume *vol, int32_t x, int32_t y, int32_t z,
+                                int radius, double n[3]);
+/* The voxel a pre-image pixel hit: (x, y, z) indices of the first 1-voxel at
+ * or just behind the pixel's recorded depth (pre made from vol or a volume
+ * of its size). Returns 0 for background or when no 1-voxel is found within
+ * two voxels of the depth (then xyz is the voxel nearest the depth point). */
+BVOX_API int bvox_preimage_hit_voxel(const bvox_volume *vol, const bvox_preimage *pre,
+                                     int32_t c, int32_t r, int32_t xyz[3]);
+/* Unit surface normals of every pixel in the eye frame (right, up, towards
+ * the viewer; 3 floats a pixel, row-major; background 0, 0, 0), by mode:
+ *   smooth:          bvox_smooth_normal of the hit voxel (needs vol); a
+ *                    normal facing away is laid into the image plane (the
+ *                    silhouette); no direction: the binary normal
+ *   binary-preimage: the paper's binary gradient operator over the depth map:
+ *                    a 4-neighbour pixel counts as 1 when its depth is at or
+ *                    in front of the centre's (its column holds object at the
+ *                    centre's depth), n = (left - right, below - above, 1) in
+ *                    pixel steps, made physical and unit: 9 directions
+ *   gradient, enlarged-gradient: the Sobel normal of the depth map
+ *   binary, binary+depth, depth: the 27 binary normals of the codes
+ * vol may be NULL except for smooth. BVOX_EINVAL for missing inputs or an
+ * unknown mode. */
+BVOX_API bvox_status bvox_preimage_normals(const bvox_volume *vol, const bvox_preimage *pre,
+                                           bvox_shade_mode mode, int radius, float *normals);
+/* The paper's "enlarging a pre-image": zoom x2 (each pixel replicated on a
+ * 2 x 2 square), then the pixel averaging of Figure 5 on the depths: pixel
+ * (2i, 2j) keeps depth(i, j); (2i+1, 2j), (2i, 2j+1), (2i+1, 2j+1) take the
+ * average, rounded half up, of the 2, 2 and 4 original pixels around them
+ * (as bvox_image_zoom2_average), counting only the foreground ones: the
+ * silhouette is the replicated one, and no depth is averaged with the
+ * background. Codes are replicated. Pixel size halves; the frame is kept.
+ * *out owned by the caller. */
+BVOX_API bvox_status bvox_preimage_enlarge(const bvox_preimage *pre, bvox_preimage **out);
+/* A pre-image from a 16-bit depth map as bvox_preimage_depth_map writes it
+ * (0 background, else depth + 1): unit pixels and depth steps, the +z axis
+ * view's frame, normal codes "none". For running the pre-image operators on
+ * a picture alone (`bvox image enlarge|shade`). BVOX_EINVAL for an image
+ * that is not 16-bit gray. *out owned by the caller. */
+BVOX_API bvox_status bvox_preimage_from_depth_map(const bvox_image *map, bvox_preimage **out);
+/* An 8-bit gray picture of pre lit by light (bvox_light's Phong model, the
+ * codes' 3-bit cue), with the normals of mode: smooth (needs vol, the
+ * volume pre was cast from), binary-preimage, gradient, or
+ * enlarged-gradient (pre enlarged first: twice the size). BVOX_EINVAL for
+ * another mode, a bad radius (0..3) or missing inputs. *out owned by the
+ * caller. Thread-safe. */
+BVOX_API bvox_status bvox_shade_preimage(const bvox_volume *vol, const bvox_preimage *pre,
+                                         bvox_shade_mode mode, int radius,
+                                         const bvox_light *light, bvox_image **out);
+/* Ambient occlusion per pixel (0..255 = the light that reaches it): around
+ * the hit voxel, moved 1 + r voxels out along the smooth normal, the share
+ * of 1-voxels in the cube of half-size r for r = 2, 4 and 8 (popcounts of
+ * column windows); occlusion = min(1, 2 x their mean), ao = 255 (1 - 0.6
+ * occlusion). A flat open surface gets 255, a crevice less. Background 255.
+ * radius: the smooth normals' (0: 2). */
+BVOX_API bvox_status bvox_preimage_ao(const bvox_volume *vol, const bvox_preimage *pre,
+                                      int radius, uint8_t *ao);
+/* Cast shadows per pixel: 1 where the light reaches the hit voxel, 0 in
+ * shadow: facing away from the light (smooth normal . light <= 0), or a ray
+ * from the voxel (started 1.5 voxels out along the normal) towards the light
+ * meets a 1-voxel before it leaves the volume (a voxel walk through the
+ * packed volume, Amanatides and Woo). Background 1. Depends on the light:
+ * recompute when it moves. */
+BVOX_API bvox_status bvox_preimage_shadows(const bvox_volume *vol, const bvox_preimage *pre,
+                                           const bvox_light *light, int radius, uint8_t *lit);
 
 /* Shading codes and colour tables: the paper's split kept for interactive
  * display. A pre-image is turned once into a 16-bit shading code per pixel
@@ -1033,10 +1145,11 @@ typedef struct bvox_shade_opts {
     uint8_t cut_color[3];       /* tint of the cut face */
     uint8_t color[3];           /* the object's colour: shade * color / 255 */
     uint8_t background[3];
+    int smooth_radius;          /* smooth: the ball's radius 1..3 (0: 2) */
 } bvox_shade_opts;
 #define BVOX_SHADE_OPTS_INIT                                                           \
     { BVOX_SHADE_BINARY_DEPTH, BVOX_LIGHT_INIT, BVOX_DEPTH_SHADING_INIT, 0,            \
-      { 0, 0, 1, 0 }, { 255, 176, 96 }, { 255, 255, 255 }, { 0, 0, 0 } }
+      { 0, 0, 1, 0 }, { 255, 176, 96 }, { 255, 255, 255 }, { 0, 0, 0 }, 0 }
 /* RGB per shading code. */
 typedef struct bvox_shade_table {
     uint8_t rgb[BVOX_SCODES][3];
@@ -1046,6 +1159,14 @@ typedef struct bvox_shade_table {
  * input, an unknown mode or a bad light or plane. Thread-safe. */
 BVOX_API bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *opts,
                                       uint16_t *codes);
+/* The same for every mode, smooth included (its normals need the volume the
+ * pre-image was cast from: vol, which may be NULL for the other modes). The
+ * codes of smooth, binary-preimage and enlarged-gradient (of a pre-image the
+ * caller enlarged with bvox_preimage_enlarge) are the gradient layout: their
+ * normals in the 64 x 64 bins. The viewer's smooth mode calls this per
+ * frame. BVOX_EINVAL also for smooth without a volume. Thread-safe. */
+BVOX_API bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage *pre,
+                                             const bvox_shade_opts *opts, uint16_t *codes);
 /* The colour table of opts for codes made from a pre-image with pre's eye
  * frame and spacing (only those fields of pre are read). Cheap (8193
  * entries, the 27 normals and 4096 gradient bins lit once): rebuild it when
@@ -1074,7 +1195,7 @@ typedef enum bvox_stereo {
  * side by side or as an anaglyph.
  * The view: axis_view 1 casts `view` with one pixel per voxel column (as
  * bvox_cast_axis) unless proj.width or proj.height is set or stereo is
- * asked; then, and with axis_view 0, it is the projection proj (size 0: 512,
+ * asked or supersample > 1; then, and with axis_view 0, it is the projection proj (size 0: 512,
  * scale 0: fit), an axis view becoming the projection with the same image
  * axes (rows right, down, view of its eye frame).
  * The cut face: for an axis view, the pixels whose hit voxel is seen through
@@ -1102,6 +1223,14 @@ typedef struct bvox_render_opts {
     uint8_t cut_color[3];     /* tint of the cut face */
     bvox_stereo stereo;
     double stereo_angle;      /* degrees each way (default 3) */
+    /* --- issue 18: publishable shading --- */
+    int smooth_radius;        /* smooth normals (and ao, shadows): ball radius 1..3 (0: 2) */
+    int ao;                   /* 1: darken by ambient occlusion (bvox_preimage_ao) */
+    int shadows;              /* 1: cast shadows (bvox_preimage_shadows): a pixel in shadow
+                                 keeps ambient / (ambient + diffuse N.L) of its value, N its
+                                 smooth normal: the direct light removed */
+    int supersample;          /* 0 or 1: none; 2..4: cast N x N rays a pixel and average
+                                 them (antialiased edges); makes an axis view a projection */
 } bvox_render_opts;
 /* +z axis view, binary+depth shading, BVOX_LIGHT_INIT, BVOX_DEPTH_SHADING_INIT,
  * zoom 1, no filter, no cut (keep above, tint 255, 176, 96), no stereo (3 degrees). */

@@ -13,7 +13,8 @@ typedef enum bvox_status {
     BVOX_EFORMAT = 4,
     BVOX_ETOOBIG = 5,
     BVOX_ENOTFOUND = 6,
-    BVOX_EUNSUPPORTED = 7
+    BVOX_EUNSUPPORTED = 7,
+    BVOX_ECANCELED = 8
 } bvox_status;
 typedef struct bvox_dims {
     int32_t nx, ny, nz;
@@ -152,7 +153,10 @@ typedef enum bvox_shade_mode {
     BVOX_SHADE_DEPTH = 0,
     BVOX_SHADE_BINARY = 1,
     BVOX_SHADE_GRADIENT = 2,
-    BVOX_SHADE_BINARY_DEPTH = 3
+    BVOX_SHADE_BINARY_DEPTH = 3,
+    BVOX_SHADE_SMOOTH = 4,
+    BVOX_SHADE_PREIMAGE_BINARY = 5,
+    BVOX_SHADE_ENLARGED_GRADIENT = 6
 } bvox_shade_mode;
 typedef enum bvox_stereo {
     BVOX_STEREO_NONE = 0,
@@ -195,6 +199,10 @@ typedef struct bvox_render_opts {
     uint8_t cut_color[3];
     bvox_stereo stereo;
     double stereo_angle;
+    int smooth_radius;
+    int ao;
+    int shadows;
+    int supersample;
 } bvox_render_opts;
 typedef struct bvox_csg_eval_opts {
     bvox_dims dims;
@@ -377,6 +385,7 @@ typedef struct bvox_recon_report {
     double ms[10];
     bvox_recon_section_report *sections;
 } bvox_recon_report;
+typedef int (*bvox_progress_fn)(double fraction, const char *stage, void *user);
 const char *bvox_status_name(bvox_status status);
 const char *bvox_errmsg(void);
 const char *bvox_version(void);
@@ -476,3 +485,5 @@ bvox_recon_opts bvox_recon_opts_default(void);
 void bvox_recon_report_destroy(bvox_recon_report *report);
 bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char *const *names, int32_t n, const bvox_recon_opts *opts, bvox_volume **volume, bvox_contour_stack **stack, bvox_recon_report **report);
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts, bvox_volume **volume, bvox_contour_stack **stack, bvox_recon_report **report);
+void bvox_set_progress(bvox_progress_fn fn, void *user);
+void bvox_set_progress_interval(double seconds);

@@ -15,11 +15,17 @@ def _image_to_numpy(img):
 
 
 def render(vol, view="iso", *, shade="binary+depth", width=0, height=0, scale=0.0, zoom=1,
-           average=False, filter=None, cut=None, keep_above=True, light=None, path=None):
+           average=False, filter=None, cut=None, keep_above=True, light=None, path=None,
+           smooth_radius=0, ao=False, shadows=False, supersample=1):
     """Render a volume. view: "+z", "-x", ... (one pixel per voxel column),
     "iso", "iso+x-y+z" or "AZ,EL" degrees (a parallel projection of
     width x height pixels, 512 when 0, scaled to fit unless scale, pixels per
-    unit, is given); shade "depth", "binary", "gradient", "binary+depth";
+    unit, is given); shade "depth", "binary", "gradient", "binary+depth",
+    "smooth" (normals from the occupancy around the hit voxel, over a ball of
+    smooth_radius 1..3, 0: 2), "binary-preimage", "enlarged-gradient" (the
+    paper's pre-image operators; the latter doubles the size); ao, shadows:
+    ambient occlusion and cast shadows; supersample N (1..4): N x N rays a
+    pixel, averaged (an axis view becomes a projection);
     zoom 1/2/4/8; average: a further x2 with pixel averaging; filter
     "highpass", "smooth", "laplacian", "sobel"; cut (a, b, c, d): the plane
     a x + b y + c z + d = 0, keeping the side >= 0 (keep_above) with its cut
@@ -48,6 +54,10 @@ def render(vol, view="iso", *, shade="binary+depth", width=0, height=0, scale=0.
         opts.keep_above = 1 if keep_above else 0
     if light is not None:
         opts.light.azimuth, opts.light.elevation = (float(v) for v in light)
+    opts.smooth_radius = int(smooth_radius)
+    opts.ao = 1 if ao else 0
+    opts.shadows = 1 if shadows else 0
+    opts.supersample = int(supersample)
     out = ffi.new("bvox_image **")
     check(lib.bvox_render(vol._p, opts, out, ffi.NULL))
     img = ffi.gc(out[0], lib.bvox_image_destroy)

@@ -131,7 +131,7 @@ def test_measure_keys_match_cli(tmp_path):
                          capture_output=True, text=True).stdout
     cli = json.loads(out)
     m = v.measure()
-    assert set(cli) - {"file", "format"} == set(m)
+    assert set(cli) - {"file", "format", "input", "output"} == set(m)
     for k in ("count", "faces", "components", "cavities", "tunnels", "euler", "bbox", "dims",
               "unit", "volume_unit", "area_unit"):
         assert m[k] == cli[k], k
@@ -230,6 +230,22 @@ def test_render():
     assert not np.array_equal(cut[..., 0], cut[..., 2])  # the tinted cut face
     with pytest.raises(bvox.InvalidArgument):
         v.render("sideways")
+
+
+def test_render_smooth_shading():
+    v = bvox.Volume((40, 40, 40))
+    v.draw("sphere", radius=15)
+    # lit from the viewer, smooth normals brighten steadily towards the middle
+    img = v.render("+z", shade="smooth", light=(0, 90))[20, :, 0].astype(int)
+    lit = np.nonzero(img)[0]
+    half = img[lit[0]:20]
+    assert len(set(half.tolist())) >= 8 and np.all(np.diff(half) > -30)
+    pub = v.render("iso", width=48, height=40, shade="smooth", ao=True, shadows=True,
+                   supersample=2)
+    assert pub.shape == (40, 48, 3) and pub.max() > 0
+    assert v.render("+z", shade="enlarged-gradient").shape == (80, 80, 3)
+    with pytest.raises(bvox.InvalidArgument):
+        v.render("iso", shade="smooth", supersample=9)
 
 
 def test_measure_components_match_each_alone(rng):

@@ -170,6 +170,8 @@ void bvox__temp_remove_all_signal_safe(void)
     }
 }
 
+void bvox_remove_temp_files(void) { bvox__temp_remove_all_signal_safe(); }
+
 static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
 
 static void on_signal(int sig)

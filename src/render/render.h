@@ -84,6 +84,43 @@ void bvox__cut_normal_eye(const bvox_preimage *pre, const double m[3], double n[
  * Used in assert() only (compiled out in release builds). */
 int bvox__preimage_ok(const bvox_preimage *pre);
 
+/* ---- smooth.c: normals per pixel in the eye frame (right, up, towards the
+ * viewer), as bvox_preimage_normals documents them ---- */
+/* Smooth normals are interpolated between the ball moments of the 8 voxels
+ * around a pixel's hit point; neighbouring pixels (and rows) share most of
+ * them, so each chunk of rows keeps the moments it computed in a
+ * direct-mapped cache (bvox__moment_cache_new: a zeroed one, or NULL when
+ * memory is short, which only costs time; NULL means none). */
+#define BVOX_MOMENT_CACHE 8191
+typedef struct bvox__moment_cache {
+    uint64_t key[BVOX_MOMENT_CACHE]; /* 0: empty */
+    int32_t m[BVOX_MOMENT_CACHE][3];
+} bvox__moment_cache;
+static inline bvox__moment_cache *bvox__moment_cache_new(void)
+{
+    return bvox__mem_zalloc(1, sizeof(bvox__moment_cache));
+}
+void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                             int32_t c, int32_t r, double n[3], bvox__moment_cache *mc);
+void bvox__preimage_binary_normal(const bvox_preimage *p, int32_t x, int32_t y, double n[3]);
+void bvox__pixel_normal(const bvox_volume *vol, const bvox_preimage *p, bvox_shade_mode mode,
+                        int radius, int32_t x, int32_t y, double n[3], bvox__moment_cache *mc);
+
+/* ---- shade_smooth.c ----
+ * An 8-bit gray picture lit (bvox__phong, the code's 3-bit cue) with the
+ * normals of bvox__pixel_normal. */
+bvox_status bvox__shade_normals(const bvox_volume *vol, const bvox_preimage *pre,
+                                bvox_shade_mode mode, int radius, const bvox_light *light,
+                                bvox_image **out);
+/* Multiply img (pre's size, 1 or 3 channels) by the ambient occlusion and
+ * the shadow factor of every foreground pixel (see bvox_render_opts). */
+bvox_status bvox__apply_depth_cues(const bvox_volume *vol, const bvox_preimage *pre,
+                                   const bvox_light *light, int radius, int ao, int shadows,
+                                   bvox_image *img);
+/* Each factor x factor block of an 8-bit image averaged (rounded) into one
+ * pixel: supersampling's reduction. */
+bvox_status bvox__image_shrink(const bvox_image *in, int factor, bvox_image **out);
+
 /* For the tests: number of casts (axis and projection) made in this process. */
 long bvox__render_cast_count(void);
 void bvox__render_count_cast(void);

@@ -64,13 +64,19 @@ static double depth_factor(const bvox_preimage *p, double k, int32_t d)
     return 1.0 - k * (p->depth_range > 1 ? (double)d / (p->depth_range - 1) : 0.0);
 }
 
-static bvox_status shade(const bvox_preimage *p, const bvox_render_opts *o, bvox_image **img)
+static bvox_status shade(const bvox__scene *sc, const bvox_preimage *p, const bvox_render_opts *o,
+                         bvox_image **img)
 {
     bvox_lut lut;
     bvox_status st;
     switch (o->shade) {
     case BVOX_SHADE_DEPTH: return bvox_shade_depth(p, &o->depth, img);
-    case BVOX_SHADE_GRADIENT: return bvox_shade_gradient(p, BVOX_GRADIENT_SOBEL, &o->light, img);
+    case BVOX_SHADE_GRADIENT:
+    case BVOX_SHADE_ENLARGED_GRADIENT: /* p is the enlarged pre-image then */
+        return bvox_shade_gradient(p, BVOX_GRADIENT_SOBEL, &o->light, img);
+    case BVOX_SHADE_SMOOTH:
+    case BVOX_SHADE_PREIMAGE_BINARY:
+        return bvox__shade_normals(sc->vol, p, o->shade, o->smooth_radius, &o->light, img);
     case BVOX_SHADE_BINARY:
         if ((st = bvox_lut_light(p, &o->light, &lut))) return st;
         return bvox_shade(p, &lut, img);
@@ -181,21 +187,45 @@ bvox_status bvox__scene_render_one(bvox__scene *sc, const bvox_render_opts *o, b
     if (pre) *pre = NULL;
     bvox_status st = bvox__render_opts_check(o);
     if (st) return st;
-    const int axis_cast = o->axis_view && !o->proj.width && !o->proj.height;
+    const int ss = o->supersample > 1 ? o->supersample : 1;
+    const int axis_cast = o->axis_view && !o->proj.width && !o->proj.height && ss == 1;
     bvox_preimage *p = NULL;
     if (axis_cast) {
         st = bvox_cast_axis(sc->vol, o->view, &p);
     } else {
         bvox_projection proj = o->proj;
         proj.use_matrix = 1;
+        /* supersampling: N times the pixels over the same picture */
+        proj.width = (proj.width ? proj.width : 512) * ss;
+        proj.height = (proj.height ? proj.height : 512) * ss;
+        proj.scale *= ss;
+        if (proj.width > BVOX_IMAGE_MAX_DIM || proj.height > BVOX_IMAGE_MAX_DIM)
+            return bvox__fail(BVOX_EINVAL, "render: %d x %d supersampled is over %d pixels a side",
+                              (int)proj.width, (int)proj.height, BVOX_IMAGE_MAX_DIM);
         st = bvox__opts_frame(o, proj.matrix);
         if (!st && !sc->surf) st = bvox_surface_build(sc->vol, &sc->surf);
         if (!st) st = bvox_surface_cast(sc->surf, &proj, &p);
     }
+    if (!st && o->shade == BVOX_SHADE_ENLARGED_GRADIENT) {
+        bvox_preimage *big = NULL;
+        st = bvox_preimage_enlarge(p, &big);
+        bvox_preimage_destroy(p);
+        p = big;
+    }
     if (st) return st;
     bvox_image *img = NULL;
-    st = shade(p, o, &img);
-    if (!st && sc->cut) st = mark_cut(sc, p, o, axis_cast, &img);
+    st = shade(sc, p, o, &img);
+    /* the enlarged pre-image's pixels are no voxel columns: the plane test */
+    const int axis_face = axis_cast && o->shade != BVOX_SHADE_ENLARGED_GRADIENT;
+    if (!st && sc->cut) st = mark_cut(sc, p, o, axis_face, &img);
+    if (!st && (o->ao || o->shadows))
+        st = bvox__apply_depth_cues(sc->vol, p, &o->light, o->smooth_radius, o->ao, o->shadows, img);
+    if (!st && ss > 1) {
+        bvox_image *small = NULL;
+        st = bvox__image_shrink(img, ss, &small);
+        bvox_image_destroy(img);
+        img = small;
+    }
     if (!st && o->zoom > 1) st = then(bvox_image_zoom, o->zoom, &img);
     if (!st && o->average) st = then(avg_op, 0, &img);
     if (!st && o->filter >= 0) st = then(filter_op, o->filter, &img);

@@ -12,7 +12,8 @@
 
 static const double deg = 3.14159265358979323846 / 180.0;
 
-static const char *const shade_names[] = {"depth", "binary", "gradient", "binary+depth"};
+static const char *const shade_names[] = {"depth", "binary", "gradient", "binary+depth",
+                                           "smooth", "binary-preimage", "enlarged-gradient"};
 #define NSHADES (int)(sizeof shade_names / sizeof shade_names[0])
 
 const char *bvox_shade_mode_name(bvox_shade_mode mode)
@@ -66,6 +67,13 @@ bvox_status bvox__render_opts_check(const bvox_render_opts *o)
         o->proj.height > BVOX_IMAGE_MAX_DIM)
         return bvox__fail(BVOX_EINVAL, "render: image size %d x %d is outside 0..%d",
                           (int)o->proj.width, (int)o->proj.height, BVOX_IMAGE_MAX_DIM);
+    if (o->smooth_radius < 0 || o->smooth_radius > 3)
+        return bvox__fail(BVOX_EINVAL, "render: smooth radius %d is not 1, 2 or 3 (0: 2)",
+                          o->smooth_radius);
+    if (o->supersample < 0 || o->supersample > 4)
+        return bvox__fail(BVOX_EINVAL, "render: supersample %d is outside 1..4", o->supersample);
+    if ((o->ao != 0 && o->ao != 1) || (o->shadows != 0 && o->shadows != 1))
+        return bvox__fail(BVOX_EINVAL, "render: ao and shadows are 0 or 1");
     bvox_status st = bvox__light_check(&o->light);
     if (st) return st;
     if (o->cut) {

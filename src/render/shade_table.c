@@ -15,6 +15,7 @@
 #include "render.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 enum { GRAD_BINS = 64, DEPTH_LEVELS = 256, CUE_LEVELS = 16 };
@@ -22,9 +23,11 @@ enum { GRAD_BINS = 64, DEPTH_LEVELS = 256, CUE_LEVELS = 16 };
 static bvox_status opts_check(const bvox_shade_opts *o)
 {
     if (!o) return bvox__fail(BVOX_EINVAL, "shade: no options");
-    if (o->mode != BVOX_SHADE_DEPTH && o->mode != BVOX_SHADE_BINARY &&
-        o->mode != BVOX_SHADE_GRADIENT && o->mode != BVOX_SHADE_BINARY_DEPTH)
+    if ((unsigned)o->mode > (unsigned)BVOX_SHADE_ENLARGED_GRADIENT)
         return bvox__fail(BVOX_EINVAL, "shade: unknown shading %d", (int)o->mode);
+    if (o->smooth_radius < 0 || o->smooth_radius > 3)
+        return bvox__fail(BVOX_EINVAL, "shade: smooth radius %d is not 1, 2 or 3 (0: 2)",
+                          o->smooth_radius);
     bvox_status st = bvox__light_check(&o->light);
     if (st) return st;
     if (o->mode == BVOX_SHADE_DEPTH && (st = bvox__depth_check(&o->depth))) return st;
@@ -94,27 +97,32 @@ static unsigned depth_level(int32_t d, int32_t range, unsigned levels)
     return q > (int64_t)levels - 1 ? levels - 1 : (unsigned)q;
 }
 
-static unsigned gradient_bin(const bvox_preimage *p, int32_t x, int32_t y)
+/* The bin of an eye-frame normal's right and up components. */
+static unsigned gradient_bin(const double n[3])
 {
-    double n[3];
-    bvox__depth_normal(p, BVOX_GRADIENT_SOBEL, x, y, n);
     int bx = (int)floor((n[0] + 1) * (GRAD_BINS / 2)), by = (int)floor((n[1] + 1) * (GRAD_BINS / 2));
     bx = bx < 0 ? 0 : bx > GRAD_BINS - 1 ? GRAD_BINS - 1 : bx;
     by = by < 0 ? 0 : by > GRAD_BINS - 1 ? GRAD_BINS - 1 : by;
     return (unsigned)(bx + GRAD_BINS * by);
 }
 
-bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *opts, uint16_t *codes)
+typedef struct codes_ctx {
+    const bvox_volume *vol;
+    const bvox_preimage *pre;
+    const bvox_shade_opts *opts;
+    uint16_t *codes;
+    bvox__cut_test cut;
+} codes_ctx;
+
+static void codes_rows(void *arg, int64_t y0, int64_t y1)
 {
-    if (!pre || !pre->depth || !pre->code || !codes)
-        return bvox__fail(BVOX_EINVAL, "shade: missing pre-image or codes");
-    bvox_status st = opts_check(opts);
-    if (st) return st;
-    BVOX_ASSERT(bvox__preimage_ok(pre));
+    const codes_ctx *g = arg;
+    const bvox_preimage *pre = g->pre;
+    const bvox_shade_opts *opts = g->opts;
+    uint16_t *codes = g->codes;
     const int32_t range = pre->depth_range > 1 ? pre->depth_range : 2;
-    bvox__cut_test cut = {{0, 0, 0}, 0, 0};
-    if (opts->cut) bvox__cut_test_init(&cut, opts->plane, opts->plane[3], pre);
-    for (int32_t y = 0; y < pre->height; y++)
+    bvox__moment_cache *mc = opts->mode == BVOX_SHADE_SMOOTH ? bvox__moment_cache_new() : NULL;
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
         for (int32_t x = 0; x < pre->width; x++) {
             size_t i = (size_t)y * (size_t)pre->width + (size_t)x;
             int32_t d = pre->depth[i];
@@ -123,14 +131,22 @@ bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *op
                 continue;
             }
             unsigned c;
-            if (opts->cut && bvox__cut_test_at(&cut, pre, x, y, d)) {
+            if (opts->cut && bvox__cut_test_at(&g->cut, pre, x, y, d)) {
                 codes[i] = (uint16_t)(BVOX_SCODE_CUT | depth_level(d, range, DEPTH_LEVELS));
                 continue;
             }
             switch (opts->mode) {
             case BVOX_SHADE_DEPTH: c = depth_level(d, range, DEPTH_LEVELS); break;
             case BVOX_SHADE_BINARY: c = pre->code[i]; break;
-            case BVOX_SHADE_GRADIENT: c = gradient_bin(pre, x, y); break;
+            case BVOX_SHADE_GRADIENT:
+            case BVOX_SHADE_SMOOTH:
+            case BVOX_SHADE_PREIMAGE_BINARY:
+            case BVOX_SHADE_ENLARGED_GRADIENT: {
+                double n[3];
+                bvox__pixel_normal(g->vol, pre, opts->mode, opts->smooth_radius, x, y, n, mc);
+                c = gradient_bin(n);
+                break;
+            }
             default: {
                 int64_t t = (int64_t)d * CUE_LEVELS / range;
                 c = BVOX_CODE_NORMAL(pre->code[i]) | (unsigned)(t > CUE_LEVELS - 1 ? CUE_LEVELS - 1 : t) << 5;
@@ -140,6 +156,29 @@ bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *op
             BVOX_ASSERT(c < BVOX_SCODE_CUT);
             codes[i] = (uint16_t)c;
         }
+    free(mc);
+}
+
+bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *opts, uint16_t *codes)
+{
+    return bvox_shade_codes_volume(NULL, pre, opts, codes);
+}
+
+bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage *pre,
+                                    const bvox_shade_opts *opts, uint16_t *codes)
+{
+    if (!pre || !pre->depth || !pre->code || !codes)
+        return bvox__fail(BVOX_EINVAL, "shade: missing pre-image or codes");
+    bvox_status st = opts_check(opts);
+    if (st) return st;
+    if (opts->mode == BVOX_SHADE_SMOOTH && !vol)
+        return bvox__fail(BVOX_EINVAL, "shade: smooth shading needs the volume "
+                                       "(bvox_shade_codes_volume)");
+    BVOX_ASSERT(bvox__preimage_ok(pre));
+    codes_ctx g = {vol, pre, opts, codes, {{0, 0, 0}, 0, 0}};
+    if (opts->cut) bvox__cut_test_init(&g.cut, opts->plane, opts->plane[3], pre);
+    /* rows over the threads: smooth normals cost a few microseconds a pixel */
+    bvox__parallel_for(pre->height, 16, codes_rows, &g);
     return BVOX_OK;
 }
 
@@ -166,6 +205,9 @@ static int gray_levels(const bvox_preimage *pre, const bvox_shade_opts *o, const
         memcpy(gray, lut.value, 256);
         return 256;
     case BVOX_SHADE_GRADIENT:
+    case BVOX_SHADE_SMOOTH:
+    case BVOX_SHADE_PREIMAGE_BINARY:
+    case BVOX_SHADE_ENLARGED_GRADIENT:
         /* the bin's centre on the unit hemisphere facing the viewer */
         for (int by = 0; by < GRAD_BINS; by++)
             for (int bx = 0; bx < GRAD_BINS; bx++) {

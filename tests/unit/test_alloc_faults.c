@@ -753,6 +753,29 @@ TEST(render_axis_cut) { return render_case("-x", 1, BVOX_STEREO_NONE); }
 TEST(render_projection_cut) { return render_case("iso", 1, BVOX_STEREO_NONE); }
 TEST(render_stereo) { return render_case("30,20", 0, BVOX_STEREO_SBS); }
 
+/* issue 18: the shading modes with per-pixel normals, the depth cues and
+ * supersampling, through every allocation they make (the moment caches'
+ * failures are absorbed: the same picture, only slower) */
+static int render_shading_case(const char *view, bvox_shade_mode shade, int cues)
+{
+    CHECK(make_fixture() == 0);
+    ropt = bvox_render_opts_default();
+    CHECK_OK(bvox_render_parse_view(view, &ropt));
+    ropt.shade = shade;
+    ropt.cut = 1;
+    ropt.plane[0] = 1; ropt.plane[3] = -10;
+    ropt.ao = ropt.shadows = cues;
+    ropt.supersample = cues ? 2 : 0;
+    if (!ropt.axis_view) ropt.proj.width = ropt.proj.height = 24;
+    CHECK_OK(bvox_render(fixture, &ropt, &rimage, NULL));
+    SWEEP(op_render, NULL);
+    bvox_image_destroy(rimage);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+TEST(render_smooth_cues) { return render_shading_case("iso", BVOX_SHADE_SMOOTH, 1); }
+TEST(render_enlarged_gradient) { return render_shading_case("+z", BVOX_SHADE_ENLARGED_GRADIENT, 0); }
+
 static bvox_status op_sheet(void)
 {
     bvox_image *img = (bvox_image *)1;
