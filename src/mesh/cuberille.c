@@ -127,7 +127,7 @@ static inline int32_t diag_vertex(const cub *c, int k, int32_t X, int32_t Y, int
     uint64_t m = diag_word(c, k, X, Y, w) & ((1ull << (z & 63)) - 1);
     size_t i = ((size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X) * c->g.wpc + w;
     return (int32_t)(c->dbase[k] + c->rows[Y].diag[k] + c->dpre[k][i] +
-                     2 * bvox__popcount64(m) + side);
+                     2 * POPCOUNT(m) + side);
 }
 
 static inline uint64_t cell_key(const cub *c, int32_t X, int32_t Y, int32_t Z)
@@ -140,30 +140,75 @@ typedef struct ringcell {
     int32_t X, Y, Z;
     unsigned k;
     uint64_t mixed;
+    int64_t first; /* number of the first mixed cell of its word */
 } ringcell;
 
-static inline void ring_cell(const cub *c, int32_t X, int32_t Y, int32_t Z, ringcell *r)
+/* The corner words and mixed-cell words of the four cell columns (X..X+1,
+ * Y..Y+1), index dx | dy << 1, at cell words w and w + 1: every ring cell
+ * of the faces a cell of word (X, Y, w) emits is among them, so they are
+ * read once per word instead of once per ring cell. */
+typedef struct wordcells {
+    uint64_t cw[4][2][8];
+    uint64_t mixed[4][2];
+    int64_t first[4][2]; /* number of the first mixed cell of each word */
+} wordcells;
+
+static inline void wordcells_init(const cub *c, int32_t X, int32_t Y, size_t w, wordcells *wc)
 {
-    uint64_t cw[8];
-    corners(c, X, Y, (size_t)Z >> 6, cw);
-    r->X = X;
-    r->Y = Y;
-    r->Z = Z;
-    r->k = bvox__grid_case(cw, (unsigned)Z & 63);
-    r->mixed = bvox__grid_mixed(cw);
+    /* the 3 x 3 padded columns' words w and w + 1, and shifted up by one
+     * (as corners(): bit Z = voxel Z - 1) */
+    uint64_t hi[3][3][2], lo[3][3][2];
+    const size_t wpc = c->g.wpc;
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 3; i++) {
+            const uint64_t *p = col(c, X + i, Y + j);
+            uint64_t pm = w >= 1 && w - 1 < wpc ? p[w - 1] : 0;
+            uint64_t h0 = w < wpc ? p[w] : 0, h1 = w + 1 < wpc ? p[w + 1] : 0;
+            hi[j][i][0] = h0;
+            hi[j][i][1] = h1;
+            lo[j][i][0] = h0 << 1 | pm >> 63;
+            lo[j][i][1] = h1 << 1 | h0 >> 63;
+        }
+    for (int j = 0; j < 4; j++)
+        for (int d = 0; d < 2; d++) {
+            uint64_t *cw = wc->cw[j][d];
+            for (int b = 0; b < 4; b++) {
+                int xi = (j & 1) + (b & 1), yj = (j >> 1) + (b >> 1);
+                cw[b] = lo[yj][xi][d];
+                cw[4 + b] = hi[yj][xi][d];
+            }
+            wc->mixed[j][d] = bvox__grid_mixed(cw);
+            /* cells past the grid have no number (and are never asked for) */
+            int32_t CX = X + (j & 1), CY = Y + (j >> 1);
+            size_t cwi = w + (size_t)d;
+            wc->first[j][d] =
+                CX <= c->g.nx && CY <= c->g.ny && cwi < c->g.cw
+                    ? c->rows[CY].cells +
+                          c->pre[((size_t)CY * (size_t)(c->g.nx + 1) + (size_t)CX) * c->g.cw + cwi]
+                    : 0;
+        }
+}
+
+/* ring_cell from the word's cached corners: cell (X+dx, Y+dy, Z+dz), Z in
+ * word w of the cells. */
+static inline void ring_cell_at(const wordcells *wc, int32_t X, int32_t Y, int32_t Z, int dx,
+                                int dy, int dz, ringcell *r)
+{
+    int j = dx | dy << 1, d = ((Z & 63) + dz) >> 6;
+    r->X = X + dx;
+    r->Y = Y + dy;
+    r->Z = Z + dz;
+    r->k = bvox__grid_case(wc->cw[j][d], (unsigned)r->Z & 63);
+    r->mixed = wc->mixed[j][d];
+    r->first = wc->first[j][d];
 }
 
 /* The vertex of the sheet of cell r that holds its cube edge e. */
-static int32_t sheet_vertex(const cub *c, const ringcell *r, int e)
+static inline int32_t sheet_vertex(const cub *c, const ringcell *r, int e)
 {
-    size_t w = (size_t)r->Z >> 6;
     unsigned bit = (unsigned)r->Z & 63;
     int L = c->tab[r->k].edge_loop[e];
-    if (L <= 0)
-        return (int32_t)(c->rows[r->Y].cells +
-                         c->pre[((size_t)r->Y * (size_t)(c->g.nx + 1) + (size_t)r->X) * c->g.cw +
-                                w] +
-                         bvox__popcount64(r->mixed & ((1ull << bit) - 1)));
+    if (L <= 0) return (int32_t)(r->first + POPCOUNT(r->mixed & ((1ull << bit) - 1)));
     uint64_t key = cell_key(c, r->X, r->Y, r->Z);
     int64_t lo = 0, hi = c->nmulti - 1;
     while (lo < hi) {
@@ -189,18 +234,20 @@ static const int8_t ring[3][4][4] = {
  * from outside. The voxel edge between two ring cells is diagonal when the
  * cells' common face is ambiguous. Returns its length; with poly == NULL
  * only counts. *mid gets the position of a midpoint (-1 if none). */
-static int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, int f, unsigned k,
-                        uint64_t mixed, int32_t *poly, int *mid)
+static inline int face_polygon(const cub *c, const wordcells *wc, int32_t X, int32_t Y,
+                               int32_t Z, int f, unsigned k, uint64_t mixed, int32_t *poly,
+                               int *mid)
 {
-    int e = face_edge[f], c0, c1;
-    bvox__mc_edge_corners(e, &c0, &c1);
+    /* bvox__mc_edge_corners of cube edges 3, 7, 11: corners 6, 5, 3 to 7 */
+    static const int8_t face_c0[3] = {6, 5, 3};
+    const int c0 = face_c0[f], c1 = 7;
     int outward_pos = (k >> c0) & 1; /* the lower voxel is the 1 */
     int vin = outward_pos ? c0 : c1;
     int32_t VX = X + (vin & 1), VY = Y + ((vin >> 1) & 1);
     ringcell rc[4];
-    rc[0] = (ringcell){X, Y, Z, k, mixed};
+    rc[0] = (ringcell){X, Y, Z, k, mixed, wc->first[0][0]};
     for (int i = 1; i < 4; i++)
-        ring_cell(c, X + ring[f][i][0], Y + ring[f][i][1], Z + ring[f][i][2], &rc[i]);
+        ring_cell_at(wc, X, Y, Z, ring[f][i][0], ring[f][i][1], ring[f][i][2], &rc[i]);
     int n = 0;
     *mid = -1;
     for (int i = 0; i < 4; i++) {
@@ -233,78 +280,173 @@ static int face_polygon(const cub *c, int32_t X, int32_t Y, int32_t Z, int f, un
     return n;
 }
 
-static void pass_count(void *ctx, int64_t begin, int64_t end)
+/* Voxels a, b, c, d around a voxel edge (a, d and b, c diagonal): where
+ * they are 1, 0, 0, 1 or 0, 1, 1, 0, the edge is "diagonal". */
+static inline uint64_t alt(uint64_t a, uint64_t b, uint64_t cc, uint64_t d)
 {
-    cub *c = ctx;
-    const bvox__grid *g = &c->g;
-    for (int64_t kk = begin; kk < end; kk++) {
-        cchunk *ch = &c->chunks[kk];
-        for (int32_t Y = ch->y0; Y < ch->y1; Y++) {
-            int64_t run = 0, tris = 0;
-            for (int32_t X = 0; X <= g->nx; X++) {
-                uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
-                for (size_t w = 0; w < g->cw; w++) {
-                    uint64_t cw[8];
-                    corners(c, X, Y, w, cw);
-                    uint64_t mixed = bvox__grid_mixed(cw);
-                    pre[w] = (uint32_t)run;
-                    run += bvox__popcount64(mixed);
-                    for (; mixed; mixed &= mixed - 1) {
-                        unsigned bit = (unsigned)__builtin_ctzll(mixed);
-                        int32_t Z = (int32_t)(w * 64 + bit);
-                        unsigned k = bvox__grid_case(cw, bit);
-                        const bvox__mc_case *cs = &c->tab[k];
-                        for (int f = 0; f < 3; f++) {
-                            if (cs->edge_loop[face_edge[f]] < 0) continue;
-                            int mid;
-                            tris += face_polygon(c, X, Y, Z, f, k, 0, NULL, &mid) - 2;
-                        }
-                        if (cs->nloops > 1 && !ch->st) {
-                            bvox_status st = bvox__buf_reserve(
-                                &ch->multis, ch->multis.size + sizeof(multi), "cuberille sheets");
-                            if (st) {
-                                ch->st = st;
-                                continue;
-                            }
-                            multi *mm = (multi *)((char *)ch->multis.data + ch->multis.size);
-                            mm->key = cell_key(c, X, Y, Z);
-                            mm->first = cs->nloops - 1;
-                            ch->multis.size += sizeof(multi);
-                        }
-                    }
-                }
-            }
-            c->rows[Y].cells = run;
-            c->rows[Y].tris = tris;
-            for (int k = 0; k < 3; k++) {
-                uint64_t drun = 0; /* see mc.c: the total check bounds it */
-                for (int32_t X = 0; X <= g->nx; X++) {
-                    uint32_t *dp =
-                        c->dpre[k] + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->wpc;
-                    for (size_t w = 0; w < g->wpc; w++) {
-                        dp[w] = (uint32_t)drun;
-                        drun += 2 * (uint64_t)bvox__popcount64(diag_word(c, k, X, Y, w));
-                    }
-                }
-                c->rows[Y].diag[k] = (int64_t)drun;
-            }
+    return (a & d & ~b & ~cc) | (b & cc & ~a & ~d);
+}
+
+/* Word w of a column, 0 past its end. */
+static inline uint64_t cwd(const cub *c, const uint64_t *p, size_t w)
+{
+    return w < c->g.wpc ? p[w] : 0;
+}
+
+/* Record the multi-sheet cells of cell word (X, Y, w): their keys, in
+ * order, with their number of extra sheets. */
+static void add_multis(const cub *c, cchunk *ch, int32_t X, int32_t Y, size_t w,
+                       const uint64_t cw[8], uint64_t mixed)
+{
+    for (; mixed && !ch->st; mixed &= mixed - 1) {
+        unsigned bit = (unsigned)__builtin_ctzll(mixed);
+        const bvox__mc_case *cs = &c->tab[bvox__grid_case(cw, bit)];
+        if (cs->nloops <= 1) continue;
+        bvox_status st =
+            bvox__buf_reserve(&ch->multis, ch->multis.size + sizeof(multi), "cuberille sheets");
+        if (st) {
+            ch->st = st;
+            return;
         }
+        multi *mm = (multi *)((char *)ch->multis.data + ch->multis.size);
+        mm->key = cell_key(c, X, Y, (int32_t)(w * 64 + bit));
+        mm->first = cs->nloops - 1;
+        ch->multis.size += sizeof(multi);
     }
 }
 
-static void pass_emit(void *ctx, int64_t begin, int64_t end)
+/* Pass 1 for cell row Y, from whole words, each word of the 3 x 3 voxel
+ * columns around cell column X read once: the mixed-cell prefixes (pre),
+ * the diagonal-edge prefixes of each direction (dpre, as diag_word), the
+ * multi-sheet cells, and the row's triangles. Triangles: each exposed face
+ * is a polygon of its 4 corners plus one midpoint per diagonal voxel edge
+ * among its sides, fanned into (that many - 2) triangles; so 2 per face
+ * plus 1 per (face, diagonal side) pair, popcounts of XORs of neighbour
+ * words. Row Y emits the x and z faces of voxel row y = Y and the y faces
+ * between voxel rows Y - 1 and Y (cube edges 3, 11 and 7 of its cells). A
+ * diagonal side implies its face is exposed, so sides need no face mask.
+ * V(x, y) is voxel column (x, y) (0 outside) = padded column (x+1, y+1):
+ * cell column X = x has corners in V(x-1..x, Y-1..Y). */
+HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
+{
+    const bvox__grid *g = &c->g;
+    int64_t run = 0, tris = 0;
+    uint64_t drun[3] = {0, 0, 0}; /* see mc.c: the total check bounds them */
+#define V(x, y) col(c, (x) + 1, (y) + 1)
+    for (int32_t x = 0; x <= g->nx; x++) {
+        const uint64_t *a0 = V(x - 1, Y - 1), *b0 = V(x, Y - 1), *c0 = V(x + 1, Y - 1);
+        const uint64_t *a1 = V(x - 1, Y), *b1 = V(x, Y), *c1 = V(x + 1, Y);
+        const uint64_t *a2 = V(x - 1, Y + 1), *b2 = V(x, Y + 1);
+        size_t at = (size_t)Y * (size_t)(g->nx + 1) + (size_t)x;
+        uint32_t *pre = c->pre + at * g->cw;
+        uint32_t *dp0 = c->dpre[0] + at * g->wpc, *dp1 = c->dpre[1] + at * g->wpc,
+                 *dp2 = c->dpre[2] + at * g->wpc;
+        /* the 8 columns' words below (pv), at (cu) and above (nx) word w */
+        const uint64_t *cols[8] = {a0, b0, c0, a1, b1, c1, a2, b2};
+        uint64_t pv[8], cu[8], nx[8];
+        for (int i = 0; i < 8; i++) {
+            pv[i] = 0;
+            cu[i] = cwd(c, cols[i], 0);
+            nx[i] = cwd(c, cols[i], 1);
+        }
+        for (size_t w = 0; w < g->cw; w++) {
+            uint64_t o = 0, a = ~0ull, ends_o = 0, ends_a = ~0ull;
+            for (int i = 0; i < 8; i++) {
+                o |= cu[i];
+                a &= cu[i];
+                uint64_t ends = (pv[i] >> 63) | (nx[i] << 63);
+                ends_o |= ends;
+                ends_a &= ends | ~(1ull | 1ull << 63);
+            }
+            const uint64_t A0 = cu[0], B0 = cu[1], C0 = cu[2], A1 = cu[3], B1 = cu[4], C1 = cu[5],
+                           A2 = cu[6], B2 = cu[7];
+            const uint64_t lA0 = A0 << 1 | pv[0] >> 63, lB0 = B0 << 1 | pv[1] >> 63;
+            const uint64_t lA1 = A1 << 1 | pv[3] >> 63, lB1 = B1 << 1 | pv[4] >> 63;
+            const uint64_t hA0 = A0 >> 1 | nx[0] << 63, hB0 = B0 >> 1 | nx[1] << 63;
+            const uint64_t hA1 = A1 >> 1 | nx[3] << 63, hB1 = B1 >> 1 | nx[4] << 63;
+            const uint64_t lC1 = C1 << 1 | pv[5] >> 63, lB2 = B2 << 1 | pv[7] >> 63;
+            for (int i = 0; i < 8; i++) {
+                pv[i] = cu[i];
+                cu[i] = nx[i];
+                nx[i] = cwd(c, cols[i], w + 2);
+            }
+            /* all 3 x 3 x 3 voxels around every cell of the word equal: no
+             * mixed cell, face or diagonal edge (most words) */
+            if ((o | ends_o) == 0 || (a == ~0ull && ends_a == ~0ull)) {
+                pre[w] = (uint32_t)run;
+                if (w < g->wpc) {
+                    dp0[w] = (uint32_t)drun[0];
+                    dp1[w] = (uint32_t)drun[1];
+                    dp2[w] = (uint32_t)drun[2];
+                }
+                continue;
+            }
+            /* cells: corners as corners() */
+            uint64_t cw[8] = {lA0, lB0, lA1, lB1, A0, B0, A1, B1};
+            uint64_t mixed = bvox__grid_mixed(cw);
+            pre[w] = (uint32_t)run;
+            if (mixed) {
+                run += POPCOUNT(mixed);
+                add_multis(c, ch, x, Y, w, cw, mixed);
+            }
+            if (w < g->wpc) { /* diagonal edges, diag_word's three directions */
+                dp0[w] = (uint32_t)drun[0];
+                dp1[w] = (uint32_t)drun[1];
+                dp2[w] = (uint32_t)drun[2];
+                drun[0] += 2 * (uint64_t)POPCOUNT(alt(A0, A1, hA0, hA1));
+                drun[1] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, hA0, hB0));
+                drun[2] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, A1, B1));
+            }
+            /* x faces between V(x-1, Y) and V(x, Y) */
+            uint64_t zdiag = alt(A0, B0, A1, B1); /* z edge at corner (x, Y) */
+            tris += 2 * POPCOUNT(A1 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(A1, B1, A2, B2)) +
+                    POPCOUNT(alt(lA1, lB1, A1, B1)) + POPCOUNT(alt(A1, B1, hA1, hB1));
+            if (x == g->nx) continue; /* y and z faces: voxel columns x < nx */
+            /* y faces between V(x, Y-1) and V(x, Y) */
+            tris += 2 * POPCOUNT(B0 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(B0, C0, B1, C1)) +
+                    POPCOUNT(alt(lB0, lB1, B0, B1)) + POPCOUNT(alt(B0, B1, hB0, hB1));
+            /* z faces of V(x, Y), between voxels z - 1 and z */
+            tris += 2 * POPCOUNT(B1 ^ lB1) + POPCOUNT(alt(lB0, lB1, B0, B1)) +
+                    POPCOUNT(alt(lB1, lB2, B1, B2)) + POPCOUNT(alt(lA1, lB1, A1, B1)) +
+                    POPCOUNT(alt(lB1, lC1, B1, C1));
+        }
+    }
+#undef V
+    c->rows[Y].cells = run;
+    c->rows[Y].tris = tris;
+    for (int k = 0; k < 3; k++) c->rows[Y].diag[k] = (int64_t)drun[k];
+}
+
+static void pass_count(void *ctx, int64_t begin, int64_t end)
 {
     cub *c = ctx;
+    for (int64_t kk = begin; kk < end; kk++) {
+        cchunk *ch = &c->chunks[kk];
+        for (int32_t Y = ch->y0; Y < ch->y1; Y++) count_row(c, ch, Y);
+    }
+}
+
+HOT static void emit_row(cub *c, int32_t Y)
+{
     const bvox__grid *g = &c->g;
-    for (int64_t yy = begin; yy < end; yy++) {
-        int32_t Y = (int32_t)yy;
+    {
         int64_t vi = c->rows[Y].cells;
         int32_t *t = c->tris + 3 * c->rows[Y].tris;
-        for (int32_t X = 0; X <= g->nx; X++)
+        const int64_t row_cells = c->rows[Y + 1].cells - c->rows[Y].cells;
+        for (int32_t X = 0; X <= g->nx; X++) {
+            /* skip columns without mixed cells (their faces are none either) */
+            const uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
+            const int64_t col_end = X < g->nx ? (int64_t)pre[g->cw] : row_cells;
+            if (col_end == (int64_t)pre[0]) continue;
             for (size_t w = 0; w < g->cw; w++) {
+                /* the prefixes say which words hold mixed cells */
+                if ((w + 1 < g->cw ? (int64_t)pre[w + 1] : col_end) == (int64_t)pre[w]) continue;
+                wordcells wc;
                 uint64_t cw[8];
                 corners(c, X, Y, w, cw);
                 const uint64_t mixed_word = bvox__grid_mixed(cw);
+                if (!mixed_word) continue;
+                wordcells_init(c, X, Y, w, &wc);
                 for (uint64_t mixed = mixed_word; mixed; mixed &= mixed - 1) {
                     unsigned bit = (unsigned)__builtin_ctzll(mixed);
                     int32_t Z = (int32_t)(w * 64 + bit);
@@ -314,7 +456,7 @@ static void pass_emit(void *ctx, int64_t begin, int64_t end)
                     bvox__grid_world(c->geo, X - 0.5, Y - 0.5, Z - 0.5, p);
                     memcpy(c->verts + 3 * vi++, p, sizeof p);
                     if (cs->nloops > 1) {
-                        ringcell self = {X, Y, Z, k, mixed_word};
+                        ringcell self = {X, Y, Z, k, mixed_word, wc.first[0][0]};
                         int32_t first = sheet_vertex(c, &self, cs->loop[1][0]);
                         for (int L = 1; L < cs->nloops; L++)
                             memcpy(c->verts + 3 * (first + L - 1), p, sizeof p);
@@ -323,21 +465,25 @@ static void pass_emit(void *ctx, int64_t begin, int64_t end)
                         if (cs->edge_loop[face_edge[f]] < 0) continue;
                         int32_t q[8];
                         int mid;
-                        int n = face_polygon(c, X, Y, Z, f, k, mixed_word, q, &mid);
+                        int n = face_polygon(c, &wc, X, Y, Z, f, k, mixed_word, q, &mid);
                         int s = mid < 0 ? 0 : mid;
+                        int32_t qq[16]; /* q twice: the fan from q[s] without % n */
+                        for (int i = 0; i < n; i++) qq[i] = qq[i + n] = q[i];
                         for (int i = 1; i + 1 < n; i++) {
-                            t[0] = q[s];
-                            t[1] = q[(s + i) % n];
-                            t[2] = q[(s + i + 1) % n];
+                            t[0] = qq[s];
+                            t[1] = qq[s + i];
+                            t[2] = qq[s + i + 1];
                             t += 3;
                         }
                     }
                 }
             }
+        }
         /* the midpoints of this row's diagonal edges, two per edge */
         static const double off[3][3] = {{-1, -0.5, 0.5}, {-0.5, -1, 0.5}, {-0.5, -0.5, 0}};
         for (int k = 0; k < 3; k++) {
             int64_t di = c->dbase[k] + c->rows[Y].diag[k];
+            if (c->rows[Y + 1].diag[k] == c->rows[Y].diag[k]) continue; /* none */
             for (int32_t X = 0; X <= g->nx; X++)
                 for (size_t w = 0; w < g->wpc; w++)
                     for (uint64_t m = diag_word(c, k, X, Y, w); m; m &= m - 1) {
@@ -349,6 +495,11 @@ static void pass_emit(void *ctx, int64_t begin, int64_t end)
                     }
         }
     }
+}
+
+static void pass_emit(void *ctx, int64_t begin, int64_t end)
+{
+    for (int64_t Y = begin; Y < end; Y++) emit_row(ctx, (int32_t)Y);
 }
 
 static void cub_release(cub *c)
@@ -419,6 +570,10 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
             diag[k] += r.diag[k];
         }
     }
+    /* the row past the last: the totals (emit_row's counts per row) */
+    c.rows[g->ny + 1].cells = cells;
+    c.rows[g->ny + 1].tris = tris;
+    for (int k = 0; k < 3; k++) c.rows[g->ny + 1].diag[k] = diag[k];
     for (int i = 0; i < nch && !st; i++) {
         st = c.chunks[i].st;
         c.nmulti += (int64_t)(c.chunks[i].multis.size / sizeof(multi));

@@ -28,20 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The hot loops are cloned for CPUs with POPCNT (GCC's target_clones: an
- * ifunc picks the clone at load time, the binary stays portable); elsewhere
- * the portable popcount. Not under ThreadSanitizer: the ifunc resolver runs
- * while the program is relocated, before TSan's runtime is ready, and
- * crashes in its instrumentation. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
-    !defined(__SANITIZE_THREAD__)
-#define HOT __attribute__((target_clones("popcnt", "default")))
-#define POPCOUNT(x) ((unsigned)__builtin_popcountll(x))
-#else
-#define HOT
-#define POPCOUNT(x) bvox__popcount64(x)
-#endif
-
 typedef struct chunk {
     int32_t y0, y1;    /* cell rows Y in [y0, y1) */
     int32_t *region;   /* its part of the mesh's triangle array */

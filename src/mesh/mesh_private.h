@@ -36,6 +36,21 @@ const bvox__mc_case *bvox__mc_table(void);
 /* Cube edge e's endpoints (corner indices). */
 void bvox__mc_edge_corners(int e, int *c0, int *c1);
 
+/* ---- hot loops (mc.c, cuberille.c) ----
+ * The hot loops are cloned for CPUs with POPCNT (GCC's target_clones: an
+ * ifunc picks the clone at load time, the binary stays portable); elsewhere
+ * the portable popcount. Not under ThreadSanitizer: the ifunc resolver runs
+ * while the program is relocated, before TSan's runtime is ready, and
+ * crashes in its instrumentation. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+    !defined(__SANITIZE_THREAD__)
+#define HOT __attribute__((target_clones("popcnt", "default")))
+#define POPCOUNT(x) ((unsigned)__builtin_popcountll(x))
+#else
+#define HOT
+#define POPCOUNT(x) bvox__popcount64(x)
+#endif
+
 /* ---- the padded cell grid ---- */
 typedef struct bvox__grid {
     const uint64_t *words;
