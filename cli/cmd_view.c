@@ -17,6 +17,7 @@
 
 typedef struct view_args {
     const char *in, *script, *output, *lut;
+    const char *shade;
     int demo, bench, offscreen, labels;
     int64_t frames, size[2];
     cli_read_args ra;
@@ -37,6 +38,17 @@ static int take_size(const char *cmd, const cli_opt *o, const char *v, void *tar
     wbuf[comma - v] = 0;
     if (cli_parse_int64(wbuf, 64, 8192, &wh[0]) || cli_parse_int64(comma + 1, 64, 8192, &wh[1]))
         return CLI_OPT_BAD;
+    return CLI_OPT_OK;
+}
+
+/* The viewer's modes: the library's first five (its pre-image modes are for
+ * still pictures), "combined" being the viewer's name of binary+depth. */
+static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    (void)cmd, (void)o;
+    int m = bvox_shade_mode_parse(v);
+    if (strcmp(v, "combined") && (m < 0 || m > BVOX_SHADE_SMOOTH)) return CLI_OPT_BAD;
+    *(const char **)target = v;
     return CLI_OPT_OK;
 }
 
@@ -64,6 +76,11 @@ static const cli_opt view_opts[] = {
     {"--lut", 0, CLI_PATH, "TABLE",
      "with --labels: the label names and colours (FreeSurfer, Slicer, ITK-SNAP or AAL table)",
      A(lut)},
+    {"--shade", 0, CLI_STR, "MODE",
+     "the shading to start in: depth, binary, gradient, combined (default) or smooth "
+     "(normals from the occupancy around each hit voxel); s cycles them",
+     A(shade), .fn = take_shade,
+     .bad = "--shade: '%s' is not depth, binary, gradient, combined or smooth"},
     {NULL},
 };
 static const cli_group view_group = {"Options", view_opts, NULL};
@@ -125,7 +142,8 @@ int cmd_view(int argc, char **argv)
         bvox_label_table_destroy(table);
         return cli_fail();
     }
-    vw_run_opts o = {script, bench, (int)frames, (int)width, (int)height, output, offscreen, set, table};
+    vw_run_opts o = {script, bench, (int)frames, (int)width, (int)height, output, offscreen, set, table,
+                    a.shade};
     int rc = vw_run(&o, vol);
     bvox_labelset_destroy(set);
     bvox_label_table_destroy(table);

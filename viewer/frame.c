@@ -195,13 +195,15 @@ static void report_failure(vw_state *s, bvox_status st, const char *what)
     if (st) snprintf(s->status, sizeof s->status, "%s failed: %.100s", what, bvox_errmsg());
 }
 
-/* The per-pixel shading codes of the pane (a new cast, mode or cut). */
+/* The per-pixel shading codes of the pane (a new cast, mode or cut). The
+ * smooth mode reads the occupancy around each hit voxel of the volume that
+ * was cast (the cut copy when cut); the other modes ignore the volume. */
 static void make_codes(vw_state *s)
 {
     bvox_preimage p;
     pane_preimage(s, &p);
     bvox_shade_opts o = shade_opts(s);
-    report_failure(s, bvox_shade_codes(&p, &o, s->view3d.code), "shading");
+    report_failure(s, bvox_shade_codes_volume(displayed(s), &p, &o, s->view3d.code), "shading");
 }
 
 /* The colour of every code (the light, the depth curve, the tint). */
@@ -504,7 +506,8 @@ static void draw_mosaic(vw_state *s, vw_rect r)
 static void draw_overlay(vw_state *s)
 {
     static const uint8_t shade[3] = {0, 0, 0}, fg[3] = {235, 235, 225}, hi[3] = {255, 210, 80};
-    static const char *const shades[] = {"depth", "binary gradient", "gradient from depth", "combined"};
+    static const char *const shades[] = {"depth", "binary gradient", "gradient from depth", "combined",
+                                           "smooth"};
     static const char *const prims[] = {"", "sphere", "box", "cylinder"};
     int sc = s->layout != VW_LAYOUT_ORTHO && s->width >= 700 ? 2 : 1;
     char l[7][160];

@@ -137,10 +137,9 @@ static int run_bench(vw_state *s, int frames)
     double fps = frames / wall, mt = median(tot, frames);
     double mc = median(cast, frames), mk = median(code, frames), ml = median(lut, frames),
            mp = median(comp, frames), mlight = median(lt, nl);
-    static const char *const shades[] = {"depth", "binary", "gradient", "combined"};
     printf("bench: %dx%dx%d voxels, %lld boundary voxels, %dx%d canvas, %s shading, %d threads\n",
            (int)s->dims.nx, (int)s->dims.ny, (int)s->dims.nz, (long long)bvox_surface_count(s->surf),
-           s->width, s->height, shades[s->shade], bvox_threads());
+           s->width, s->height, vw_shade_name(s->shade), bvox_threads());
     printf("first frame %.1f ms (surface %.1f ms)\n", first, surface);
     printf("full turn: %d frames in %.3f s = %.1f fps (median frame %.2f ms = %.1f fps)\n", frames,
            wall, fps, mt, 1e3 / mt);
@@ -277,6 +276,15 @@ int vw_run(const vw_run_opts *o, bvox_volume *model)
         return 1;
     }
     if (o->output) s->save_path = o->output;
+    if (o->shade) {
+        int m = vw_shade_parse(o->shade);
+        if (m < 0) {
+            vw_close(s);
+            fprintf(stderr, "bvox: view: unknown shading '%s'\n", o->shade);
+            return 1;
+        }
+        s->shade = (vw_shade)m;
+    }
     if (o->labels) {
         st = vw_set_labels(s, o->labels, o->lut);
         if (st) {

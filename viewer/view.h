@@ -50,15 +50,20 @@ int vw_key_parse(const char *text, int *key, unsigned *mods);
 const char *vw_key_name(int key); /* static buffer for printable keys */
 
 /* The shading modes, in the order the s key cycles them: the library's
- * (the 3D pane is shaded by bvox_shade_codes and bvox_shade_table_build).
- * Smooth shading (issue 18: normals from the occupancy around the hit
- * voxel) joins here as one more entry before VW_NSHADE once the render
- * library has a BVOX_SHADE_SMOOTH mode: the pane passes the mode through
- * bvox_shade_opts, so nothing else in the viewer changes (the overlay's
- * name list in frame.c and the help line gain one word). */
+ * (the 3D pane is shaded by bvox_shade_codes_volume and
+ * bvox_shade_table_build). Smooth (issue 18: normals from the occupancy
+ * around the hit voxel, of the displayed volume) is coded per frame in the
+ * gradient mode's 64 x 64 bins, so a light change still rebuilds only the
+ * table. */
 typedef enum vw_shade { VW_SHADE_DEPTH = BVOX_SHADE_DEPTH, VW_SHADE_BINARY = BVOX_SHADE_BINARY,
                         VW_SHADE_GRADIENT = BVOX_SHADE_GRADIENT,
-                        VW_SHADE_COMBINED = BVOX_SHADE_BINARY_DEPTH, VW_NSHADE } vw_shade;
+                        VW_SHADE_COMBINED = BVOX_SHADE_BINARY_DEPTH,
+                        VW_SHADE_SMOOTH = BVOX_SHADE_SMOOTH, VW_NSHADE } vw_shade;
+/* The mode's short name ("depth", "binary", "gradient", "combined",
+ * "smooth"), and back (-1 if unknown; the library's names are accepted too:
+ * "binary+depth"). */
+const char *vw_shade_name(vw_shade shade);
+int vw_shade_parse(const char *name);
 typedef enum vw_layout { VW_LAYOUT_3D, VW_LAYOUT_ORTHO, VW_LAYOUT_MOSAIC } vw_layout;
 typedef enum vw_prim { VW_PRIM_NONE, VW_PRIM_SPHERE, VW_PRIM_BOX, VW_PRIM_CYLINDER, VW_NPRIM } vw_prim;
 typedef enum vw_pane_kind { VW_PANE_3D, VW_PANE_XY, VW_PANE_XZ, VW_PANE_YZ, VW_PANE_MOSAIC } vw_pane_kind;
@@ -317,6 +322,7 @@ typedef struct vw_run_opts {
     int offscreen;        /* script without a window (plain memory) */
     const bvox_labelset *labels;     /* model made from it: show it in colours */
     const bvox_label_table *lut;     /* their names and colours (NULL: a palette) */
+    const char *shade;    /* the shading mode to start in (vw_shade_parse; NULL: combined) */
 } vw_run_opts;
 /* Runs the viewer on model (taken over); prints errors ("bvox: ...") and
  * returns the exit code: 0, or 1 when something failed. */

@@ -23,7 +23,8 @@ const char *const vw_help_lines[] = {
     "shift+left drag turn the light (or middle drag)",
     "l               reset the light",
     "s / S           shading: depth, binary gradient,",
-    "                gradient from depth, combined",
+    "                gradient from depth, combined,",
+    "                smooth (normals of the voxels)",
     "c               cut plane on/off (facing you)",
     "pageup pagedown move the plane (shift: 1 voxel)",
     "t T y Y         tilt the plane",
@@ -396,4 +397,20 @@ void vw_close(vw_state *s)
     free(s->view3d.code);
     free(s->rgb);
     free(s);
+}
+
+/* The names the overlay's bench line, `bvox view --shade` and scripts use. */
+static const char *const shade_names[VW_NSHADE] = {"depth", "binary", "gradient", "combined", "smooth"};
+
+const char *vw_shade_name(vw_shade shade)
+{
+    return (unsigned)shade < VW_NSHADE ? shade_names[shade] : "?";
+}
+
+int vw_shade_parse(const char *name)
+{
+    for (int i = 0; i < VW_NSHADE; i++)
+        if (!strcmp(name, shade_names[i])) return i;
+    int m = bvox_shade_mode_parse(name); /* "binary+depth" */
+    return m >= 0 && m < VW_NSHADE ? m : -1;
 }
