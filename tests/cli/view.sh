@@ -234,6 +234,56 @@ assert diff > 3000, ("the dropped model looks like the old one", diff)
 print("desktop: resize and drop as expected")
 PY
 
+# smooth shading (issue 18): `key s` from the default mode reaches it, and
+# --shade smooth starts in it (the same script without that key: the same
+# pictures); its pictures against goldens looked at once (BVOX_UPDATE_GOLDEN
+# as above); a bad --shade is a usage error
+mkdir "$tmp/sm" "$tmp/sm2"
+(cd "$tmp/sm" && "$BVOX" view "$tmp/ball.nii" --script "$DATA/view/smooth.txt" --size 320,320 \
+    --offscreen >log.txt 2>err.txt) || fail "the smooth script failed: $(cat "$tmp/sm/err.txt")"
+grep -v "^key s " "$DATA/view/smooth.txt" >"$tmp/smooth_nokey.txt"
+(cd "$tmp/sm2" && "$BVOX" view "$tmp/ball.nii" --script "$tmp/smooth_nokey.txt" --size 320,320 \
+    --offscreen --shade smooth >log.txt 2>err.txt) || fail "--shade smooth failed: $(cat "$tmp/sm2/err.txt")"
+set +e
+"$BVOX" view --demo --shade phong >"$tmp/shade.out" 2>&1; rc=$?
+set -e
+[ $rc -eq 2 ] || fail "--shade phong must exit 2 (got $rc)"
+grep -q "^bvox: view: --shade: 'phong' is not" "$tmp/shade.out" || fail "--shade phong: $(cat "$tmp/shade.out")"
+set +e
+python3 - "$pngtool" "$tmp/sm" "$tmp/sm2" "$golden_dir" "$update" <<'PY'
+import json, shutil, subprocess, sys
+tool, sm, sm2, gold, update = sys.argv[1:6]
+def load(path):
+    g = json.loads(subprocess.check_output([sys.executable, tool, "read", path]))
+    assert (g["width"], g["height"], g["channels"], g["bits"]) == (320, 320, 3, 8), path
+    return [tuple(r[i:i + 3]) for r in g["rows"] for i in range(0, len(r), 3)]
+BG = (22, 26, 34)
+TOP = 56 * 320  # below the overlay (its text names the mode)
+m1, m2 = load(sm + "/m1.png"), load(sm + "/m2.png")
+assert load(sm2 + "/m1.png")[TOP:] == m1[TOP:] and load(sm2 + "/m2.png")[TOP:] == m2[TOP:], \
+    "--shade smooth and key s differ"
+# a sphere, not facets: many grays on the object (the binary mode has at most 27 x 8)
+grays = {p for p in m1[TOP:] if p != BG}
+assert len(grays) > 300, ("too few shades for smooth shading", len(grays))
+orange = lambda px: sum(1 for r, g, b in px[TOP:] if r > g + 30 and g > b + 30)
+assert orange(m1) == 0 and orange(m2) > 1000, (orange(m1), orange(m2))
+if update != "0":
+    for k in ("m1", "m2"):
+        shutil.copyfile("%s/%s.png" % (sm, k), "%s/smooth_%s.png" % (gold, k))
+        print("golden %s/smooth_%s.png updated; inspect and commit it" % (gold, k), file=sys.stderr)
+    sys.exit(3)
+for k, px in (("m1", m1), ("m2", m2)):
+    g = load("%s/smooth_%s.png" % (gold, k))
+    d = [max(abs(a - b) for a, b in zip(p, q)) for p, q in zip(px, g)]
+    big = sum(1 for x in d if x > 24)
+    assert sum(d) / len(d) <= 1.0 and big <= 0.005 * len(d), (k, "differs from its golden image")
+print("smooth: as expected")
+PY
+rc=$?
+set -e
+[ $rc -ne 3 ] || fail "goldens updated (BVOX_UPDATE_GOLDEN): this run fails on purpose"
+[ $rc -eq 0 ] || fail "the smooth screenshots are not as expected"
+
 # the benchmark runs off screen and prints the rate
 "$BVOX" view "$tmp/ball.nii" --bench --frames 4 --size 128,128 >"$tmp/bench.txt" || fail "--bench"
 grep -q "fps" "$tmp/bench.txt" || fail "--bench prints no frame rate"

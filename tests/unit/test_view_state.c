@@ -420,3 +420,61 @@ TEST(coarse_drag_then_full)
     vw_close(s);
     return 0;
 }
+
+/* The smooth mode (issue 18) on a voxelized ball seen along +z: its codes
+ * are the gradient layout's 64 x 64 bins of the eye-frame normal's right
+ * and up components, so each pixel's normal can be read back and compared
+ * with the true sphere normal at that pixel (centre and radius of the
+ * disc from its pixels). Inside 0.9 of the radius (the bins are coarse in
+ * the viewing component at the rim) 95 % are within 10 degrees. The binary
+ * mode of the same view has at most 27 normals x 8 cues distinct codes,
+ * the smooth one hundreds (a sphere, not facets). */
+TEST(smooth_mode_normals)
+{
+    vw_state *s = open_ball(64, 26, 256, 256);
+    CHECK(s);
+    s->overlay = 0;
+    vw_set_axis_view(s, BVOX_VIEW_POS_Z);
+    int distinct[2] = {0, 0};
+    for (int pass = 0; pass < 2; pass++) {
+        s->shade = pass ? VW_SHADE_SMOOTH : VW_SHADE_BINARY;
+        s->need_code = 1;
+        CHECK_OK(vw_render(s));
+        const vw_3d *v = &s->view3d;
+        CHECK(v->valid && v->w == 256 && v->h == 256);
+        static uint8_t seen[BVOX_SCODES];
+        memset(seen, 0, sizeof seen);
+        double sx = 0, sy = 0, n = 0;
+        for (int y = 0; y < v->h; y++)
+            for (int x = 0; x < v->w; x++) {
+                uint16_t c = v->code[(size_t)y * (size_t)v->w + (size_t)x];
+                if (c >= BVOX_SCODE_CUT) continue;
+                if (pass) CHECK(c < 4096); /* the gradient layout */
+                distinct[pass] += !seen[c];
+                seen[c] = 1;
+                sx += x, sy += y, n++;
+            }
+        CHECK(n > 3000);
+        if (!pass) continue;
+        const double cx = sx / n, cy = sy / n, R = sqrt(n / 3.14159265358979323846);
+        int inside = 0, good = 0;
+        for (int y = 0; y < v->h; y++)
+            for (int x = 0; x < v->w; x++) {
+                uint16_t c = v->code[(size_t)y * (size_t)v->w + (size_t)x];
+                double tr = (x + 0.5 - cx) / R, tu = -(y + 0.5 - cy) / R; /* rows go down */
+                double rho2 = tr * tr + tu * tu;
+                if (c >= BVOX_SCODE_CUT || rho2 > 0.81) continue;
+                double nr = ((c % 64) + 0.5) / 32 - 1, nu = ((c / 64) + 0.5) / 32 - 1;
+                double nz = sqrt(fmax(0, 1 - nr * nr - nu * nu)), tz = sqrt(1 - rho2);
+                double cosang = nr * tr + nu * tu + nz * tz;
+                inside++;
+                good += cosang >= cos(10 * 3.14159265358979323846 / 180);
+            }
+        CHECK(inside > 2000);
+        CHECK(good >= 0.95 * inside);
+    }
+    CHECK(distinct[0] <= 27 * 8);
+    CHECK(distinct[1] > 300);
+    vw_close(s);
+    return 0;
+}
