@@ -32,7 +32,9 @@ static const cli_opt demo_opts[] = {
      "section images (section_0000.png ..), the reconstructed model (model.nii.gz), the "
      "paper's four pictures of it: picture1.png binary gradient and depth shaded, picture2.png "
      "depth shaded, zoomed x2 and high-pass filtered, picture3.png the same resliced along a "
-     "plane, picture4.png the data set as stored in a frame buffer; and turntable.gif (DIR "
+     "plane, picture4.png the data set as stored in a frame buffer; beside them "
+     "picture1_smooth.png and picture3_smooth.png, pictures 1 and 3 smooth-shaded (normals "
+     "from the occupancy around each voxel); and turntable.gif (DIR "
      "and its missing parents are created; a folder holding other files is refused)",
      A(dir), .flags = CLI_DIR},
     CLI_OPT_FORCE(demo_args, force),
@@ -185,7 +187,8 @@ int cmd_demo(int argc, char **argv)
     if (a.dir)
         fprintf(stderr,
                 "wrote into %s: specimen.nii.gz, specimen.tif, section_0000.png .. "
-                "section_%04d.png, model.nii.gz, picture1.png .. picture4.png, turntable.gif\n",
+                "section_%04d.png, model.nii.gz, picture1.png .. picture4.png, "
+                "picture1_smooth.png, picture3_smooth.png, turntable.gif\n",
                 a.dir, (int)r.sections - 1);
     if (a.json) print_json(&info, &r, a.dir);
     else {

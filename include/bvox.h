@@ -1285,7 +1285,9 @@ BVOX_API bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_re
  * mosaic, of every other column in x and y when nx or ny exceeds 128, so the
  * 256 x 256 x 128 specimen gives the paper's 512 x 512 layout). */
 BVOX_API bvox_status bvox_demo_picture(const bvox_volume *vol, int k, bvox_image **out);
-/* Write picture1.png .. picture4.png into the existing folder dir. */
+/* Write picture1.png .. picture4.png into the existing folder dir, and
+ * pictures 1 and 3 smooth-shaded (BVOX_SHADE_SMOOTH, 512 x 512) as
+ * picture1_smooth.png and picture3_smooth.png. */
 BVOX_API bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir);
 
 /* ------------------------------------------------------------ editing, cut */

@@ -50,7 +50,9 @@ static const struct {
 
 const char *const bvox__demo_file_names[] = {
     "specimen.nii.gz", "specimen.tif", "model.nii.gz", "picture1.png", "picture2.png",
-    "picture3.png",    "picture4.png", "turntable.gif", NULL};
+    "picture3.png",    "picture4.png", "turntable.gif",
+    /* issue 18: the smooth-shaded pictures beside the paper's */
+    "picture1_smooth.png", "picture3_smooth.png", NULL};
 #define NKINDS (sizeof kinds / sizeof kinds[0])
 #define MANIFEST_HEADER "bvox output manifest 1"
 #define MANIFEST_MAX (16u << 20) /* 65535 names of ~20 bytes fit many times */

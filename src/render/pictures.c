@@ -6,6 +6,11 @@
  *      high-pass filtered;
  *   3  "the same" (as 2), but the object resliced along a plane;
  *   4  the voxel data set as stored in one of the frame buffers (mosaic).
+ * Beside them (issue 18) pictures 1 and 3 smooth-shaded (normals from the
+ * occupancy around each hit voxel, bvox_smooth_normal), so the paper's
+ * binary shading and today's can be compared view for view. Picture 2 is
+ * picture 1's view in depth shading and picture 4 the stored bits: neither
+ * has a smooth counterpart of its own.
  * The view is the isometric one from (+1, +1, +1), z up, so the specimen
  * stands on end; the reslicing plane is x = the centre of the volume,
  * keeping the lower x, so the view sees the cut face (the bored hole, the
@@ -86,28 +91,52 @@ bvox_status bvox_demo_picture(const bvox_volume *vol, int k, bvox_image **out)
     return bvox_render(vol, &o, out, NULL);
 }
 
+bvox_status bvox__demo_picture_smooth(const bvox_volume *vol, int k, bvox_image **out)
+{
+    *out = NULL;
+    if (!vol) return bvox__fail(BVOX_EINVAL, "picture: no volume");
+    if (k != 1 && k != 3) return bvox__fail(BVOX_EINVAL, "picture %d: smooth pictures are 1 and 3", k);
+    bvox_render_opts o;
+    picture_opts(vol, k, &o);
+    /* picture 3's view and cut at picture 1's size, without picture 2's
+     * zoom and filter (made for depth shading) */
+    o.proj.width = o.proj.height = PICTURE_SIZE;
+    o.shade = BVOX_SHADE_SMOOTH;
+    o.average = 0;
+    o.filter = -1;
+    return bvox_render(vol, &o, out, NULL);
+}
+
+/* The files, in the order written: picture1..4.png, then the smooth ones. */
+#define NPICTURES 6
+static const char *const picture_names[NPICTURES] = {"picture1.png", "picture2.png", "picture3.png",
+                                                     "picture4.png", "picture1_smooth.png",
+                                                     "picture3_smooth.png"};
+
 bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
 {
     if (!dir) return bvox__fail(BVOX_EINVAL, "pictures: no folder");
-    size_t size = strlen(dir) + 16;
+    size_t size = strlen(dir) + 32;
     char *path = bvox__mem_alloc(size);
     if (!path) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    /* all four made before any is written, and the ones written removed if
-     * a later one fails: a failed call leaves no partial set behind */
-    bvox_image *img[4] = {NULL, NULL, NULL, NULL};
+    /* all made before any is written, and the ones written removed if a
+     * later one fails: a failed call leaves no partial set behind */
+    bvox_image *img[NPICTURES] = {NULL};
     bvox_status st = BVOX_OK;
     for (int k = 0; k < 4 && !st; k++) st = bvox_demo_picture(vol, k + 1, &img[k]);
+    if (!st) st = bvox__demo_picture_smooth(vol, 1, &img[4]);
+    if (!st) st = bvox__demo_picture_smooth(vol, 3, &img[5]);
     int written = 0;
-    for (; written < 4 && !st; written++) {
-        snprintf(path, size, "%s/picture%d.png", dir, written + 1);
+    for (; written < NPICTURES && !st; written++) {
+        snprintf(path, size, "%s/%s", dir, picture_names[written]);
         st = bvox_image_write_png(img[written], path);
         if (st) break;
     }
     for (int k = 0; st && k < written; k++) {
-        snprintf(path, size, "%s/picture%d.png", dir, k + 1);
+        snprintf(path, size, "%s/%s", dir, picture_names[k]);
         unlink(path);
     }
-    for (int k = 0; k < 4; k++) bvox_image_destroy(img[k]);
+    for (int k = 0; k < NPICTURES; k++) bvox_image_destroy(img[k]);
     free(path);
     return st;
 }

@@ -166,4 +166,9 @@ static inline uint64_t bvox__surface_nb_bits(const uint64_t nb[6], unsigned k)
            (nb[3] >> k & 1) * NB_YP | (nb[4] >> k & 1) * NB_ZM | (nb[5] >> k & 1) * NB_ZP;
 }
 
+/* pictures.c: the demo's picture k (1 or 3) smooth-shaded, 512 x 512: the
+ * view (and for 3 the cut) of bvox_demo_picture k; bvox_demo_pictures
+ * writes them as picture1_smooth.png and picture3_smooth.png. */
+bvox_status bvox__demo_picture_smooth(const bvox_volume *vol, int k, bvox_image **out);
+
 #endif

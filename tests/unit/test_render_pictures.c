@@ -7,6 +7,7 @@
  * then writes them instead of comparing and FAILS, saying which it wrote;
  * look at them, commit them, and run again without the variable. */
 #include "harness.h"
+#include "render/render.h" /* bvox__demo_picture_smooth */
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -99,6 +100,56 @@ TEST(pictures_written)
         }
         bvox_image_destroy(got), bvox_image_destroy(want);
     }
+    /* beside them pictures 1 and 3 smooth-shaded: the same silhouette as
+     * the binary picture 1 (same view and size), the cut face tinted in 3,
+     * and smoother: neighbouring object pixels differ less on average than
+     * across the binary shading's facets */
+    for (int k = 1; k <= 3; k += 2) {
+        char name[32];
+        snprintf(name, sizeof name, "picture%d_smooth.png", k);
+        bvox_image *got, *want, *bin;
+        CHECK_OK(bvox_image_read_png(harness_path(name), &got));
+        CHECK_OK(bvox__demo_picture_smooth(v, k, &want));
+        CHECK_EQ(got->width, 512);
+        CHECK_EQ(got->height, 512);
+        CHECK_EQ(got->channels, k == 3 ? 3 : 1);
+        CHECK_EQ(got->channels, want->channels);
+        CHECK(!memcmp(got->pixels, want->pixels, (size_t)512 * 512 * want->channels));
+        if (k == 3) {
+            int tinted = 0;
+            for (size_t i = 0; i < (size_t)512 * 512; i++)
+                tinted += got->pixels[3 * i] > got->pixels[3 * i + 2] + 40;
+            CHECK(tinted > 5000);
+        } else {
+            CHECK_OK(bvox_demo_picture(v, 1, &bin));
+            long differ = 0, obj = 0;
+            double jump[2] = {0, 0};
+            long pairs[2] = {0, 0};
+            for (int y = 0; y < 512; y++)
+                for (int x = 0; x < 512; x++) {
+                    size_t i = (size_t)y * 512 + (size_t)x;
+                    int a = got->pixels[i] != 0, b = bin->pixels[i] != 0;
+                    differ += a != b, obj += a;
+                    if (x == 511) continue;
+                    const bvox_image *im[2] = {bin, got};
+                    for (int m = 0; m < 2; m++)
+                        if (im[m]->pixels[i] && im[m]->pixels[i + 1]) {
+                            jump[m] += abs((int)im[m]->pixels[i] - (int)im[m]->pixels[i + 1]);
+                            pairs[m]++;
+                        }
+                }
+            CHECK(obj > 40000);
+            CHECK(differ <= obj / 100);
+            CHECK(pairs[0] > 0 && pairs[1] > 0);
+            fprintf(stderr, "mean neighbour step: binary %.2f, smooth %.2f\n", jump[0] / (double)pairs[0],
+                    jump[1] / (double)pairs[1]);
+            CHECK(jump[1] / (double)pairs[1] < 0.6 * jump[0] / (double)pairs[0]);
+            bvox_image_destroy(bin);
+        }
+        bvox_image_destroy(got), bvox_image_destroy(want);
+    }
+    bvox_image *none;
+    CHECK_STATUS(bvox__demo_picture_smooth(v, 2, &none), BVOX_EINVAL);
     /* picture 4: voxel (2x, 2y, z) at pixel (x, y) of section z / 8, bit z % 8 */
     bvox_image *mosaic;
     bvox_mosaic_opts o = {0xff, BVOX_MOSAIC_BYTES, 0};
