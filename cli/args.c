@@ -7,6 +7,7 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "progress.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@
 int cli_fail(void)
 {
     const char *msg = bvox_errmsg();
+    cli_progress_clear();
     fprintf(stderr, "bvox: %s\n", msg && *msg ? msg : "failed (no message)");
     return CLI_FAIL;
 }
@@ -238,6 +240,8 @@ static const cli_opt binarize_opts[] = {
      .fn = take_label, .bad = "--label: '%s' is not a number"},
     /* the library names the known formats if it is wrong */
     {"--format", 0, CLI_STR, "NAME", "force the input format ({formats})", R(opts.format)},
+    {"--level", 0, CLI_INT, "K", "resolution level of an OME-Zarr input (0: the finest)",
+     R(opts.zarr_level), .lo = 0, .hi = 15, .bad = "--level: '%s' is not a level 0..15"},
     {NULL},
 };
 

@@ -98,5 +98,20 @@ void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, con
 struct bvox__json; /* cli_json (json.h) */
 void cli_info_json_fields(struct bvox__json *j, const bvox_info *info, const char *source,
                           const char *format);
+/* "input" and "output": the file the command read and the file it wrote
+ * (null when none), the same in every command whatever its "file" means. */
+void cli_json_io(struct bvox__json *j, const char *input, const char *output);
+/* For commands that write a volume (convert, morph, voxelize): on stdout
+ * one JSON object, the info keys of vol with "file" the output and "format"
+ * its writer (format, else by OUT's name), input, output, then what extra
+ * adds (may be NULL). BVOX_ENOMEM from bvox_info_compute. */
+bvox_status cli_print_volume_json(const bvox_volume *vol, const char *input, const char *output,
+                                  const char *format,
+                                  void (*extra)(struct bvox__json *j, const bvox_volume *vol,
+                                                void *ctx),
+                                  void *ctx);
+/* cli_print_info_json plus those two keys. */
+void cli_print_info_json_io(FILE *f, const bvox_info *info, const char *source,
+                            const char *format, const char *input, const char *output);
 
 #endif

@@ -79,7 +79,7 @@ static void print_text(const bvox_components *c, int conn, const bvox_geometry *
     }
 }
 
-static void print_json(const bvox_components *c)
+static void print_json(const bvox_components *c, const char *in, const char *out)
 {
     cli_json j;
     cli_json_init(&j, stdout);
@@ -89,6 +89,7 @@ static void print_json(const bvox_components *c)
     cli_json_int(&j, n);
     cli_json_key(&j, "component_count"); /* = count, the name measure shares */
     cli_json_int(&j, n);
+    cli_json_io(&j, in, out);
     cli_json_key(&j, "components");
     cli_json_begin_array(&j);
     for (int64_t i = 0; i < n; i++) {
@@ -174,7 +175,7 @@ int cmd_components(int argc, char **argv)
         if (bvox_write_labels_nifti(labels, vol, lv)) rc = cli_fail();
     }
     if (rc == CLI_OK) {
-        if (json) print_json(c);
+        if (json) print_json(c, in, out);
         else print_text(c, conn, bvox_volume_geometry(vol));
     }
     free(lv);

@@ -6,6 +6,7 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 #include "opts.h"
 #include "common/names.h"
 
@@ -14,7 +15,7 @@
 
 typedef struct contours_args {
     const char *in, *out, *output_format;
-    int axis, force;
+    int axis, force, json;
     cli_read_args ra;
 } contours_args;
 
@@ -30,6 +31,10 @@ static const cli_opt contours_opts[] = {
     {"--output-format", 0, CLI_STR, "NAME", "not used: OUT.json or a folder says the format",
      A(output_format)},
     {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(force)},
+    {"--json", 0, CLI_FLAG, NULL,
+     "print one JSON object instead of the summary line: file, format, input, output, axis, "
+     "slices, contours, points",
+     A(json)},
     {NULL},
 };
 static const cli_group contours_group = {"Options", contours_opts, NULL};
@@ -86,8 +91,29 @@ int cmd_contours(int argc, char **argv)
                 for (int32_t c = 0; c < stack->sections[s].ncontours; c++)
                     np += stack->sections[s].contours[c].npoints;
             }
-            printf("contours: %d slices across %c, %lld contours, %lld points -> %s\n",
-                   (int)stack->nsections, "xyz"[axis], (long long)nc, (long long)np, out);
+            if (a.json) {
+                cli_json j;
+                cli_json_init(&j, stdout);
+                cli_json_begin_object(&j);
+                cli_json_key(&j, "file");
+                cli_json_string(&j, out);
+                cli_json_key(&j, "format");
+                cli_json_string(&j, bvox__ends_with_ci(out, ".json") ? "json" : "svg");
+                cli_json_io(&j, in, out);
+                cli_json_key(&j, "axis");
+                cli_json_string(&j, (const char[]){"xyz"[axis], 0});
+                cli_json_key(&j, "slices");
+                cli_json_int(&j, stack->nsections);
+                cli_json_key(&j, "contours");
+                cli_json_int(&j, nc);
+                cli_json_key(&j, "points");
+                cli_json_int(&j, np);
+                cli_json_end_object(&j);
+                fputc('\n', stdout);
+            } else {
+                printf("contours: %d slices across %c, %lld contours, %lld points -> %s\n",
+                       (int)stack->nsections, "xyz"[axis], (long long)nc, (long long)np, out);
+            }
         }
     }
     bvox_stack_destroy(stack);

@@ -129,7 +129,7 @@ int cmd_csg(int argc, char **argv)
     bvox_volume_destroy(vol);
     if (st) return cli_fail();
     const char *format = a.wo.format ? a.wo.format : bvox_format_for_path(out);
-    if (json) cli_print_info_json(stdout, &info, out, format);
+    if (json) cli_print_info_json_io(stdout, &info, out, format, NULL, out);
     else cli_print_info_text(stdout, &info, out, format);
     return CLI_OK;
 }

@@ -84,6 +84,7 @@ int cmd_cut(int argc, char **argv)
         cli_json_begin_object(&j);
         cli_json_key(&j, "file");
         cli_json_string(&j, out);
+        cli_json_io(&j, in, out);
         cli_json_key(&j, "plane");
         cli_json_double_array(&j, plane, 4);
         cli_json_key(&j, "keep");

@@ -149,7 +149,7 @@ int cmd_demo(int argc, char **argv)
     int rc = dir ? write_outputs(dir, vol) : CLI_OK;
     bvox_volume_destroy(vol);
     if (rc != CLI_OK) return rc;
-    if (json) cli_print_info_json(stdout, &info, NULL, NULL);
+    if (json) cli_print_info_json_io(stdout, &info, NULL, NULL, NULL, dir);
     else cli_print_info_text(stdout, &info, "(built-in specimen)", NULL);
     return CLI_OK;
 }

@@ -198,8 +198,8 @@ static bvox_status apply(bvox_volume *vol, action *a)
     }
 }
 
-static void report(const action *acts, int n, int64_t before, int64_t after, const char *out,
-                   int json)
+static void report(const action *acts, int n, int64_t before, int64_t after, const char *in,
+                   const char *out, int json)
 {
     bvox_box all = {0, 0, 0, 0, 0, 0};
     for (int i = 0; i < n; i++) cli_box_union(&all, &acts[i].changed);
@@ -209,6 +209,7 @@ static void report(const action *acts, int n, int64_t before, int64_t after, con
         cli_json_begin_object(&j);
         cli_json_key(&j, "file");
         cli_json_string(&j, out);
+        cli_json_io(&j, in, out);
         cli_json_key(&j, "actions");
         cli_json_begin_array(&j);
         for (int i = 0; i < n; i++) {
@@ -301,7 +302,7 @@ int cmd_edit(int argc, char **argv)
     if (!st && (st = bvox_write(out, vol, &a.wo))) cli_fail();
     bvox_volume_destroy(vol);
     if (!st) {
-        report(acts, nacts, before, after, out, json);
+        report(acts, nacts, before, after, in, out, json);
         rc = CLI_OK;
     }
 done:

@@ -55,7 +55,7 @@ int cmd_info(int argc, char **argv)
     bvox_volume_destroy(vol);
     if (st) return cli_fail();
     const char *format = cli_input_format(a.path, &a.ra);
-    if (a.json) cli_print_info_json(stdout, &info, a.path, format);
+    if (a.json) cli_print_info_json_io(stdout, &info, a.path, format, a.path, NULL);
     else cli_print_info_text(stdout, &info, a.path, format);
     return CLI_OK;
 }

@@ -112,6 +112,7 @@ static void print_json(const bvox_info *info, const bvox_measures *m, const char
     cli_json_init(&j, stdout);
     cli_json_begin_object(&j);
     cli_info_json_fields(&j, info, path, format);
+    cli_json_io(&j, path, NULL);
     cli_json_key(&j, "surface_area");
     cli_json_double(&j, m->area);
     cli_json_key(&j, "surface_area_faces");

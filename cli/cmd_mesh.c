@@ -8,6 +8,7 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 #include "opts.h"
 
 #include <string.h>
@@ -16,7 +17,7 @@ typedef struct mesh_args {
     const char *in, *out, *fmt;
     const char *labels, *lut;
     int64_t max_labels;
-    int ascii;
+    int ascii, json;
     bvox_mesh_opts mo;
     cli_read_args ra;
 } mesh_args;
@@ -51,6 +52,10 @@ static const cli_opt mesh_opts[] = {
     {"--max-labels", 0, CLI_INT, "N", "refuse label volumes with more distinct labels",
      A(max_labels), .def = "65535", .lo = 1, .hi = 2147483647,
      .bad = "--max-labels needs a count from 1 to 2147483647, not '%s'"},
+    {"--json", 0, CLI_FLAG, NULL,
+     "print one JSON object instead of the summary line: file, format, input, output, method, "
+     "smooth, vertices, triangles, volume, surface_area, watertight (not with --labels)",
+     A(json)},
     {NULL},
 };
 static const cli_group mesh_group = {"Options", mesh_opts, NULL};
@@ -77,6 +82,37 @@ const cli_spec cli_spec_mesh = {
                 "  bvox mesh aal.nii.gz --labels all --lut aal.nii.txt -o aal_meshes/\n",
 };
 
+/* The keys of meshinfo --json where they mean the same (vertices,
+ * triangles, volume, surface_area, watertight), and what was made. */
+static void print_json(const bvox_mesh_info *mi, const char *in, const char *out,
+                       const char *fmt, const bvox_mesh_opts *mo)
+{
+    cli_json j;
+    cli_json_init(&j, stdout);
+    cli_json_begin_object(&j);
+    cli_json_key(&j, "file");
+    cli_json_string(&j, out);
+    cli_json_key(&j, "format");
+    cli_json_string(&j, fmt);
+    cli_json_io(&j, in, out);
+    cli_json_key(&j, "method");
+    cli_json_string(&j, mo->method == BVOX_MESH_MC ? "mc" : "cuberille");
+    cli_json_key(&j, "smooth");
+    cli_json_int(&j, mo->smooth);
+    cli_json_key(&j, "vertices");
+    cli_json_int(&j, mi->vertices);
+    cli_json_key(&j, "triangles");
+    cli_json_int(&j, mi->triangles);
+    cli_json_key(&j, "volume");
+    cli_json_double(&j, mi->volume);
+    cli_json_key(&j, "surface_area");
+    cli_json_double(&j, mi->area);
+    cli_json_key(&j, "watertight");
+    cli_json_bool(&j, mi->watertight);
+    cli_json_end_object(&j);
+    fputc('\n', stdout);
+}
+
 int cmd_mesh(int argc, char **argv)
 {
     const char *cmd = "mesh";
@@ -98,6 +134,7 @@ int cmd_mesh(int argc, char **argv)
         if (mo.smooth > 0)
             return cli_usage_error(cmd, "per-label meshes are not smoothed (shared "
                                         "boundaries would part)");
+        if (a.json) return cli_usage_error(cmd, "--json goes with one mesh, not --labels");
         return cli_mesh_labels(in, &a.ra, a.labels, a.lut, a.max_labels, out, fmt ? fmt : "ply",
                                a.ascii);
     }
@@ -116,10 +153,15 @@ int cmd_mesh(int argc, char **argv)
     bvox_status st = bvox_mesh_from_volume(vol, &mo, &m);
     bvox_volume_destroy(vol);
     if (!st) st = bvox_mesh_write(out, m, fmt, a.ascii);
-    if (!st)
+    if (!st && a.json) {
+        bvox_mesh_info mi;
+        st = bvox_mesh_measure(m, &mi);
+        if (!st) print_json(&mi, in, out, fmt ? fmt : bvox_mesh_format_for_path(out), &mo);
+    } else if (!st) {
         printf("%s: %lld vertices, %lld triangles (%s%s)\n", out, (long long)m->nvertices,
                (long long)m->ntriangles, mo.method == BVOX_MESH_MC ? "marching cubes" : "cuberille",
                mo.smooth ? ", smoothed" : "");
+    }
     bvox_mesh_destroy(m);
     return st ? cli_fail() : CLI_OK;
 }

@@ -69,6 +69,7 @@ int cmd_meshinfo(int argc, char **argv)
         cli_json_begin_object(&j);
         cli_json_key(&j, "file");
         cli_json_string(&j, in);
+        cli_json_io(&j, in, NULL);
         cli_json_key(&j, "vertices");
         cli_json_int(&j, info.vertices);
         cli_json_key(&j, "triangles");

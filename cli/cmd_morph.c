@@ -11,6 +11,7 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 #include "manip.h"
 #include "opts.h"
 
@@ -24,6 +25,7 @@ typedef struct morph_args {
     const char *in, *opname, *out;
     double radius;
     int64_t conn, min_size;
+    int json;
     bvox_write_opts wo;
     cli_read_args ra;
 } morph_args;
@@ -45,6 +47,10 @@ static const cli_opt morph_opts[] = {
      A(min_size), .lo = 1, .hi = INT64_MAX, .bad = "--min-size: '%s' is not a voxel count >= 1"},
     CLI_OPT_OUTPUT_FORMAT(morph_args, wo.format),
     CLI_OPT_FORCE(morph_args, wo.force),
+    {"--json", 0, CLI_FLAG, NULL,
+     "print one JSON object: what 'bvox info --json' says of OUT, input, output, operation, "
+     "conn, radius, min_size, count_before, count_after",
+     A(json)},
     {NULL},
 };
 static const cli_group morph_group = {"Options", morph_opts, NULL};
@@ -127,6 +133,33 @@ static bvox_status run(op o, const bvox_volume *in, int conn, double radius, int
     }
 }
 
+typedef struct morph_report {
+    const char *op;
+    int conn; /* 0 with --radius */
+    double radius;
+    int64_t min_size, before;
+} morph_report;
+
+static void morph_json(cli_json *j, const bvox_volume *res, void *ctx)
+{
+    const morph_report *r = ctx;
+    cli_json_key(j, "operation");
+    cli_json_string(j, r->op);
+    cli_json_key(j, "conn");
+    if (r->conn) cli_json_int(j, r->conn);
+    else cli_json_null(j);
+    cli_json_key(j, "radius");
+    if (r->radius > 0) cli_json_double(j, r->radius);
+    else cli_json_null(j);
+    cli_json_key(j, "min_size");
+    if (r->min_size >= 0) cli_json_int(j, r->min_size);
+    else cli_json_null(j);
+    cli_json_key(j, "count_before");
+    cli_json_int(j, r->before);
+    cli_json_key(j, "count_after");
+    cli_json_int(j, bvox_volume_count(res));
+}
+
 int cmd_morph(int argc, char **argv)
 {
     const char *cmd = "morph";
@@ -164,9 +197,15 @@ int cmd_morph(int argc, char **argv)
     bvox_volume *vol = NULL, *res = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st = run((op)o, vol, conn, radius, min_size, &res);
+    int64_t before = bvox_volume_count(vol);
     bvox_volume_destroy(vol);
     if (st) return cli_fail();
     st = bvox_write(out, res, &a.wo);
+    if (!st && a.json) {
+        morph_report r = {op_names[o], radius > 0 ? 0 : conn, radius, o == ISLANDS ? min_size : -1,
+                          before};
+        st = cli_print_volume_json(res, in, out, a.wo.format, morph_json, &r);
+    }
     bvox_volume_destroy(res);
     return st ? cli_fail() : CLI_OK;
 }

@@ -187,7 +187,7 @@ int cmd_shape(int argc, char **argv)
         goto done;
     }
     const char *format = a.wo.format ? a.wo.format : bvox_format_for_path(out);
-    if (json) cli_print_info_json(stdout, &info, out, format);
+    if (json) cli_print_info_json_io(stdout, &info, out, format, NULL, out);
     else cli_print_info_text(stdout, &info, out, format);
     rc = CLI_OK;
 done:

@@ -7,6 +7,7 @@
  */
 #include "args.h"
 #include "cli.h"
+#include "json.h"
 #include "manip.h"
 #include "opts.h"
 
@@ -17,6 +18,7 @@ typedef struct voxelize_args {
     bvox_voxelize_opts vo;
     bvox_dims grid_dims; /* --dims (nx 0: not given) */
     cli_grid origin;     /* --origin */
+    int json;
     bvox_write_opts wo;
 } voxelize_args;
 
@@ -81,6 +83,10 @@ static const cli_opt voxelize_opts[] = {
      A(fmt), .choices = cli_mesh_formats},
     CLI_OPT_OUTPUT_FORMAT(voxelize_args, wo.format),
     CLI_OPT_FORCE(voxelize_args, wo.force),
+    {"--json", 0, CLI_FLAG, NULL,
+     "print one JSON object instead of the summary line: what 'bvox info --json' says of "
+     "OUT, input, output, method, closed, open_edges",
+     A(json)},
     {NULL},
 };
 static const cli_group voxelize_group = {"Options", voxelize_opts, NULL};
@@ -106,6 +112,17 @@ const cli_spec cli_spec_voxelize = {
                 "  bvox voxelize part.stl -o part.binvox --voxel-size 0.1 --unit mm\n"
                 "  bvox voxelize part.stl -o shell.tif --res 128 --shell\n",
 };
+
+static void voxelize_json(cli_json *j, const bvox_volume *vol, void *ctx)
+{
+    const bvox_voxelize_report *rep = ctx;
+    cli_json_key(j, "method");
+    cli_json_string(j, rep->method);
+    cli_json_key(j, "closed");
+    cli_json_bool(j, rep->closed);
+    cli_json_key(j, "open_edges");
+    cli_json_int(j, rep->open_edges);
+}
 
 int cmd_voxelize(int argc, char **argv)
 {
@@ -168,7 +185,9 @@ int cmd_voxelize(int argc, char **argv)
                 (long long)rep.open_edges,
                 vo.shell ? "" : ": voxels by majority vote of the inside tests along x, y, z");
     st = bvox_write(out, vol, &a.wo);
-    if (!st) {
+    if (!st && a.json) {
+        st = cli_print_volume_json(vol, in, out, a.wo.format, voxelize_json, &rep);
+    } else if (!st) {
         bvox_dims d = bvox_volume_dims(vol);
         const bvox_geometry *g = bvox_volume_geometry(vol);
         printf("%s: %d x %d x %d voxels of %.9g%s%s, %lld set (%s)\n", out, d.nx, d.ny, d.nz,

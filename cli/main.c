@@ -7,8 +7,10 @@
  */
 #include "cli.h"
 #include "opts.h"
+#include "progress.h"
 
 #include <string.h>
+#include <unistd.h>
 
 static const cli_command commands[] = {
     {cmd_info, &cli_spec_info},
@@ -120,6 +122,7 @@ static int help_command(int argc, char **argv)
 static void print_warning(const char *message, void *user)
 {
     (void)user;
+    cli_progress_clear();
     fprintf(stderr, "bvox: warning: %s\n", message);
 }
 
@@ -144,6 +147,14 @@ static int take_quiet(int argc, char **argv, int *quiet)
 }
 
 int cli_quiet;
+
+/* --json anywhere before "--": the output is for a script, no progress line. */
+static int wants_json(int argc, char **argv)
+{
+    for (int i = 1; i < argc && strcmp(argv[i], "--"); i++)
+        if (!strcmp(argv[i], "--json")) return 1;
+    return 0;
+}
 
 static void version(void)
 {
@@ -175,10 +186,18 @@ int main(int argc, char **argv)
         if (name[0] == '-') return cli_usage_error(NULL, "unknown option '%s'", name);
         return cli_usage_error(NULL, "unknown command '%s'", name);
     }
+    /* The progress line (a terminal, no --json, no --quiet; reconstruct
+     * draws its own step line) and Ctrl-C as a clean cancel, installed
+     * first so that the cleanup below leaves SIGINT to it. */
+    if (c->run != cmd_view)
+        cli_progress_install(isatty(2) && !cli_quiet && !wants_json(argc, argv) &&
+                             c->run != cmd_reconstruct);
     /* Ctrl-C, SIGTERM or SIGHUP during a write removes its temporary files.
      * Not for the viewer, whose window library turns Ctrl-C into a quit. */
     if (c->run != cmd_view && bvox_cleanup_on_signals()) return cli_fail();
     int rc = c->run(argc - 1, argv + 1);
+    cli_progress_clear();
+    if (rc != CLI_OK && cli_interrupted()) return 130; /* as a death by SIGINT reads */
     /* A full disk or closed pipe on stdout is a failure too. */
     if (fflush(stdout) != 0 || ferror(stdout)) {
         if (rc == CLI_OK) fprintf(stderr, "bvox: error writing the output\n");

@@ -108,6 +108,45 @@ void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, con
     fputc('\n', f);
 }
 
+void cli_print_info_json_io(FILE *f, const bvox_info *info, const char *source,
+                            const char *format, const char *input, const char *output)
+{
+    cli_json j;
+    cli_json_init(&j, f);
+    cli_json_begin_object(&j);
+    cli_info_json_fields(&j, info, source, format);
+    cli_json_io(&j, input, output);
+    cli_json_end_object(&j);
+    fputc('\n', f);
+}
+
+bvox_status cli_print_volume_json(const bvox_volume *vol, const char *input, const char *output,
+                                  const char *format,
+                                  void (*extra)(cli_json *j, const bvox_volume *vol, void *ctx),
+                                  void *ctx)
+{
+    bvox_info info;
+    bvox_status st = bvox_info_compute(vol, &info);
+    if (st) return st;
+    cli_json j;
+    cli_json_init(&j, stdout);
+    cli_json_begin_object(&j);
+    cli_info_json_fields(&j, &info, output, format ? format : bvox_format_for_path(output));
+    cli_json_io(&j, input, output);
+    if (extra) extra(&j, vol, ctx);
+    cli_json_end_object(&j);
+    fputc('\n', stdout);
+    return BVOX_OK;
+}
+
+void cli_json_io(cli_json *j, const char *input, const char *output)
+{
+    cli_json_key(j, "input");
+    cli_json_string(j, input);
+    cli_json_key(j, "output");
+    cli_json_string(j, output);
+}
+
 void cli_info_json_fields(cli_json *j, const bvox_info *info, const char *source,
                           const char *format)
 {

@@ -42,7 +42,7 @@ if(BVOX_SHARED)
   set(BVOX_PC_REQUIRES_PRIVATE "")
 else()
   set(BVOX_PC_LIBS_PRIVATE "-lgif -lpthread -lm")
-  set(BVOX_PC_REQUIRES_PRIVATE "zlib libpng libtiff-4")
+  set(BVOX_PC_REQUIRES_PRIVATE "zlib libpng libtiff-4 blosc")
 endif()
 # Relocatable: paths relative to the .pc file itself, so that
 # `cmake --install build --prefix P` (a prefix chosen at install time) works.

@@ -52,7 +52,8 @@ typedef enum bvox_status {
     BVOX_EFORMAT = 4,     /* corrupt, truncated or unsupported input */
     BVOX_ETOOBIG = 5,     /* dimensions over the limits or the memory budget */
     BVOX_ENOTFOUND = 6,   /* a named file does not exist */
-    BVOX_EUNSUPPORTED = 7 /* a feature this build or format does not have */
+    BVOX_EUNSUPPORTED = 7, /* a feature this build or format does not have */
+    BVOX_ECANCELED = 8     /* the progress callback asked to stop (bvox_set_progress) */
 } bvox_status;
 
 /* Stable token for a status ("BVOX_OK", "BVOX_EFORMAT", ...). Never NULL. */
@@ -75,6 +76,23 @@ BVOX_API void bvox_set_warning_handler(bvox_warning_fn fn, void *user);
 /* Number of warnings raised in this thread since it started (handler or not):
  * lets a caller tell whether a call warned. */
 BVOX_API uint64_t bvox_warning_count(void);
+
+/* Progress of long work (read/write, reconstruct, mesh, measure, components,
+ * morphology, turntable renders). fn gets the fraction done of the outermost
+ * library call (0..1, never decreasing within one call; 1 once when it
+ * succeeds) and the name of the current stage ("read", "mesh", "dilate",
+ * ...). A non-zero return cancels: the call stops at its next check, frees
+ * what it holds, writes no output file and returns BVOX_ECANCELED (the return
+ * of the final call with 1 is ignored: the work is done). Like the warning
+ * handler, the callback belongs to the calling thread and is called only in
+ * it; fn NULL removes it. With no callback the checks cost a load and a
+ * branch. */
+typedef int (*bvox_progress_fn)(double fraction, const char *stage, void *user);
+BVOX_API void bvox_set_progress(bvox_progress_fn fn, void *user);
+/* The least time between two calls of this thread's callback, in seconds
+ * (default 0.005; 0: at every check, which tests use to count them). The
+ * first and the final call are never held back. */
+BVOX_API void bvox_set_progress_interval(double seconds);
 
 /* The library version, e.g. "0.1.0". */
 BVOX_API const char *bvox_version(void);
@@ -317,7 +335,7 @@ typedef struct bvox_binarize {
 
 typedef struct bvox_read_opts {
     const char *format;     /* NULL: by extension / content; else "nifti", "binvox",
-                               "tiff", "png", "raw" */
+                               "tiff", "png", "raw", "zarr" */
     bvox_binarize binarize;
     /* raw only (required there): */
     bvox_dims raw_dims;
@@ -331,11 +349,12 @@ typedef struct bvox_read_opts {
      * warnings about a voxel size the file does not hold (a PNG folder's z). */
     double spacing[3];
     const char *unit;
+    int32_t zarr_level;     /* zarr only: the multiscales level read (0: the finest) */
 } bvox_read_opts;
 
 #define BVOX_READ_OPTS_INIT \
     { NULL, { BVOX_BIN_NONZERO, 0.0, 0.0, 0.0, 0.0 }, { 0, 0, 0 }, BVOX_DT_U8, 0, 0, \
-      { 0.0, 0.0, 0.0 }, NULL, { 0.0, 0.0, 0.0 }, NULL }
+      { 0.0, 0.0, 0.0 }, NULL, { 0.0, 0.0, 0.0 }, NULL, 0 }
 
 /* Read a file (a folder for PNG slices). opts may be NULL (defaults). The
  * size claimed by a header is checked against the limits and the budget before
@@ -381,9 +400,13 @@ typedef struct bvox_write_opts {
     int force;          /* folder outputs: write into a folder that holds other
                            files (replacing files of bvox's names, removing
                            nothing else); 0 refuses such a folder */
+    int32_t chunks[3];  /* zarr only: chunk shape x, y, z (0: up to 64 per axis) */
+    const char *compressor; /* zarr only: "zlib" (NULL: the default) or "blosc" */
+    int32_t zarr_levels;    /* zarr only: resolution levels (0: automatic, halving
+                               until a side is under one chunk; 1: no pyramid) */
 } bvox_write_opts;
 
-#define BVOX_WRITE_OPTS_INIT { NULL, 8, 0 }
+#define BVOX_WRITE_OPTS_INIT { NULL, 8, 0, { 0, 0, 0 }, NULL, 0 }
 
 /* The dimensions bvox_read(path, opts) would give, from the header alone
  * (no voxel data is read or decoded), so that a caller can refuse an
@@ -428,6 +451,9 @@ BVOX_API bvox_status bvox_write_file_atomic(const char *path, const void *data, 
  * Call once, early, from the main thread of a program (the `bvox` command
  * does). BVOX_EIO if sigaction fails. */
 BVOX_API bvox_status bvox_cleanup_on_signals(void);
+/* Remove those temporaries now. Async-signal-safe: for an application that
+ * handles a signal itself and then ends (the `bvox` command's second Ctrl-C). */
+BVOX_API void bvox_remove_temp_files(void);
 
 /* Write a label volume (e.g. from bvox_components_labels) as NIfTI-1, .nii
  * or .nii.gz by the path's suffix: labels holds nx*ny*nz values, x fastest

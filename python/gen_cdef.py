@@ -31,7 +31,8 @@ bvox_csg_eval_opts bvox_mesh bvox_mesh_method bvox_mesh_opts bvox_mesh_info bvox
 bvox_voxelize_report bvox_filter bvox_simd bvox_point2 bvox_contour bvox_section
 bvox_contour_stack bvox_stack_volume_opts bvox_sim2 bvox_marker_opts bvox_align_result
 bvox_recon_step bvox_recon_progress bvox_recon_opts bvox_recon_section_report
-bvox_recon_report""".split()
+bvox_recon_report
+bvox_progress_fn""".split()
 
 FUNCS = """bvox_status_name bvox_errmsg bvox_version bvox_set_memory_budget bvox_memory_budget
 bvox_memory_in_use bvox_free bvox_set_threads bvox_threads bvox_simd_active bvox_simd_name
@@ -54,7 +55,8 @@ bvox_stack_create bvox_stack_destroy bvox_stack_add_section bvox_section_add_con
 bvox_section_add_marker bvox_stack_volume_opts_default bvox_stack_to_volume bvox_stack_read
 bvox_stack_write_json bvox_stack_write_svg_dir bvox_volume_to_contours bvox_recon_step_name
 bvox_recon_opts_default bvox_recon_report_destroy bvox_reconstruct_images
-bvox_reconstruct""".split()
+bvox_reconstruct
+bvox_set_progress bvox_set_progress_interval""".split()
 
 
 def generate():

@@ -6,13 +6,13 @@ SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
-# build: compiler, cmake, codecs (libpng, libtiff, zlib)
+# build: compiler, cmake, codecs (libpng, libtiff, zlib, blosc for OME-Zarr chunks)
 # tests: mricron-data (real MRI atlas), clang + compiler-rt for the fuzz targets
 $SUDO apt-get install -y -qq --no-install-recommends \
     build-essential cmake pkg-config \
-    zlib1g-dev libpng-dev libtiff-dev libgif-dev \
+    zlib1g-dev libpng-dev libtiff-dev libgif-dev libblosc-dev \
     clang libclang-rt-14-dev \
-    mricron-data python3 python3-numpy python3-tifffile >/dev/null
+    mricron-data python3 python3-numpy python3-tifffile python3-zarr python3-numcodecs >/dev/null
 # tests: libcgal-demo for CGAL's data sets (data.tar.gz: the bunny mesh the
 # mesh tests voxelize, extracted by tests/setup_meshdata.sh)
 $SUDO apt-get install -y -qq --no-install-recommends libcgal-demo >/dev/null

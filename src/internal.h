@@ -130,6 +130,35 @@ void bvox__parallel_for_dynamic(int64_t n, int64_t grain, bvox__range_fn fn, voi
  * their own split or per-thread scratch use it instead of bvox_threads(). */
 int bvox__parallelism(void);
 
+/* ---- progress.c: the progress callback's checks (bvox_set_progress) ----
+ * A public entry that reports brackets its work:
+ *     bvox__progress_scope ps;
+ *     bvox__progress_begin(&ps, "mesh");
+ *     ... st = bvox__progress(fraction) at safe points (0..1 of this call) ...
+ *     return bvox__progress_end(&ps, st);
+ * bvox__progress returns BVOX_ECANCELED (message set) when the callback asked
+ * to stop; the caller then cleans up like for any failure. bvox__progress_sub
+ * narrows the range to [lo, hi] of the current one (for a nested call or a
+ * stage) until bvox__progress_restore. Cheap without a callback. */
+typedef struct bvox__progress_scope {
+    double base, span;
+    const char *stage;
+} bvox__progress_scope;
+void bvox__progress_begin(bvox__progress_scope *saved, const char *stage);
+bvox_status bvox__progress_end(const bvox__progress_scope *saved, bvox_status st);
+void bvox__progress_sub(bvox__progress_scope *saved, double lo, double hi, const char *stage);
+void bvox__progress_restore(const bvox__progress_scope *saved);
+bvox_status bvox__progress(double fraction);
+/* done of total steps; does nothing measurable without a callback. */
+bvox_status bvox__progress_steps(int64_t done, int64_t total);
+int bvox__progress_active(void);
+/* bvox__parallel_for that, with a callback set, runs [0, n) in 32 blocks one
+ * after the other and reports after each (fraction 0..1 of the current range).
+ * fn must be a pure function of its range. BVOX_ECANCELED when canceled: the
+ * output is then partly computed and must be discarded. */
+bvox_status bvox__parallel_for_progress(int64_t n, int64_t min_per_thread, bvox__range_fn fn,
+                                        void *ctx);
+
 /* ---- simd/dispatch.c: word kernels chosen at run time ---- */
 typedef struct bvox__kernels {
     uint64_t (*popcount)(const uint64_t *w, size_t n);

@@ -18,14 +18,15 @@ share a volume; calls that change a volume need it alone.
 """
 import os
 
-from ._lib import (Error, FormatError, InvalidArgument, IOFailure, NotFound, OutOfMemory,
+from . import _progress
+from ._lib import (Canceled, Error, FormatError, InvalidArgument, IOFailure, NotFound, OutOfMemory,
                    TooBig, Unsupported, check, cstr, ffi, lib)
 from ._mesh import mesh_info, read_mesh, voxelize, write_mesh
 from ._recon import Contours, read_contours, reconstruct
 from ._render import render, write_png
 from ._volume import Volume, _binarize
 
-__all__ = ["Volume", "Contours", "read_contours", "reconstruct", "read", "csg", "demo", "render", "write_png", "voxelize", "read_mesh",
+__all__ = ["Canceled", "Volume", "Contours", "read_contours", "reconstruct", "read", "csg", "demo", "render", "write_png", "voxelize", "read_mesh",
            "write_mesh", "mesh_info", "Error", "InvalidArgument", "OutOfMemory", "IOFailure",
            "FormatError", "TooBig", "NotFound", "Unsupported", "version", "memory_in_use",
            "memory_budget", "set_memory_budget", "threads", "set_threads", "library_path"]
@@ -45,12 +46,13 @@ def library_path():
 
 def read(path, *, format=None, threshold=None, range=None, label=None, nonzero=None,
          otsu=False, dims=None, dtype=None, big_endian=False, offset=0, spacing=None,
-         unit=None):
+         unit=None, progress=None):
     """Read a volume file (NIfTI, TIFF, binvox, PNG slices folder, raw) with
     the command's read options: threshold, range=(lo, hi), label, nonzero,
     otsu; format forces a reader. Raw files need dims=(nx, ny, nz) and dtype
     (bvox's names "u8", "i16", "f32", ... or a NumPy dtype such as np.int16),
-    with offset (bytes of header), big_endian, spacing and unit."""
+    with offset (bytes of header), big_endian, spacing and unit. progress:
+    a callable(fraction, stage) called while reading (see bvox._progress)."""
     opts = ffi.new("bvox_read_opts *")
     keep = []
     if format:
@@ -71,7 +73,7 @@ def read(path, *, format=None, threshold=None, range=None, label=None, nonzero=N
         opts.raw_unit = keep[-1]
         opts.unit = keep[-1]
     out = ffi.new("bvox_volume **")
-    check(lib.bvox_read(os.fsencode(path), opts, out))
+    _progress.call(progress, lib.bvox_read, os.fsencode(path), opts, out)
     return Volume._own(out[0])
 
 

@@ -13,7 +13,8 @@ typedef enum bvox_status {
     BVOX_EFORMAT = 4,
     BVOX_ETOOBIG = 5,
     BVOX_ENOTFOUND = 6,
-    BVOX_EUNSUPPORTED = 7
+    BVOX_EUNSUPPORTED = 7,
+    BVOX_ECANCELED = 8
 } bvox_status;
 typedef struct bvox_dims {
     int32_t nx, ny, nz;
@@ -98,11 +99,15 @@ typedef struct bvox_read_opts {
     const char *raw_unit;
     double spacing[3];
     const char *unit;
+    int32_t zarr_level;
 } bvox_read_opts;
 typedef struct bvox_write_opts {
     const char *format;
     int raw_bits;
     int force;
+    int32_t chunks[3];
+    const char *compressor;
+    int32_t zarr_levels;
 } bvox_write_opts;
 typedef struct bvox_component {
     int64_t voxels;
@@ -387,6 +392,7 @@ typedef struct bvox_recon_report {
     double ms[10];
     bvox_recon_section_report *sections;
 } bvox_recon_report;
+typedef int (*bvox_progress_fn)(double fraction, const char *stage, void *user);
 const char *bvox_status_name(bvox_status status);
 const char *bvox_errmsg(void);
 const char *bvox_version(void);
@@ -486,3 +492,5 @@ bvox_recon_opts bvox_recon_opts_default(void);
 void bvox_recon_report_destroy(bvox_recon_report *report);
 bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char *const *names, int32_t n, const bvox_recon_opts *opts, bvox_volume **volume, bvox_contour_stack **stack, bvox_recon_report **report);
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts, bvox_volume **volume, bvox_contour_stack **stack, bvox_recon_report **report);
+void bvox_set_progress(bvox_progress_fn fn, void *user);
+void bvox_set_progress_interval(double seconds);

@@ -87,8 +87,12 @@ class Unsupported(Error, NotImplementedError):
     """BVOX_EUNSUPPORTED: a feature this build or format does not have."""
 
 
+class Canceled(Error):
+    """BVOX_ECANCELED: the progress callback asked to stop."""
+
+
 _ERRORS = {1: InvalidArgument, 2: OutOfMemory, 3: IOFailure, 4: FormatError, 5: TooBig,
-           6: NotFound, 7: Unsupported}
+           6: NotFound, 7: Unsupported, 8: Canceled}
 
 
 def errmsg():

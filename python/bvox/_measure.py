@@ -43,10 +43,11 @@ def _matrix(v):
     return [list(v[0:3]), list(v[3:6]), list(v[6:9])]
 
 
-def measure_dict(vol):
+def measure_dict(vol, progress=None):
+    from ._progress import call
     p = vol._p
     m = ffi.new("bvox_measures *")
-    check(lib.bvox_measure(p, m))
+    call(progress, lib.bvox_measure, p, m)
     return _as_dict(vol, m)
 
 

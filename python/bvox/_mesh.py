@@ -36,13 +36,14 @@ def _from_numpy(vertices, faces):
     return mesh
 
 
-def mesh_from_volume(vol, method="mc", smooth=0):
+def mesh_from_volume(vol, method="mc", smooth=0, progress=None):
     if method not in _METHODS:
         raise ValueError("bvox: mesh method is 'mc' or 'cuberille', not %r" % (method,))
     opts = ffi.new("bvox_mesh_opts *", {"method": _METHODS[method], "smooth": int(smooth),
                                         "lambda": 0.5, "mu": -0.53})
     out = ffi.new("bvox_mesh **")
-    check(lib.bvox_mesh_from_volume(vol._p, opts, out))
+    from ._progress import call
+    call(progress, lib.bvox_mesh_from_volume, vol._p, opts, out)
     mesh = ffi.gc(out[0], lib.bvox_mesh_destroy)
     result = _to_numpy(mesh)
     ffi.release(mesh)

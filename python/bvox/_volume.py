@@ -13,6 +13,7 @@ import weakref
 import numpy as np
 
 from ._lib import InvalidArgument, check, cstr, ffi, lib
+from . import _progress
 
 _DTYPES = {
     np.dtype(np.bool_): 0, np.dtype(np.uint8): 0, np.dtype(np.int8): 1,
@@ -444,55 +445,57 @@ class Volume:
         return Volume._own(out[0])
 
     # ------------------------------------------------------------ morphology
-    def _unary(self, fn, *args):
+    def _unary(self, fn, *args, progress=None):
         out = ffi.new("bvox_volume **")
-        check(fn(self._p, *args, out))
+        _progress.call(progress, fn, self._p, *args, out)
         return Volume._own(out[0])
 
-    def dilate(self, conn=26):
+    # progress=callable(fraction, stage) on each: see bvox._progress
+    def dilate(self, conn=26, *, progress=None):
         """Dilation by the 6-, 18- or 26-neighbourhood (outside counts as 0)."""
-        return self._unary(lib.bvox_morph_dilate, _conn(conn))
+        return self._unary(lib.bvox_morph_dilate, _conn(conn), progress=progress)
 
-    def erode(self, conn=26):
+    def erode(self, conn=26, *, progress=None):
         """Erosion by the 6-, 18- or 26-neighbourhood; the border erodes, as
         scipy.ndimage.binary_erosion does by default."""
-        return self._unary(lib.bvox_morph_erode, _conn(conn))
+        return self._unary(lib.bvox_morph_erode, _conn(conn), progress=progress)
 
-    def dilate_ball(self, radius):
+    def dilate_ball(self, radius, *, progress=None):
         """Dilation by a ball of that physical radius (an ellipsoid in voxels
         when the voxels are anisotropic)."""
-        return self._unary(lib.bvox_morph_dilate_ball, float(radius))
+        return self._unary(lib.bvox_morph_dilate_ball, float(radius), progress=progress)
 
-    def erode_ball(self, radius):
-        return self._unary(lib.bvox_morph_erode_ball, float(radius))
+    def erode_ball(self, radius, *, progress=None):
+        return self._unary(lib.bvox_morph_erode_ball, float(radius), progress=progress)
 
-    def opening(self, conn=26, radius=0.0):
+    def opening(self, conn=26, radius=0.0, *, progress=None):
         """Erode then dilate (a ball of radius when > 0, else conn). Named
         opening/closing because close() releases the volume."""
-        return self._unary(lib.bvox_morph_open, _conn(conn), float(radius))
+        return self._unary(lib.bvox_morph_open, _conn(conn), float(radius), progress=progress)
 
-    def closing(self, conn=26, radius=0.0):
+    def closing(self, conn=26, radius=0.0, *, progress=None):
         """Dilate then erode, on a padded copy so the border does not eat in."""
-        return self._unary(lib.bvox_morph_close, _conn(conn), float(radius))
+        return self._unary(lib.bvox_morph_close, _conn(conn), float(radius), progress=progress)
 
-    def fill_holes(self):
-        return self._unary(lib.bvox_morph_fill_holes)
+    def fill_holes(self, *, progress=None):
+        return self._unary(lib.bvox_morph_fill_holes, progress=progress)
 
-    def hollow(self, thickness):
-        return self._unary(lib.bvox_morph_hollow, float(thickness))
+    def hollow(self, thickness, *, progress=None):
+        return self._unary(lib.bvox_morph_hollow, float(thickness), progress=progress)
 
-    def remove_islands(self, min_voxels, conn=26):
-        return self._unary(lib.bvox_morph_remove_islands, _conn(conn), int(min_voxels))
+    def remove_islands(self, min_voxels, conn=26, *, progress=None):
+        return self._unary(lib.bvox_morph_remove_islands, _conn(conn), int(min_voxels),
+                           progress=progress)
 
     # ------------------------------------------------------------- measures
-    def components(self, conn=26):
+    def components(self, conn=26, *, progress=None):
         """(labels, comps): labels a uint32 array [x, y, z] (0 background,
         i + 1 for component i, largest first), comps a list of dicts with the
         keys of `bvox components --json`: voxels, volume, bbox {min, max}
         (inclusive voxel indices)."""
         from ._measure import component_dicts
         out = ffi.new("bvox_components **")
-        check(lib.bvox_components_find(self._p, _conn(conn), out))
+        _progress.call(progress, lib.bvox_components_find, self._p, _conn(conn), out)
         comps = ffi.gc(out[0], lib.bvox_components_destroy)
         nx, ny, nz = self.shape
         labels = np.empty((nz, ny, nx), dtype=np.uint32)  # x fastest in memory
@@ -511,10 +514,10 @@ class Volume:
         ffi.release(comps)
         return Volume._own(res[0])
 
-    def measure(self):
+    def measure(self, *, progress=None):
         """All measures as a dict with the keys of `bvox measure --json`."""
         from ._measure import measure_dict
-        return measure_dict(self)
+        return measure_dict(self, progress=progress)
 
     def measure_components(self, conn=26):
         """measure() of every conn-component alone, largest first (the order
@@ -528,12 +531,12 @@ class Volume:
         from ._render import render
         return render(self, view, **kw)
 
-    def mesh(self, method="mc", smooth=0):
+    def mesh(self, method="mc", smooth=0, *, progress=None):
         """(vertices, faces): a float64 (n, 3) array in physical units and an
         int32 (m, 3) array of vertex indices; "mc" (marching cubes, closed
         2-manifold) or "cuberille" (voxel faces); smooth: Taubin iterations."""
         from ._mesh import mesh_from_volume
-        return mesh_from_volume(self, method, smooth)
+        return mesh_from_volume(self, method, smooth, progress=progress)
 
     def contours(self, axis=2):
         """The outlines of every slice across axis (0 x, 1 y, 2 z): a
@@ -542,14 +545,14 @@ class Volume:
         from ._recon import volume_contours
         return volume_contours(self, axis)
 
-    def write(self, path, format=None):
+    def write(self, path, format=None, *, progress=None):
         """Write to a file (format by the extension unless given): through a
         temporary file renamed on success, never a partial file."""
         opts = ffi.new("bvox_write_opts *")
         keep = cstr(format) if format else ffi.NULL
         opts.format = keep
         opts.raw_bits = 8
-        check(lib.bvox_write(os.fsencode(path), self._p, opts))
+        _progress.call(progress, lib.bvox_write, os.fsencode(path), self._p, opts)
 
     def write_labels(self, path, labels):
         """Write a label array [x, y, z] (as components() returns) as NIfTI

@@ -131,7 +131,7 @@ def test_measure_keys_match_cli(tmp_path):
                          capture_output=True, text=True).stdout
     cli = json.loads(out)
     m = v.measure()
-    assert set(cli) - {"file", "format"} == set(m)
+    assert set(cli) - {"file", "format", "input", "output"} == set(m)
     for k in ("count", "faces", "components", "cavities", "tunnels", "euler", "bbox", "dims",
               "unit", "volume_unit", "area_unit"):
         assert m[k] == cli[k], k

@@ -22,6 +22,7 @@ const char *bvox_status_name(bvox_status status)
     case BVOX_ETOOBIG: return "BVOX_ETOOBIG";
     case BVOX_ENOTFOUND: return "BVOX_ENOTFOUND";
     case BVOX_EUNSUPPORTED: return "BVOX_EUNSUPPORTED";
+    case BVOX_ECANCELED: return "BVOX_ECANCELED";
     }
     return "BVOX_E?";
 }

@@ -424,8 +424,13 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
                       .wpc = v->wpc, .words = v->words, .pred = pred,
                       .blocks = blocks};
         if (g->z_fastest) {
-            bvox__parallel_for((int64_t)(c.nx * c.ny), ((int64_t)1 << 20) / (int64_t)c.nz + 1,
-                               pack_columns, &c);
+            st = bvox__parallel_for_progress((int64_t)(c.nx * c.ny),
+                                             ((int64_t)1 << 20) / (int64_t)c.nz + 1, pack_columns,
+                                             &c);
+            if (st) {
+                bvox_volume_destroy(v);
+                return st;
+            }
             *out = v;
             return BVOX_OK;
         }
@@ -443,7 +448,12 @@ bvox_status bvox__binarize(const bvox__gray *g, const bvox_binarize *how, const 
                                   c.items_per_row);
         /* a thread is worth starting for about a million samples */
         int64_t item_samples = (int64_t)(c.rows_per_item * c.xb_per_item * 64 * c.nz);
-        bvox__parallel_for(items, ((int64_t)1 << 20) / item_samples + 1, pack_range, &c);
+        st = bvox__parallel_for_progress(items, ((int64_t)1 << 20) / item_samples + 1, pack_range,
+                                         &c);
+        if (st) {
+            bvox_volume_destroy(v);
+            return st;
+        }
     }
     *out = v;
     return BVOX_OK;

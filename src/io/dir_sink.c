@@ -22,7 +22,12 @@
  * files together, so an interrupted replace leaves nothing unlisted and the
  * next run cleans up. The folder itself (its mode, owner, inode) is kept.
  * The replace is atomic per file, not for the folder as a whole.
+ *
+ * A Zarr tree (kind zarr) holds folders of chunk files, so it is put in
+ * place whole instead (commit_tree): renamed onto a new or empty target, or,
+ * when forced, swapped with bvox's own earlier tree, which is then removed.
  */
+#define _GNU_SOURCE /* renameat2 (RENAME_EXCHANGE) */
 #include "io.h"
 
 #include <dirent.h>
@@ -39,6 +44,7 @@ static const struct {
     [BVOX__DIR_PNG_SLICES] = {"png-slices", "slice_", ".png"},
     [BVOX__DIR_SVG_SECTIONS] = {"svg-sections", "section_", ".svg"},
     [BVOX__DIR_LABEL_MESHES] = {"label-meshes", "", ""},
+    [BVOX__DIR_ZARR] = {"zarr", "", ""},
 };
 #define NKINDS (sizeof kinds / sizeof kinds[0])
 #define MANIFEST_HEADER "bvox output manifest 1"
@@ -64,10 +70,21 @@ static bool label_mesh_name(const char *s)
     return true;
 }
 
+/* the top of a Zarr group: its metadata and level folders named by digits */
+static bool zarr_top_name(const char *s)
+{
+    if (!strcmp(s, ".zgroup") || !strcmp(s, ".zattrs") || !strcmp(s, ".zarray")) return true;
+    if (!*s || strlen(s) > 9) return false;
+    for (; *s; s++)
+        if (*s < '0' || *s > '9') return false;
+    return true;
+}
+
 static bool owned_name(int kind, const char *s)
 {
     if (kind == BVOX__DIR_LABEL_MESHES) return label_mesh_name(s);
     if (kind == BVOX__DIR_PNG_SLICES && !strcmp(s, BVOX__VOXEL_SIZE_NAME)) return true;
+    if (kind == BVOX__DIR_ZARR) return zarr_top_name(s);
     size_t np = strlen(kinds[kind].prefix), ns = strlen(kinds[kind].suffix), n = strlen(s);
     if (n <= np + ns || strncmp(s, kinds[kind].prefix, np) || strcmp(s + n - ns, kinds[kind].suffix))
         return false;
@@ -269,12 +286,26 @@ static void survey(const char *target, int kind, survey_result *r)
     if (mf != MF_OTHER_KIND) r->other = NULL;
 }
 
-static bvox_status refuse(const char *name, int kind, const survey_result *r)
+/* A Zarr tree replaces a folder whole: only bvox's own earlier tree, and
+ * only when forced. */
+static bool tree_refused(const survey_result *r, bool force)
+{
+    return r->state == T_FOREIGN || (r->state == T_OURS && !force);
+}
+
+static bvox_status refuse(const char *name, int kind, const survey_result *r, bool force)
 {
     if (r->state == T_NOMEM) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", name);
     if (r->state == T_NOTDIR) return bvox__fail(BVOX_EIO, "%s: exists and is not a folder", name);
     if (r->state == T_ERROR)
         return bvox__fail(BVOX_EIO, "%s: cannot look into the folder: %s", name, strerror(r->err));
+    if (kind == BVOX__DIR_ZARR && r->state == T_OURS && !force)
+        return bvox__fail(BVOX_EIO, "%s: exists (bvox's earlier .zarr output); --force replaces it",
+                          name);
+    if (kind == BVOX__DIR_ZARR && !r->other)
+        return bvox__fail(BVOX_EIO, "%s: the folder holds files bvox did not write (such as "
+                          "'%s'); a .zarr output goes only into a new or empty folder, or over "
+                          "bvox's own earlier .zarr output with --force", name, r->offender);
     if (r->other)
         return bvox__fail(BVOX_EIO, "%s: holds bvox's %s output, not %s; bvox replaces only its "
                           "own output of the same kind (--force adds its files, removing nothing)",
@@ -296,19 +327,28 @@ static void dir_release(bvox__dir_sink *d)
     d->slot = -1;
 }
 
-/* Remove the temporary folder: only plain files are put in it. */
-static void remove_tmp(const char *dir)
+/* Remove a folder bvox made (the temporary one, or its own earlier Zarr
+ * tree): plain files, and folders up to a few levels (Zarr's level folders
+ * and nested chunk keys); links are removed, never followed. */
+static void remove_tree_at(int parent, const char *name, int depth)
 {
-    DIR *d = opendir(dir);
+    int fd = openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    DIR *d = fd >= 0 ? fdopendir(fd) : NULL;
+    if (!d && fd >= 0) close(fd);
     if (d) {
         struct dirent *e;
-        while ((e = readdir(d)))
-            if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
-                unlinkat(dirfd(d), e->d_name, 0);
+        while ((e = readdir(d))) {
+            if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+            if (unlinkat(dirfd(d), e->d_name, 0) != 0 && (errno == EISDIR || errno == EPERM) &&
+                depth > 0)
+                remove_tree_at(dirfd(d), e->d_name, depth - 1);
+        }
         closedir(d);
     }
-    rmdir(dir);
+    unlinkat(parent, name, AT_REMOVEDIR);
 }
+
+static void remove_tmp(const char *dir) { remove_tree_at(AT_FDCWD, dir, 4); }
 
 void bvox__dir_sink_abort(bvox__dir_sink *d)
 {
@@ -346,8 +386,9 @@ bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool forc
     survey_result r;
     survey(d->target, kind, &r);
     names_free(&r.listed);
-    if (r.state == T_NOTDIR || r.state == T_ERROR || r.state == T_NOMEM || (r.state == T_FOREIGN && !force)) {
-        bvox_status st = refuse(path, kind, &r);
+    if (r.state == T_NOTDIR || r.state == T_ERROR || r.state == T_NOMEM || (r.state == T_FOREIGN && !force) ||
+        (kind == BVOX__DIR_ZARR && tree_refused(&r, force))) {
+        bvox_status st = refuse(path, kind, &r, force);
         dir_release(d);
         return st;
     }
@@ -368,6 +409,29 @@ bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool forc
     return BVOX_OK;
 }
 
+/* fsync every file under the open folder fd (which stays open). */
+static bool sync_tree(int fd, int depth)
+{
+    int dup_fd = dup(fd);
+    DIR *d = dup_fd >= 0 ? fdopendir(dup_fd) : NULL;
+    if (!d) {
+        if (dup_fd >= 0) close(dup_fd);
+        return false;
+    }
+    bool ok = true;
+    struct dirent *e;
+    while (ok && (e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+        int f = openat(dirfd(d), e->d_name, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+        struct stat sb;
+        if (f < 0 || fsync(f) != 0) ok = false;
+        if (ok && depth > 0 && fstat(f, &sb) == 0 && S_ISDIR(sb.st_mode)) ok = sync_tree(f, depth - 1);
+        if (f >= 0) close(f);
+    }
+    closedir(d);
+    return ok;
+}
+
 /* The files written into the temporary folder, each fsync'ed. */
 static bool list_and_sync(const char *dir, names *out, bool *nomem)
 {
@@ -380,7 +444,10 @@ static bool list_and_sync(const char *dir, names *out, bool *nomem)
     while (ok && (e = readdir(d))) {
         if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
         int fd = openat(dirfd(d), e->d_name, O_RDONLY | O_CLOEXEC);
+        struct stat sb;
         if (fd < 0 || fsync(fd) != 0) ok = false;
+        /* a Zarr level folder: its chunk files too */
+        if (ok && fstat(fd, &sb) == 0 && S_ISDIR(sb.st_mode)) ok = sync_tree(fd, 4);
         if (fd >= 0) close(fd);
         if (ok && strcmp(e->d_name, BVOX__MANIFEST_NAME) &&
             !names_add(out, e->d_name, strlen(e->d_name)))
@@ -443,6 +510,49 @@ static bvox_status replace_in(bvox__dir_sink *d, survey_result *r, const names *
     return st;
 }
 
+/* Put a whole tree in place (kind zarr): onto a new or empty target by one
+ * rename; over bvox's own earlier tree (forced) by an atomic swap, after
+ * which the old tree, now at the temporary name, is removed. */
+static bvox_status commit_tree(bvox__dir_sink *d)
+{
+    names top = {0};
+    bvox_status st = BVOX_OK;
+    survey_result r;
+    survey(d->target, d->kind, &r);
+    DIR *t = opendir(d->tmp);
+    struct dirent *e;
+    while (t && !st && (e = readdir(t)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..") &&
+            strcmp(e->d_name, BVOX__MANIFEST_NAME) && !names_add(&top, e->d_name, strlen(e->d_name)))
+            st = bvox__fail(BVOX_ENOMEM, "%s: out of memory", d->name);
+    if (t) closedir(t);
+    names_sort(&top);
+    if (!st) st = manifest_write(d->tmp, d->kind, &top);
+    names_free(&top);
+    if (!st && (r.state == T_ABSENT || r.state == T_EMPTY)) {
+        /* rename(2) puts a folder onto an empty one in one step */
+        if (rename(d->tmp, d->target) != 0)
+            st = bvox__fail(BVOX_EIO, "%s: cannot rename the finished folder into place: %s",
+                            d->name, errno == ENOTEMPTY || errno == EEXIST
+                                         ? "another program wrote into it meanwhile"
+                                         : strerror(errno));
+    } else if (!st && r.state == T_OURS && d->force) {
+        if (renameat2(AT_FDCWD, d->tmp, AT_FDCWD, d->target, RENAME_EXCHANGE) != 0)
+            st = bvox__fail(BVOX_EIO, "%s: cannot swap the finished folder into place: %s",
+                            d->name, strerror(errno));
+    } else if (!st) {
+        st = refuse(d->name, d->kind, &r, d->force);
+    }
+    names_free(&r.listed);
+    if (!st && !bvox__sync_parent(d->target))
+        st = bvox__fail(BVOX_EIO, "%s: written, but its folder could not be synced: %s", d->name,
+                        strerror(errno));
+    /* after a rename nothing is left at tmp (removing fails harmlessly);
+     * after a swap the old tree is there */
+    bvox__dir_sink_abort(d);
+    return st;
+}
+
 bvox_status bvox__dir_sink_commit(bvox__dir_sink *d)
 {
     names fresh;
@@ -455,6 +565,10 @@ bvox_status bvox__dir_sink_commit(bvox__dir_sink *d)
         names_free(&fresh);
         bvox__dir_sink_abort(d);
         return st;
+    }
+    if (d->kind == BVOX__DIR_ZARR) {
+        names_free(&fresh);
+        return commit_tree(d);
     }
     /* A concurrent writer may create the folder between the survey and the
      * rename: then look again (a few times) and replace in place. */
@@ -484,7 +598,7 @@ bvox_status bvox__dir_sink_commit(bvox__dir_sink *d)
             continue;
         }
         if (r.state == T_NOTDIR || r.state == T_ERROR || r.state == T_NOMEM || (r.state == T_FOREIGN && !d->force)) {
-            st = refuse(d->name, d->kind, &r);
+            st = refuse(d->name, d->kind, &r, d->force);
         } else {
             /* forced into a foreign folder: its manifest, if any of this kind,
              * still says which files were bvox's */

@@ -13,10 +13,11 @@
 static const bvox__format *const formats[] = {
     &bvox__format_nifti, &bvox__format_binvox, &bvox__format_tiff,
     &bvox__format_png,   &bvox__format_raw,    &bvox__format_nrrd,
+    &bvox__format_zarr,
 };
 #define NFORMATS (sizeof formats / sizeof formats[0])
 
-const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd"; }
+const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd, zarr"; }
 
 static const bvox__format *by_name(const char *name)
 {
@@ -104,8 +105,27 @@ static bvox_status memory_format(const void *data, size_t size, const char *name
     return BVOX_OK;
 }
 
+static bvox_status read_memory(const void *data, size_t size, const char *name,
+                               const bvox_read_opts *opts, bvox_volume **out);
+static bvox_status read_path(const char *path, const bvox_read_opts *opts, bvox_volume **out);
+
 bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
                              const bvox_read_opts *opts, bvox_volume **out)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "read");
+    return bvox__progress_end(&ps, read_memory(data, size, name, opts, out));
+}
+
+bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume **out)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "read");
+    return bvox__progress_end(&ps, read_path(path, opts, out));
+}
+
+static bvox_status read_memory(const void *data, size_t size, const char *name,
+                               const bvox_read_opts *opts, bvox_volume **out)
 {
     *out = NULL;
     bvox__clear_error();
@@ -119,7 +139,8 @@ bvox_status bvox_read_memory(const void *data, size_t size, const char *name,
     return finish(st, opts, out);
 }
 
-bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume **out)
+/* Progress: reading the file is the first fifth, decoding the rest. */
+static bvox_status read_path(const char *path, const bvox_read_opts *opts, bvox_volume **out)
 {
     *out = NULL;
     bvox__clear_error();
@@ -130,10 +151,14 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
     if (st) return st;
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
-    if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png; /* a folder of slices */
+    if (S_ISDIR(sb.st_mode) && !f)
+        f = bvox__zarr_is_dir(path) ? &bvox__format_zarr : &bvox__format_png; /* else slices */
     if (f && f->read_path) return finish(f->read_path(path, opts, out), opts, out);
     bvox__bytes file;
+    bvox__progress_scope ps;
+    bvox__progress_sub(&ps, 0, 0.2, NULL);
     st = bvox__read_file(path, &file);
+    bvox__progress_restore(&ps);
     if (st) return st;
     if (!f) f = sniff(file.data, file.size);
     if (!f) {
@@ -143,7 +168,9 @@ bvox_status bvox_read(const char *path, const bvox_read_opts *opts, bvox_volume 
                           "identified; give --format, one of: %s)",
                           path, bvox_format_list());
     }
+    bvox__progress_sub(&ps, 0.2, 1, NULL);
     st = f->read_memory(file.data, file.size, path, opts, out);
+    bvox__progress_restore(&ps);
     bvox__bytes_release(&file);
     return finish(st, opts, out);
 }
@@ -179,7 +206,7 @@ static bvox_status output_format(const char *path, const bvox_write_opts *opts,
     if (!f)
         return bvox__fail(BVOX_EINVAL,
                           "%s: cannot tell the output format from the extension (use one of "
-                          ".nii .nii.gz .binvox .tif .tiff .raw, a folder with --format png)",
+                          ".nii .nii.gz .binvox .tif .tiff .raw .zarr, a folder with --format png)",
                           path);
     if (!f->write_path)
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: writing %s is not supported", path, f->name);
@@ -200,7 +227,18 @@ bvox_status bvox_write_check(const char *path, bvox_dims dims, const bvox_write_
     return st;
 }
 
+static bvox_status write_path(const char *path, const bvox_volume *vol,
+                              const bvox_write_opts *opts);
+
 bvox_status bvox_write(const char *path, const bvox_volume *vol, const bvox_write_opts *opts)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "write");
+    return bvox__progress_end(&ps, write_path(path, vol, opts));
+}
+
+static bvox_status write_path(const char *path, const bvox_volume *vol,
+                              const bvox_write_opts *opts)
 {
     BVOX_CHECK_VOLUME(vol);
     bvox__clear_error();

@@ -134,11 +134,19 @@ bool bvox__resolve_output(const char *path, char **out, struct stat *sb, bool *e
  *    anything is written, and again at commit; with force, the new files
  *    replace files of the same names and nothing else is removed.
  * Nothing but the listed files is ever deleted. The temporary folder is
- * removed on every failure, and by bvox_cleanup_on_signals' handler. */
+ * removed on every failure, and by bvox_cleanup_on_signals' handler.
+ *
+ * BVOX__DIR_ZARR is a whole tree (level folders of chunk files) and is put
+ * in place whole: a new or empty target gets the temporary folder renamed
+ * onto it; bvox's own earlier .zarr output (manifest of kind zarr naming
+ * every entry at its top) is replaced only when forced (swapped, then the
+ * old tree removed); a folder holding anything else is refused even when
+ * forced, since replacing a Zarr tree means deleting it. */
 typedef enum {
     BVOX__DIR_PNG_SLICES,   /* slice_NNNN.png */
     BVOX__DIR_SVG_SECTIONS, /* section_NNNN.svg */
-    BVOX__DIR_LABEL_MESHES  /* LABEL[_NAME].stl|ply|obj|off (bvox mesh --labels) */
+    BVOX__DIR_LABEL_MESHES, /* LABEL[_NAME].stl|ply|obj|off (bvox mesh --labels) */
+    BVOX__DIR_ZARR          /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
 } bvox__dir_kind;
 #define BVOX__MANIFEST_NAME ".bvox-manifest"
 /* The voxel size of a PNG slice folder (PNG has no z): "SX SY SZ [UNIT]". */
@@ -209,6 +217,9 @@ extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
 extern const bvox__format bvox__format_nrrd; /* read only (nrrd.c) */
+extern const bvox__format bvox__format_zarr;
+/* A folder holding .zarray or .zgroup (zarr.c). */
+bool bvox__zarr_is_dir(const char *path);
 
 /* The typed samples of a file or buffer, for readers of label volumes: the
  * format resolved as bvox_read does (forced, extension, content). On success

@@ -580,6 +580,7 @@ static bvox_status read_streamed(nsrc *src, const char *name, uint64_t file_size
                             name, (unsigned long long)hd.data_bytes,
                             (unsigned long long)data_got);
         else bvox__bin_stream_slices(bs, buf, n);
+        if (!st) st = bvox__progress_steps((int64_t)(z + n), hd.dims.nz);
     }
     /* A single volume's stream may carry a little padding after the data;
      * much more is a "zip bomb" (inflated only this far: bounded work). */

@@ -252,6 +252,7 @@ static bvox_status read_folder(const char *dir, const bvox_read_opts *opts, bvox
                                 (uint8_t *)g.owned + (bs ? 0 : i * slice_bytes));
             if (!st && bs) bvox__bin_stream_slices(bs, g.owned, 1);
             bvox__bytes_release(&b);
+            if (!st) st = bvox__progress_steps((int64_t)i + 1, (int64_t)n);
         }
     }
     bvox__free_paths(paths, n);
@@ -407,6 +408,7 @@ static bvox_status png_write_path(const char *path, const bvox_volume *v,
             snprintf(file, flen, "%s/slice_%0*d.png", tmp, digits & 15, (int)(z0 + k));
             st = write_slice(file, slab + (size_t)k * page, (uint32_t)v->nx, (uint32_t)v->ny,
                              ppm);
+            if (!st) st = bvox__progress_steps(z0 + k + 1, v->nz);
         }
     }
     if (!st) st = write_voxel_size(tmp, file, flen, v);

@@ -64,7 +64,8 @@ bvox_status bvox__read_file(const char *path, bvox__bytes *out)
     }
     size_t got = 0;
     while (got < size) {
-        ssize_t n = read(fd, buf + got, size - got > (1u << 30) ? (1u << 30) : size - got);
+        /* 64 MiB at a time: often enough for the progress callback */
+        ssize_t n = read(fd, buf + got, size - got > (1u << 26) ? (1u << 26) : size - got);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) {
             int e = errno;
@@ -74,6 +75,11 @@ bvox_status bvox__read_file(const char *path, bvox__bytes *out)
                               n < 0 ? strerror(e) : "file shrank while reading");
         }
         got += (size_t)n;
+        if ((st = bvox__progress_steps((int64_t)got, (int64_t)size))) {
+            close(fd);
+            bvox__free(buf, size);
+            return st;
+        }
     }
     close(fd);
     out->data = buf;
@@ -155,7 +161,8 @@ bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, siz
         }
         size_t in_left = size - in_off, out_left = cap - produced;
         z.next_in = (Bytef *)(data + in_off);
-        z.avail_in = in_left > UINT32_MAX ? UINT32_MAX : (uInt)in_left;
+        /* 4 MiB of input at a time, so that progress is reported */
+        z.avail_in = in_left > (1u << 22) ? (1u << 22) : (uInt)in_left;
         z.next_out = buf + produced;
         z.avail_out = out_left > UINT32_MAX ? UINT32_MAX : (uInt)out_left;
         uInt ain = z.avail_in, aout = z.avail_out;
@@ -180,6 +187,12 @@ bvox_status bvox__gunzip(const uint8_t *data, size_t size, const char *name, siz
             bvox__free(buf, cap);
             return bvox__fail(BVOX_EFORMAT, "%s: corrupt gzip data (%s)", name,
                               z.msg ? z.msg : "zlib error");
+        }
+        /* decompressing is most of reading a .gz: half of the range */
+        if ((st = bvox__progress(0.5 * (double)in_off / (double)size))) {
+            inflateEnd(&z);
+            bvox__free(buf, cap);
+            return st;
         }
     }
     inflateEnd(&z);

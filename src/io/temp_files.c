@@ -125,10 +125,11 @@ struct dirent64_raw { /* the kernel's struct linux_dirent64 */
 };
 
 /* Empty and remove a temporary folder, async-signal-safely. The writers put
- * only plain files in their temporary folders. */
-static void remove_dir_signal_safe(const char *dir)
+ * plain files in their temporary folders, and the Zarr writer folders of
+ * them (levels, nested chunk keys): depth bounds the descent. */
+static bool remove_dir_signal_safe_at(int parent, const char *dir, int depth)
 {
-    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
+    int fd = openat(parent, dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC | O_NOFOLLOW);
     if (fd >= 0) {
         char buf[4096] __attribute__((aligned(8)));
         for (;;) {
@@ -139,12 +140,22 @@ static void remove_dir_signal_safe(const char *dir)
                 off += e->reclen;
                 const char *s = e->name;
                 if (s[0] == '.' && (!s[1] || (s[1] == '.' && !s[2]))) continue;
-                unlinkat(fd, s, 0);
+                if (unlinkat(fd, s, 0) != 0 && errno == EISDIR && depth > 0 &&
+                    remove_dir_signal_safe_at(fd, s, depth - 1)) {
+                    /* the entries after it may move: read the folder again */
+                    lseek(fd, 0, SEEK_SET);
+                    break;
+                }
             }
         }
         close(fd);
     }
-    rmdir(dir);
+    return unlinkat(parent, dir, AT_REMOVEDIR) == 0;
+}
+
+static void remove_dir_signal_safe(const char *dir)
+{
+    (void)remove_dir_signal_safe_at(AT_FDCWD, dir, 3);
 }
 
 void bvox__temp_remove_all_signal_safe(void)
@@ -158,6 +169,8 @@ void bvox__temp_remove_all_signal_safe(void)
         else remove_dir_signal_safe(slots[i].path);
     }
 }
+
+void bvox_remove_temp_files(void) { bvox__temp_remove_all_signal_safe(); }
 
 static const int cleanup_signals[] = {SIGINT, SIGTERM, SIGHUP};
 

@@ -398,6 +398,7 @@ static bvox_status read_pages(TIFF *tif, const bvox__tiff_src *src, const char *
             st = read_page(tif, name, z, &pf, src,
                            bs ? page : (uint8_t *)g->owned + (size_t)z * page_bytes);
         if (!st && bs) bvox__bin_stream_slices(bs, page, 1);
+        if (!st) st = bvox__progress_steps((int64_t)z + 1, (int64_t)n);
     }
     /* The page count stops at the first unreadable IFD: a chain that goes on
      * past the last page read means a truncated or corrupt file. */

@@ -146,6 +146,7 @@ bvox_status bvox__tiff_write(const char *path, const bvox_volume *v, const bvox_
         int32_t n = v->nz - z0 < 64 ? v->nz - z0 : 64;
         bvox__unpack_slices(v, z0, n, 255, slab);
         st = bvox__sink_write(&sink, slab, (size_t)n * (size_t)page);
+        if (!st) st = bvox__progress_steps(z0 + n, v->nz);
     }
     if (!st && ifd1 > data_end) st = bvox__sink_write(&sink, "", 1);
     /* IFDs 1..nz-1, written 64 at a time. */

@@ -102,6 +102,7 @@ bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bo
         int32_t n = vol->nz - z0 < 64 ? vol->nz - z0 : 64;
         bvox__unpack_slices(vol, z0, n, 1, buf);
         st = bvox__sink_write(&s, buf, slice * (size_t)n);
+        if (st == BVOX_OK) st = bvox__progress_steps(z0 + n, vol->nz);
     }
     bvox__free(buf, bytes);
     if (st == BVOX_OK) return bvox__sink_commit(&s);

@@ -101,6 +101,7 @@ static void principal(bvox_measures *m)
 static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures *m)
 {
     bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
+    if (!st) st = bvox__progress(0.6);
     if (st) return st;
     if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
     bvox_volume *bg = NULL;
@@ -108,6 +109,7 @@ static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures
     if (st) return st;
     bvox_volume_complement(bg);
     st = bvox__components_count(bg, 6, 1, &m->cavities);
+    if (!st) st = bvox__progress(0.8);
     /* a 26-connected cavity is a union of 6-connected ones: none of those,
      * none of these, and the second labelling is saved */
     if (!st && m->cavities > 0) st = bvox__components_count(bg, 26, 1, &m->cavities_26);
@@ -124,6 +126,7 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
     m.principal_axes[0] = m.principal_axes[4] = m.principal_axes[8] = 1;
     bvox__scan s;
     bvox_status st = bvox__measure_scan(vol, &s);
+    if (!st) st = bvox__progress(0.4); /* then the labellings of topology() */
     if (st) return st;
     const double *sp = vol->geom.spacing, *org = vol->geom.origin;
     m.count = s.count;
@@ -179,5 +182,7 @@ bvox_status bvox_measure(const bvox_volume *vol, bvox_measures *out)
     bvox__clear_error();
     double weight[BVOX__NDIR];
     bvox__crofton_weights(vol->geom.spacing, weight);
-    return bvox__measure_with(vol, weight, NULL, out);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "measure");
+    return bvox__progress_end(&ps, bvox__measure_with(vol, weight, NULL, out));
 }

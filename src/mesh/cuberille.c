@@ -403,6 +403,10 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
         c.chunks[i].y1 = (int32_t)((int64_t)(g->ny + 1) * (i + 1) / nch);
     }
     bvox__parallel_for(nch, 1, pass_count, &c);
+    if ((st = bvox__progress(0.4))) { /* the count pass: about 40 % of the work */
+        cub_release(&c);
+        return st;
+    }
     int64_t cells = 0, tris = 0, diag[3] = {0, 0, 0};
     for (int32_t Y = 0; Y <= g->ny; Y++) {
         rowinfo r = c.rows[Y];

@@ -475,6 +475,10 @@ bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m)
         return st;
     }
     bvox__parallel_for_dynamic((int64_t)g->ny + 1, 4, count_rows, &c);
+    if ((st = bvox__progress(0.4))) { /* the count pass: about 40 % of the work */
+        mc_release(&c);
+        return st;
+    }
     /* row totals -> row bases; kind totals -> kind bases */
     int64_t total = 0;
     for (int k = 0; k < 3; k++) {

@@ -75,8 +75,14 @@ bvox_status bvox_mesh_smooth(bvox_mesh *m, int iterations, double lambda, double
         s.dst = m->vertices;
         s.f = mu;
         bvox__parallel_for(m->nvertices, 4096, step, &s);
+        /* canceled: the vertices are half smoothed; the caller discards the mesh */
+        if ((st = bvox__progress_steps(it + 1, iterations))) break;
     }
     bvox__free(tmp, bytes);
+    if (st) {
+        bvox__adjacency_release(&a);
+        return st;
+    }
     bvox__adjacency_release(&a);
     BVOX_CHECK_MESH(m);
     return BVOX_OK;

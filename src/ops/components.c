@@ -345,7 +345,17 @@ static bvox_status check_conn(int conn)
     return BVOX_OK;
 }
 
+static bvox_status components_find(const bvox_volume *vol, int conn, bvox_components **out);
+
 bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_components **out)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "components");
+    return bvox__progress_end(&ps, components_find(vol, conn, out));
+}
+
+/* Progress is reported between the stages (labelling is most of the work). */
+static bvox_status components_find(const bvox_volume *vol, int conn, bvox_components **out)
 {
     BVOX_CHECK_VOLUME(vol);
     *out = NULL;
@@ -378,7 +388,9 @@ bvox_status bvox_components_find(const bvox_volume *vol, int conn, bvox_componen
         st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
         goto fail;
     }
+    if ((st = bvox__progress(0.7))) goto fail; /* labelling: most of the work */
     st = sum_statistics(c, parent, first);
+    if (!st) st = bvox__progress(0.9);
     if (!st) st = rank_items(c, parent, first);
     if (st) goto fail;
     free(first);

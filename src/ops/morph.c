@@ -8,10 +8,12 @@
  * where Zdilate_h ORs the column with itself shifted by -h..h bits (64 voxels
  * per operation) and shift_xy moves whole columns, so the xy part is a plain
  * word-array OR/AND. The 26-neighbourhood is a box and takes the separable
- * path (z, then x, then y: three 3-tap passes instead of nine). Voxels outside
- * the volume are 0 for both operations.
+ * path (z, then x, then y: three 3-tap passes instead of nine); balls stream
+ * through the cache in morph_ball.c. Voxels outside the volume are 0 for both
+ * operations.
  */
 #include "internal.h"
+#include "morph_ball.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -68,8 +70,12 @@ static bvox_status z_pass(const bvox_volume *in, int h, bool erode, bvox_volume 
         return BVOX_OK;
     }
     morph_job j = {.in = in, .out = *out, .erode = erode, .h = h};
-    bvox__parallel_for((int64_t)in->nx * in->ny, 4096, z_range, &j);
-    return BVOX_OK;
+    st = bvox__parallel_for_progress((int64_t)in->nx * in->ny, 4096, z_range, &j);
+    if (st) {
+        bvox_volume_destroy(*out);
+        *out = NULL;
+    }
+    return st;
 }
 
 /* The 26-neighbourhood, separable and fused: each output row y is the
@@ -84,6 +90,8 @@ typedef struct box26_job {
     bvox_volume *out;
     uint64_t *ring; /* per chunk: 3 rows of nx * wpc words */
     int64_t nchunks;
+    int64_t y0, y1; /* the band of rows this call computes (all of them, or a
+                     * band at a time when progress is reported) */
     size_t row_words;
 } box26_job;
 
@@ -138,7 +146,8 @@ static inline __attribute__((always_inline)) void box26_rows(const box26_job *j,
                                                               bool erode)
 {
     const bvox_volume *v = j->in;
-    int64_t y0 = s * v->ny / j->nchunks, y1 = (s + 1) * v->ny / j->nchunks;
+    int64_t band = j->y1 - j->y0;
+    int64_t y0 = j->y0 + s * band / j->nchunks, y1 = j->y0 + (s + 1) * band / j->nchunks;
     size_t row = j->row_words;
     uint64_t *ring = j->ring + (size_t)s * 3 * row;
     /* ring slot of row r: (r + 1) mod 3 (r >= -1) */
@@ -170,7 +179,8 @@ static bvox_status box26(const bvox_volume *in, bool erode, bvox_volume **out)
     bvox_status st = bvox__volume_create_uninit(d, out);
     if (st) return st;
     (*out)->geom = in->geom;
-    box26_job j = {in, *out, NULL, 1, (size_t)in->nx * in->wpc};
+    box26_job j = {.in = in, .out = *out, .nchunks = 1, .row_words = (size_t)in->nx * in->wpc,
+                   .y0 = 0, .y1 = in->ny};
     /* one chunk of rows per thread; each chunk recomputes 2 rows of zx */
     int threads = bvox__parallelism();
     j.nchunks = in->ny / 8 < threads ? in->ny / 8 : threads;
@@ -187,9 +197,23 @@ static bvox_status box26(const bvox_volume *in, bool erode, bvox_volume **out)
         *out = NULL;
         return st;
     }
-    bvox__parallel_for(j.nchunks, 1, erode ? box26_erode_chunks : box26_dilate_chunks, &j);
+    /* With a progress callback, bands of rows one after the other (each band
+     * recomputes 2 rows of zx per chunk: a few per cent, only then). */
+    int64_t bands = bvox__progress_active() && in->ny >= 256 ? 16 : 1, maxchunks = j.nchunks;
+    for (int64_t b = 0; !st && b < bands; b++) {
+        j.y0 = in->ny * b / bands;
+        j.y1 = in->ny * (b + 1) / bands;
+        j.nchunks = (j.y1 - j.y0) / 8 < maxchunks ? (j.y1 - j.y0) / 8 : maxchunks;
+        if (j.nchunks < 1) j.nchunks = 1;
+        bvox__parallel_for(j.nchunks, 1, erode ? box26_erode_chunks : box26_dilate_chunks, &j);
+        st = bvox__progress_steps(b + 1, bands);
+    }
     bvox__free(j.ring, bytes);
-    return BVOX_OK;
+    if (st) {
+        bvox_volume_destroy(*out);
+        *out = NULL;
+    }
+    return st;
 }
 
 /* General element: one output row at a time, combining shifted rows of the
@@ -237,10 +261,22 @@ static bvox_status general(const bvox_volume *in, const offset *offs, int noffs,
     int *zindex = bvox__mem_alloc((size_t)noffs * sizeof *zindex);
     bvox_status st = BVOX_OK;
     if (!zv || !zs || !zindex) st = bvox__fail(BVOX_ENOMEM, "out of memory");
+    /* progress: the z passes share the first half, the rows the second */
+    int nz_passes = 0; /* distinct reaches (zs, still all NULL, marks them) */
+    for (int i = 0; !st && i < noffs; i++)
+        if (!zs[offs[i].h]) zs[offs[i].h] = in->words, nz_passes++;
+    for (int h = 0; !st && h <= maxh; h++) zs[h] = NULL;
+    int done = 0;
     for (int i = 0; !st && i < noffs; i++) {
         int h = offs[i].h;
         zindex[i] = h;
-        if (!zv[h]) st = z_pass(in, h, erode, &zv[h]);
+        if (!zv[h]) {
+            bvox__progress_scope ps;
+            bvox__progress_sub(&ps, 0.5 * done / nz_passes, 0.5 * (done + 1) / nz_passes, NULL);
+            st = z_pass(in, h, erode, &zv[h]);
+            bvox__progress_restore(&ps);
+            done++;
+        }
         if (!st) zs[h] = zv[h]->words;
     }
     bvox_dims d = {in->nx, in->ny, in->nz};
@@ -249,7 +285,14 @@ static bvox_status general(const bvox_volume *in, const offset *offs, int noffs,
         (*out)->geom = in->geom;
         morph_job j = {.in = in, .out = *out, .erode = erode, .zs = zs, .offs = offs,
                        .zindex = zindex, .noffs = noffs};
-        bvox__parallel_for(in->ny, 8, offsets_range, &j);
+        bvox__progress_scope ps;
+        bvox__progress_sub(&ps, 0.5, 1, NULL);
+        st = bvox__parallel_for_progress(in->ny, 8, offsets_range, &j);
+        bvox__progress_restore(&ps);
+        if (st) {
+            bvox_volume_destroy(*out);
+            *out = NULL;
+        }
     }
     for (int h = 0; zv && h <= maxh; h++) bvox_volume_destroy(zv[h]);
     free(zv);
@@ -288,40 +331,38 @@ static bvox_status ball(const bvox_volume *in, double radius, bool erode, bvox_v
     if ((2.0 * rx + 1) * (2.0 * ry + 1) > MAX_OFFSETS)
         return bvox__fail(BVOX_EINVAL, "ball radius %g is %d x %d voxels across: too large",
                           radius, 2 * rx + 1, 2 * ry + 1);
-    offset *offs = bvox__mem_alloc(MAX_OFFSETS * sizeof *offs);
-    if (!offs) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    int n = 0;
-    double r2 = radius * radius;
-    for (int dy = -ry; dy <= ry; dy++)
-        for (int dx = -rx; dx <= rx; dx++) {
-            double rest = r2 - (dx * s[0]) * (dx * s[0]) - (dy * s[1]) * (dy * s[1]);
-            if (rest < 0) continue;
-            int h = (int)floor(sqrt(rest) / s[2] + 1e-9);
-            if (h > in->nz) h = in->nz;
-            offs[n++] = (offset){dx, dy, h};
-        }
-    bvox_status st = general(in, offs, n, erode, out);
-    free(offs);
-    return st;
+    return bvox__morph_ball(in, radius, erode, out);
 }
 
 bvox_status bvox_morph_dilate(const bvox_volume *in, int conn, bvox_volume **out)
 {
     BVOX_CHECK_VOLUME(in);
-    BVOX_RETURN_CHECKED(neighbourhood(in, conn, false, out), BVOX_CHECK_VOLUME, *out);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "dilate");
+    bvox_status st = bvox__progress_end(&ps, neighbourhood(in, conn, false, out));
+    BVOX_RETURN_CHECKED(st, BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_erode(const bvox_volume *in, int conn, bvox_volume **out)
 {
     BVOX_CHECK_VOLUME(in);
-    BVOX_RETURN_CHECKED(neighbourhood(in, conn, true, out), BVOX_CHECK_VOLUME, *out);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "erode");
+    bvox_status st = bvox__progress_end(&ps, neighbourhood(in, conn, true, out));
+    BVOX_RETURN_CHECKED(st, BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_dilate_ball(const bvox_volume *in, double radius, bvox_volume **out)
 {
     BVOX_CHECK_VOLUME(in);
-    BVOX_RETURN_CHECKED(ball(in, radius, false, out), BVOX_CHECK_VOLUME, *out);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "dilate");
+    bvox_status st = bvox__progress_end(&ps, ball(in, radius, false, out));
+    BVOX_RETURN_CHECKED(st, BVOX_CHECK_VOLUME, *out);
 }
 bvox_status bvox_morph_erode_ball(const bvox_volume *in, double radius, bvox_volume **out)
 {
     BVOX_CHECK_VOLUME(in);
-    BVOX_RETURN_CHECKED(ball(in, radius, true, out), BVOX_CHECK_VOLUME, *out);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "erode");
+    bvox_status st = bvox__progress_end(&ps, ball(in, radius, true, out));
+    BVOX_RETURN_CHECKED(st, BVOX_CHECK_VOLUME, *out);
 }

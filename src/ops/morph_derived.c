@@ -18,19 +18,38 @@ static bvox_status two_steps(const bvox_volume *in, int conn, double radius, boo
 {
     *out = NULL;
     bvox_volume *mid;
+    bvox__progress_scope ps;
+    bvox__progress_sub(&ps, 0, 0.5, NULL);
     bvox_status st = step(in, conn, radius, erode_first, &mid);
+    bvox__progress_restore(&ps);
     if (st) return st;
+    bvox__progress_sub(&ps, 0.5, 1, NULL);
     st = step(mid, conn, radius, !erode_first, out);
+    bvox__progress_restore(&ps);
     bvox_volume_destroy(mid);
     return st;
 }
 
 bvox_status bvox_morph_open(const bvox_volume *in, int conn, double radius, bvox_volume **out)
 {
-    BVOX_RETURN_CHECKED(two_steps(in, conn, radius, true, out), BVOX_CHECK_VOLUME, *out);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "open");
+    bvox_status st = bvox__progress_end(&ps, two_steps(in, conn, radius, true, out));
+    BVOX_RETURN_CHECKED(st, BVOX_CHECK_VOLUME, *out);
 }
 
+static bvox_status close_padded(const bvox_volume *in, int conn, double radius,
+                                bvox_volume **out);
+
 bvox_status bvox_morph_close(const bvox_volume *in, int conn, double radius, bvox_volume **out)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "close");
+    return bvox__progress_end(&ps, close_padded(in, conn, radius, out));
+}
+
+static bvox_status close_padded(const bvox_volume *in, int conn, double radius,
+                                bvox_volume **out)
 {
     /* Closing near the border: dilation may reach past the volume and the
      * erosion then sees the outside as 0; pad by the element's reach so
@@ -60,7 +79,16 @@ static int is_index(const bvox_component *c, int64_t index, void *ctx)
     return index == *(const int64_t *)ctx;
 }
 
+static bvox_status fill_holes(const bvox_volume *in, bvox_volume **out);
+
 bvox_status bvox_morph_fill_holes(const bvox_volume *in, bvox_volume **out)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "fill");
+    return bvox__progress_end(&ps, fill_holes(in, out));
+}
+
+static bvox_status fill_holes(const bvox_volume *in, bvox_volume **out)
 {
     /* The background padded by one voxel is one 6-connected region touching
      * the border plus the cavities; everything but that region is object. */
@@ -71,7 +99,10 @@ bvox_status bvox_morph_fill_holes(const bvox_volume *in, bvox_volume **out)
     if (st) return st;
     bvox_volume_complement(bg);
     bvox_components *comps;
+    bvox__progress_scope ps;
+    bvox__progress_sub(&ps, 0, 0.9, NULL);
     st = bvox_components_find(bg, 6, &comps);
+    bvox__progress_restore(&ps);
     bvox_volume_destroy(bg);
     if (st) return st;
     int64_t border = bvox_components_index_at(comps, 0, 0, 0);
@@ -92,7 +123,9 @@ bvox_status bvox_morph_hollow(const bvox_volume *in, double thickness, bvox_volu
     if (!(thickness > 0))
         return bvox__fail(BVOX_EINVAL, "shell thickness must be > 0, not %g", thickness);
     bvox_volume *inner;
-    bvox_status st = bvox_morph_erode_ball(in, thickness, &inner);
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "hollow");
+    bvox_status st = bvox__progress_end(&ps, bvox_morph_erode_ball(in, thickness, &inner));
     if (st) return st;
     st = bvox_volume_copy(in, out);
     if (!st) st = bvox_csg_apply(*out, BVOX_CSG_DIFFERENCE, inner, NULL);
@@ -115,10 +148,15 @@ bvox_status bvox_morph_remove_islands(const bvox_volume *in, int conn, int64_t m
 {
     *out = NULL;
     bvox_components *comps;
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "islands");
+    bvox__progress_scope sub;
+    bvox__progress_sub(&sub, 0, 0.9, NULL);
     bvox_status st = bvox_components_find(in, conn, &comps);
-    if (st) return st;
+    bvox__progress_restore(&sub);
+    if (st) return bvox__progress_end(&ps, st);
     st = bvox_components_keep_if(comps, big_enough, &min_voxels, out);
     bvox_components_destroy(comps);
     if (!st) BVOX_CHECK_VOLUME(*out);
-    return st;
+    return bvox__progress_end(&ps, st);
 }

@@ -373,9 +373,17 @@ static bvox_status set_markers(bvox_recon_section_report *s, const bvox_point2 *
     return BVOX_OK;
 }
 
-static void progress(const bvox_recon_opts *o, bvox_recon_step step, int32_t done, int32_t total)
+/* The options' step callback, then the thread's progress callback
+ * (bvox_set_progress), which may cancel: the sections are the first 70 %,
+ * the alignment up to 75 %, the volume the rest. */
+static bvox_status progress(const bvox_recon_opts *o, bvox_recon_step step, int32_t done,
+                            int32_t total)
 {
     if (o->progress) o->progress(o->progress_ctx, step, done, total);
+    double f = total > 0 ? (double)done / total : 1;
+    return bvox__progress(step == BVOX_RECON_CONTOURS ? 0.7 * f
+                          : step == BVOX_RECON_ALIGN  ? 0.75
+                                                      : 1);
 }
 
 /* ------------------------------------------------------- images -> model */
@@ -393,10 +401,13 @@ static bvox_status finish(const bvox_recon_opts *o, bvox_status st, double t_sta
         bvox_stack_volume_opts vo = bvox_stack_volume_opts_default();
         vo.z_spacing = o->z_spacing;
         vo.interpolate = o->interpolate;
+        bvox__progress_scope ps;
+        bvox__progress_sub(&ps, 0.75, 1, "volume");
         st = bvox_stack_to_volume(stack, &vo, &vol);
+        bvox__progress_restore(&ps);
         if (!st) {
             rep->ms[BVOX_RECON_VOLUME] = now_ms() - t;
-            progress(o, BVOX_RECON_VOLUME, stack->nsections, stack->nsections);
+            st = progress(o, BVOX_RECON_VOLUME, stack->nsections, stack->nsections);
         }
     }
     if (st) {
@@ -493,7 +504,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opt
                 st = bvox__fail(w[i].st, "%s", w[i].msg);
                 goto done;
             }
-        progress(o, BVOX_RECON_CONTOURS, first + m, n);
+        if ((st = progress(o, BVOX_RECON_CONTOURS, first + m, n))) goto done;
     }
     double wall = now_ms() - t_sections;
     for (int32_t i = 1; i < n; i++)
@@ -533,7 +544,7 @@ static bvox_status run_images(sec_work *w, int32_t n, const bvox_recon_opts *opt
     if (rep->aligned && rep->fallbacks && (st = align_by_contours(rep, w))) goto done;
     if (rep->aligned && o->marker_coords && (st = align_to_frame(rep, o))) goto done;
     rep->ms[BVOX_RECON_ALIGN] = now_ms() - t0;
-    progress(o, BVOX_RECON_ALIGN, n, n);
+    if ((st = progress(o, BVOX_RECON_ALIGN, n, n))) goto done;
     /* the stack */
     t0 = now_ms();
     if ((st = bvox_stack_create(&stack))) goto done;
@@ -582,9 +593,25 @@ static void free_work(sec_work *w, int32_t n)
     free(w);
 }
 
+static bvox_status reconstruct_images(const bvox_image *const *images,
+                                      const char *const *names, int32_t n,
+                                      const bvox_recon_opts *opts, bvox_volume **volume,
+                                      bvox_contour_stack **stack, bvox_recon_report **report);
+
 bvox_status bvox_reconstruct_images(const bvox_image *const *images, const char *const *names,
                                     int32_t n, const bvox_recon_opts *opts, bvox_volume **volume,
                                     bvox_contour_stack **stack, bvox_recon_report **report)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "reconstruct");
+    return bvox__progress_end(&ps,
+                              reconstruct_images(images, names, n, opts, volume, stack, report));
+}
+
+static bvox_status reconstruct_images(const bvox_image *const *images,
+                                      const char *const *names, int32_t n,
+                                      const bvox_recon_opts *opts, bvox_volume **volume,
+                                      bvox_contour_stack **stack, bvox_recon_report **report)
 {
     bvox__clear_error();
     bvox_status st = check_outputs(volume, stack, report);
@@ -738,7 +765,7 @@ static bvox_status run_stack(const char *path, const bvox_recon_opts *o, bvox_vo
     rep->ms[BVOX_RECON_READ] = t_read;
     rep->width = stack->width;
     rep->height = stack->height;
-    progress(o, BVOX_RECON_ALIGN, stack->nsections, stack->nsections);
+    st = progress(o, BVOX_RECON_ALIGN, stack->nsections, stack->nsections);
 done:
     return finish(o, st, t0, stack, rep, volume, stack_out, report_out);
 }
@@ -780,9 +807,22 @@ static void warn_image_scale(const bvox_recon_opts *o)
     if (missing[0]) bvox__warn("section images: not given, assumed:%s", missing + 1);
 }
 
+static bvox_status reconstruct(const char *const *inputs, int32_t n,
+                               const bvox_recon_opts *opts, bvox_volume **volume,
+                               bvox_contour_stack **stack, bvox_recon_report **report);
+
 bvox_status bvox_reconstruct(const char *const *inputs, int32_t n, const bvox_recon_opts *opts,
                              bvox_volume **volume, bvox_contour_stack **stack,
                              bvox_recon_report **report)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "reconstruct");
+    return bvox__progress_end(&ps, reconstruct(inputs, n, opts, volume, stack, report));
+}
+
+static bvox_status reconstruct(const char *const *inputs, int32_t n,
+                               const bvox_recon_opts *opts, bvox_volume **volume,
+                               bvox_contour_stack **stack, bvox_recon_report **report)
 {
     bvox__clear_error();
     bvox_status st = check_outputs(volume, stack, report);

@@ -35,8 +35,20 @@ static void remove_frames(const char *path, int count, int n)
     }
 }
 
+static bvox_status turntable(const bvox_volume *vol, const bvox_render_opts *opts, int n,
+                             const char *path);
+
 bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_render_opts *opts, int n,
                                   const char *path)
+{
+    bvox__progress_scope ps;
+    bvox__progress_begin(&ps, "turntable");
+    return bvox__progress_end(&ps, turntable(vol, opts, n, path));
+}
+
+/* Progress: one step per frame; a cancel removes the frames written. */
+static bvox_status turntable(const bvox_volume *vol, const bvox_render_opts *opts, int n,
+                             const char *path)
 {
     if (!path || !*path) return bvox__fail(BVOX_EINVAL, "turntable: no output path");
     if (n < 1 || n > 3600)
@@ -65,6 +77,7 @@ bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_render_opts
             free(name);
         }
         bvox_image_destroy(img);
+        if (!st) st = bvox__progress_steps(i + 1, n);
     }
     if (g) {
         if (st) bvox__gif_abort(g);

@@ -32,7 +32,7 @@ mk set 8 8 8 "$SET" --voxel-size 0.5,0.5,2 --unit mm
 [ "$(count "$tmp/set.nii")" = 15 ] || fail "test set"
 
 "$BVOX" components "$tmp/set.nii" --json >"$tmp/j26" || fail "components --json exited $?"
-jcheck "$tmp/j26" 'list(o) == ["count", "component_count", "components"] and o["component_count"] == o["count"]' || fail "top-level keys"
+jcheck "$tmp/j26" 'list(o) == ["count", "component_count", "input", "output", "components"] and o["input"] == sys.argv[1].replace("/j26", "/set.nii") and o["output"] is None and o["component_count"] == o["count"]' || fail "top-level keys"
 jcheck "$tmp/j26" 'all(list(c) == ["voxels", "volume", "bbox"] for c in o["components"])' ||
     fail "component keys"
 jcheck "$tmp/j26" 'o["count"] == 4 == len(o["components"])' || fail "26: count"
@@ -132,7 +132,7 @@ PY
 # An empty volume: no components.
 mk empty 3 3 3 'False'
 "$BVOX" components "$tmp/empty.nii" --json >"$tmp/j" &&
-    jcheck "$tmp/j" 'o == {"count": 0, "component_count": 0, "components": []}' || fail "empty"
+    jcheck "$tmp/j" '{k: v for k, v in o.items() if k not in ("input", "output")} == {"count": 0, "component_count": 0, "components": []} and o["output"] is None' || fail "empty"
 "$BVOX" components "$tmp/empty.nii" | grep -q '^components: *0 ' || fail "empty text"
 
 "$BVOX" components --help >"$tmp/help" || fail "--help exited $?"

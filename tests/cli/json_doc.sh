@@ -25,6 +25,13 @@ doc=$(dirname "$0")/../../docs/JSON.md
 "$BVOX" contours "$tmp/s.nii" -o "$tmp/k.json" >/dev/null || fail "contours"
 "$BVOX" reconstruct "$tmp/k.json" -o "$tmp/r.nii" --report "$tmp/report.json" \
     >/dev/null 2>&1 || fail "reconstruct"
+# the --json of the commands that write (issue 15)
+"$BVOX" convert "$tmp/s.nii" "$tmp/s.tif" --json >"$tmp/convert.json" || fail "convert"
+"$BVOX" morph "$tmp/s.nii" dilate -o "$tmp/d.nii" --json >"$tmp/morph.json" || fail "morph"
+"$BVOX" mesh "$tmp/s.nii" -o "$tmp/m.ply" --json >"$tmp/mesh.json" || fail "mesh --json"
+"$BVOX" voxelize "$tmp/m.ply" -o "$tmp/v.nii" --res 12 --json >"$tmp/voxelize.json" ||
+    fail "voxelize"
+"$BVOX" contours "$tmp/s.nii" -o "$tmp/ksvg" --json >"$tmp/contours.json" || fail "contours --json"
 
 python3 - "$doc" "$tmp"/*.json <<'PY'
 import json, re, sys

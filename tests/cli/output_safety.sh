@@ -4,7 +4,8 @@
 #  - a folder output never deletes a file bvox did not write: a user's folder
 #    is refused (shape, convert into the input's own folder, contours,
 #    reconstruct --save-contours, a viewer script's save), --force adds files
-#    and removes nothing, bvox's own earlier output is replaced exactly;
+#    and removes nothing, bvox's own earlier output is replaced exactly; a
+#    .zarr tree is replaced only with --force, a user's folder never;
 #  - a FIFO as output is refused and stays a FIFO, a symlink is written
 #    through (the link stays), a 0600 file stays 0600;
 #  - a FIFO as input is refused at once instead of hanging;
@@ -78,6 +79,23 @@ refused "shape -o own/ + user file" "$BVOX" shape sphere r=2 --dims 6,6,4 -o own
 "$BVOX" shape sphere r=2 --dims 6,6,2 -o own/ --force >/dev/null
 [ "$(cat own/mine.txt)" = mine ] && [ ! -e own/slice_0002.png ] || fail "--force over own: $(ls -A own)"
 no_temps . "own"
+
+# a .zarr tree: new or empty folder written; bvox's own replaced only with
+# --force (whole: the old levels go); a user's folder refused even forced
+"$BVOX" shape sphere r=3 --dims 9,8,70 -o z.nii >/dev/null
+"$BVOX" convert z.nii z.zarr --chunks 4,4,16 >/dev/null || fail "zarr"
+[ -d z.zarr/2 ] && [ -f z.zarr/.bvox-manifest ] || fail "z.zarr: $(ls -A z.zarr)"
+refused "convert -o own .zarr" "$BVOX" convert z.nii z.zarr
+"$BVOX" convert z.nii z.zarr --levels 1 --force >/dev/null || fail "zarr --force"
+[ "$(ls -A z.zarr | tr '\n' ' ')" = ".bvox-manifest .zattrs .zgroup 0 " ] ||
+    fail "z.zarr after --force: $(ls -A z.zarr)"
+user_data u.zarr
+refused "convert -o user .zarr --force" "$BVOX" convert z.nii u.zarr --force
+intact u.zarr "zarr"
+mkdir e.zarr
+"$BVOX" convert z.nii e.zarr >/dev/null || fail "zarr into an empty folder"
+"$BVOX" info e.zarr | grep -q "9 x 8 x 70" || fail "e.zarr reads back wrong"
+no_temps . "zarr"
 
 # contour folders: contours -o DIR, reconstruct --save-contours DIR
 user_data c

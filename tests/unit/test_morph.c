@@ -2,6 +2,7 @@
  * (every voxel scans its whole structuring element) at awkward sizes. */
 #include "harness.h"
 #include "ref/voxref.h"
+#include "ops/morph_ball.h"
 
 #include <stdlib.h>
 
@@ -181,5 +182,70 @@ TEST(box26_threads_and_long_columns)
         voxref_destroy(a);
     }
     bvox_set_threads(0);
+    return 0;
+}
+
+/* The ball kernel (morph_ball.c) streams bands of rows (one per thread)
+ * through x tiles: narrow tiles, 1..16 threads, radii up to 6, columns of
+ * one, two and three words, anisotropic voxels, every SIMD level of the
+ * inner loops (morph_ball_kern.h); dilation of a sparse
+ * volume and erosion of its dilation against the voxel-by-voxel reference. */
+TEST(ball_tiles_and_threads_against_reference)
+{
+    static const struct {
+        int nx, ny, nz;
+        double r, s[3];
+    } cases[] = {{37, 41, 70, 4.0, {1, 1, 1}},   {29, 33, 130, 6.0, {1, 1, 1}},
+                 {31, 26, 63, 3.2, {1, 0.8, 1}}, {24, 35, 150, 2.6, {0.6, 1, 0.3}},
+                 {20, 19, 5, 10.0, {1, 1, 1}}};
+    static const int tiles[] = {0, 1, 5};
+    static const int threads[] = {1, 16};
+    static const bvox_simd levels[3] = {BVOX_SIMD_GENERIC, BVOX_SIMD_AVX2, BVOX_SIMD_AVX512};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        voxref *a = voxref_create(cases[c].nx, cases[c].ny, cases[c].nz);
+        voxref_random(a, 1, 300, harness_rand);
+        bvox_volume *v = voxref_to_volume(a);
+        const double *s = cases[c].s;
+        CHECK_OK(bvox_volume_set_spacing(v, s[0], s[1], s[2], "mm"));
+        double smin = s[0] < s[1] ? s[0] : s[1];
+        smin = smin < s[2] ? smin : s[2];
+        int reach = (int)(cases[c].r / smin) + 1;
+        for (int erode = 0; erode < 2; erode++) {
+            if (erode) { /* erode the dilation: dense enough to matter */
+                bvox_volume *d;
+                bvox__morph_ball_test_tile = 0;
+                bvox_set_threads(0);
+                CHECK_OK(bvox_morph_dilate_ball(v, cases[c].r, &d));
+                voxref_destroy(a);
+                a = voxref_from_volume(d);
+                bvox_volume_destroy(v);
+                v = d;
+            }
+            voxref *r = ref_morph(a, in_ball, s, cases[c].r, reach, erode);
+            for (size_t ti = 0; ti < sizeof tiles / sizeof tiles[0]; ti++)
+                for (size_t th = 0; th < sizeof threads / sizeof threads[0]; th++)
+                for (int lv = 0; lv < 3; lv++) {
+                    if (bvox_simd_set(levels[lv]) != BVOX_OK) continue; /* not on this CPU */
+                    bvox__morph_ball_test_tile = tiles[ti];
+                    bvox_set_threads(threads[th]);
+                    bvox_volume *out;
+                    CHECK_OK(erode ? bvox_morph_erode_ball(v, cases[c].r, &out)
+                                   : bvox_morph_dilate_ball(v, cases[c].r, &out));
+                    CHECK_OK(bvox_volume_check(out));
+                    if (!voxref_matches(r, out)) {
+                        fprintf(stderr, "case %zu erode %d tile %d threads %d simd %s\n", c,
+                                erode, tiles[ti], threads[th], bvox_simd_name(levels[lv]));
+                        return 1;
+                    }
+                    bvox_volume_destroy(out);
+                }
+            voxref_destroy(r);
+        }
+        bvox_volume_destroy(v);
+        voxref_destroy(a);
+    }
+    bvox__morph_ball_test_tile = 0;
+    bvox_set_threads(0);
+    bvox_simd_set(BVOX_SIMD_AUTO);
     return 0;
 }

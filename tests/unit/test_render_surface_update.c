@@ -115,3 +115,30 @@ TEST(nothing_to_do_and_misuse)
     bvox_volume_destroy(w);
     return 0;
 }
+
+/* bvox_surface_build takes its bounding box from the counting pass's rows
+ * (no scan of its own): it must equal bvox_volume_bbox with the rows split
+ * over 1, 3 and 16 threads, for a few voxels anywhere, one voxel, and none. */
+TEST(build_bbox_matches_volume)
+{
+    bvox_volume *v;
+    CHECK_OK(bvox_volume_create((bvox_dims){37, 70, 130}, &v));
+    for (int round = 0; round < 12; round++) {
+        bvox_volume_fill(v, 0);
+        int nvox = round < 2 ? round : 1 + (int)(harness_rand() % 6);
+        for (int i = 0; i < nvox; i++)
+            CHECK_OK(bvox_volume_set(v, rnd(37), rnd(70), rnd(130), 1));
+        for (int t = 0; t < 3; t++) {
+            bvox_set_threads(t == 0 ? 1 : t == 1 ? 3 : 16);
+            bvox_surface *s;
+            CHECK_OK(bvox_surface_build(v, &s));
+            bvox_box b1, b2;
+            CHECK_EQ(bvox_surface_bbox(s, &b1), bvox_volume_bbox(v, &b2));
+            CHECK(!memcmp(&b1, &b2, sizeof b1));
+            bvox_surface_destroy(s);
+        }
+    }
+    bvox_set_threads(0);
+    bvox_volume_destroy(v);
+    return 0;
+}

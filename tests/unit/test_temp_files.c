@@ -4,6 +4,7 @@
  * mid-write, killed, and the folder listed. */
 #include "harness.h"
 #include "io/io.h"
+#include "io/zarr.h"
 
 #include <dirent.h>
 #include <signal.h>
@@ -19,10 +20,18 @@ static void child(const char *dir, int folder, int ready)
 {
     if (bvox_cleanup_on_signals()) _exit(3);
     char path[1100];
-    snprintf(path, sizeof path, "%s/out%s", dir, folder ? "" : ".nii");
+    snprintf(path, sizeof path, "%s/out%s", dir, folder == 2 ? ".zarr" : folder ? "" : ".nii");
     bvox__sink s;
     bvox__dir_sink d;
-    if (folder) {
+    if (folder == 2) { /* a Zarr tree: level folders holding chunk files */
+        bvox__zarr_writer *w;
+        bvox_volume *v;
+        const int32_t chunks[3] = {4, 4, 4};
+        if (bvox__zarr_create(path, (bvox_dims){8, 8, 8}, chunks, NULL, NULL, 0, false, &w) ||
+            bvox_volume_create((bvox_dims){4, 4, 4}, &v) || bvox_volume_set(v, 1, 2, 3, 1) ||
+            bvox__zarr_write_box(w, 4, 0, 4, v))
+            _exit(4);
+    } else if (folder) {
         if (bvox__dir_sink_open(path, BVOX__DIR_PNG_SLICES, false, &d)) _exit(4);
         char f[1200];
         snprintf(f, sizeof f, "%s/slice_0000.png", d.tmp);
@@ -39,7 +48,7 @@ static void child(const char *dir, int folder, int ready)
 static int kill_mid_write(int sig, int folder)
 {
     char dir[1100];
-    snprintf(dir, sizeof dir, "%s", harness_path(folder ? "dir" : "file"));
+    snprintf(dir, sizeof dir, "%s", harness_path(folder == 2 ? "zarr" : folder ? "dir" : "file"));
     CHECK(mkdir(dir, 0777) == 0);
     int p[2];
     CHECK(pipe(p) == 0);
@@ -68,6 +77,7 @@ TEST(sigterm_removes_temp_file) { return kill_mid_write(SIGTERM, 0); }
 TEST(sighup_removes_temp_file) { return kill_mid_write(SIGHUP, 0); }
 TEST(sigint_removes_temp_folder) { return kill_mid_write(SIGINT, 1); }
 TEST(sigterm_removes_temp_folder) { return kill_mid_write(SIGTERM, 1); }
+TEST(sigterm_removes_temp_zarr_tree) { return kill_mid_write(SIGTERM, 2); }
 
 /* An ignored signal stays ignored (nohup): the handler is not installed. */
 TEST(ignored_signal_left_alone)

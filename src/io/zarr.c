@@ -1,0 +1,102 @@
+/*
+ * zarr.c — OME-Zarr (NGFF 0.4 on Zarr v2) as one of bvox's formats: whole
+ * volumes read and written through the box interface of zarr.h (reader in
+ * zarr_read.c, writer in zarr_write.c, pyramid in zarr_pyramid.c).
+ *
+ * Read: the path is an array (has .zarray) or a group whose .zattrs names
+ * the multiscales datasets (level 0, the finest, unless the read options
+ * ask for another; else the array "0"); the read options binarise
+ * (binarize.c). Written: a group with a resolution pyramid (opts->levels),
+ * uint8 0/1, chunk shape and compressor from the options.
+ */
+#include "zarr.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static bvox_status zarr_read_path(const char *path, const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    bvox__zarr *z;
+    bvox_status st = bvox__zarr_open_level(path, opts ? opts->zarr_level : 0, &z);
+    if (st) return st;
+    bvox_dims d = bvox__zarr_dims(z);
+    size_t wb;
+    if ((st = bvox__check_dims(d, path, &wb))) { /* the whole volume: within the budget */
+        bvox__zarr_close(z);
+        return st;
+    }
+    size_t total, elem = bvox_dtype_size(bvox__zarr_dtype(z));
+    if (!bvox__mul_size((size_t)d.nx * (size_t)d.ny, (size_t)d.nz, &total) ||
+        !bvox__mul_size(total, elem, &total)) {
+        bvox__zarr_close(z);
+        return bvox__fail(BVOX_ETOOBIG, "%s: array size overflows", path);
+    }
+    void *samples = bvox__alloc(total, false, "Zarr samples", &st);
+    if (!samples) {
+        bvox__error_prefix(path);
+        bvox__zarr_close(z);
+        return st;
+    }
+    st = bvox__zarr_read_box_samples(z, 0, 0, 0, d.nx, d.ny, d.nz, samples);
+    if (st) {
+        bvox__free(samples, total);
+        bvox__zarr_close(z);
+        return st;
+    }
+    bvox__gray g;
+    bvox__gray_init(&g);
+    g.dims = d;
+    g.dtype = bvox__zarr_dtype(z);
+    g.data = samples;
+    g.owned = samples;
+    g.owned_bytes = total;
+    g.geom = *bvox__zarr_geometry(z);
+    bvox__zarr_close(z);
+    st = bvox__binarize(&g, opts ? &opts->binarize : NULL, path, out);
+    bvox__gray_release(&g);
+    return st;
+}
+
+static bvox_status zarr_read_memory(const uint8_t *data, size_t size, const char *name,
+                                    const bvox_read_opts *opts, bvox_volume **out)
+{
+    (void)data, (void)size, (void)opts;
+    *out = NULL;
+    return bvox__fail(BVOX_EUNSUPPORTED, "%s: Zarr is a folder; read it by its path",
+                      name ? name : "input");
+}
+
+static bvox_status zarr_write_path(const char *path, const bvox_volume *v,
+                                   const bvox_write_opts *opts)
+{
+    bvox__zarr_writer *w;
+    bvox_status st = bvox__zarr_create(path, (bvox_dims){v->nx, v->ny, v->nz},
+                                       opts ? opts->chunks : NULL, opts ? opts->compressor : NULL,
+                                       &v->geom, opts ? opts->zarr_levels : 0,
+                                       opts && opts->force, &w);
+    if (st) return st;
+    st = bvox__zarr_write_box(w, 0, 0, 0, v);
+    if (st) {
+        bvox__zarr_abort(w);
+        return st;
+    }
+    return bvox__zarr_commit(w);
+}
+
+static bvox_status zarr_probe_dims(const char *path, const bvox_read_opts *opts, bvox_dims *dims)
+{
+    bvox__zarr *z;
+    bvox_status st = bvox__zarr_open_level(path, opts ? opts->zarr_level : 0, &z);
+    if (st) return st;
+    *dims = bvox__zarr_dims(z);
+    bvox__zarr_close(z);
+    return BVOX_OK;
+}
+
+static const char *const zarr_extensions[] = {".zarr", NULL};
+
+const bvox__format bvox__format_zarr = {
+    "zarr", zarr_extensions, NULL, zarr_read_memory, zarr_read_path, zarr_write_path,
+    zarr_probe_dims, NULL, NULL,
+};
