@@ -92,8 +92,7 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format
 /* report.c: the result of bvox_info_compute, as aligned text or one JSON
  * object. source (a file name) and format may be NULL. */
 void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, const char *format);
-void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format);
-/* The keys of cli_print_info_json, written into an object the caller has
+/* The info keys (cli_print_info_json_io), written into an object the caller has
  * opened (commands that report more, like measure, start with them). */
 struct bvox__json; /* cli_json (json.h) */
 void cli_info_json_fields(struct bvox__json *j, const bvox_info *info, const char *source,
@@ -110,7 +109,7 @@ bvox_status cli_print_volume_json(const bvox_volume *vol, const char *input, con
                                   void (*extra)(struct bvox__json *j, const bvox_volume *vol,
                                                 void *ctx),
                                   void *ctx);
-/* cli_print_info_json plus those two keys. */
+/* One JSON object: the info keys, then input and output. */
 void cli_print_info_json_io(FILE *f, const bvox_info *info, const char *source,
                             const char *format, const char *input, const char *output);
 

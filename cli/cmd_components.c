@@ -10,6 +10,7 @@
 #include "json.h"
 #include "manip.h"
 #include "opts.h"
+#include "outofcore.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -62,16 +63,23 @@ const cli_spec cli_spec_components = {
                 "  bvox components noisy.nii --keep-largest 1 -o organ.nii\n",
 };
 
-static void print_text(const bvox_components *c, int conn, const bvox_geometry *g)
+/* Component i: from the in-memory labelling, or from the out-of-core list. */
+static const bvox_component *item(const bvox_components *c, const bvox_component *list,
+                                  int64_t i)
 {
-    int64_t n = bvox_components_count(c);
+    return c ? bvox_components_get(c, i) : &list[i];
+}
+
+static void print_text(const bvox_components *c, const bvox_component *list, int64_t n,
+                       int conn, const bvox_geometry *g)
+{
     printf("%-14s%lld (%d-connected)\n", "components:", (long long)n, conn);
     if (n == 0) return;
     char vh[40] = "volume";
     if (g->unit[0]) snprintf(vh, sizeof vh, "volume (%s^3)", g->unit);
     printf("%8s %12s %14s  %s\n", "#", "voxels", vh, "bounding box (voxel indices, inclusive)");
     for (int64_t i = 0; i < n; i++) {
-        const bvox_component *it = bvox_components_get(c, i);
+        const bvox_component *it = item(c, list, i);
         const bvox_box b = it->bbox;
         printf("%8lld %12lld %14.6g  x %d..%d, y %d..%d, z %d..%d\n", (long long)(i + 1),
                (long long)it->voxels, it->volume, b.x0, b.x1 - 1, b.y0, b.y1 - 1, b.z0,
@@ -79,11 +87,11 @@ static void print_text(const bvox_components *c, int conn, const bvox_geometry *
     }
 }
 
-static void print_json(const bvox_components *c, const char *in, const char *out)
+static void print_json(const bvox_components *c, const bvox_component *list, int64_t n,
+                       const char *in, const char *out)
 {
     cli_json j;
     cli_json_init(&j, stdout);
-    int64_t n = bvox_components_count(c);
     cli_json_begin_object(&j);
     cli_json_key(&j, "count");
     cli_json_int(&j, n);
@@ -93,7 +101,7 @@ static void print_json(const bvox_components *c, const char *in, const char *out
     cli_json_key(&j, "components");
     cli_json_begin_array(&j);
     for (int64_t i = 0; i < n; i++) {
-        const bvox_component *it = bvox_components_get(c, i);
+        const bvox_component *it = item(c, list, i);
         const bvox_box b = it->bbox;
         const int64_t lo[3] = {b.x0, b.y0, b.z0}, hi[3] = {b.x1 - 1, b.y1 - 1, b.z1 - 1};
         cli_json_begin_object(&j);
@@ -156,6 +164,24 @@ int cmd_components(int argc, char **argv)
     if (labels && (!lf || strcmp(lf, "nifti") != 0))
         return cli_usage_error(cmd, "--labels: '%s' must end in .nii or .nii.gz", labels);
 
+    bvox__slab_source src;
+    if (cli_ooc_open(in, &a.ra, &src) == 1) { /* a .zarr over --max-memory: by slabs */
+        const char *what = out ? "--keep-largest" : labels ? "--labels" : NULL;
+        if (what) {
+            bvox__slab_source_close(&src);
+            return cli_ooc_refuse(cmd, in, what);
+        }
+        int64_t n = 0;
+        bvox_component *list = NULL;
+        bvox_status st = bvox__stream_components(&src, conn, &n, &list);
+        if (!st) {
+            if (json) print_json(NULL, list, n, in, out);
+            else print_text(NULL, list, n, conn, &src.geom);
+        }
+        free(list);
+        bvox__slab_source_close(&src);
+        return st ? cli_fail() : CLI_OK;
+    }
     bvox_volume *vol = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_components *c = NULL;
@@ -175,8 +201,9 @@ int cmd_components(int argc, char **argv)
         if (bvox_write_labels_nifti(labels, vol, lv)) rc = cli_fail();
     }
     if (rc == CLI_OK) {
-        if (json) print_json(c, in, out);
-        else print_text(c, conn, bvox_volume_geometry(vol));
+        int64_t n = bvox_components_count(c);
+        if (json) print_json(c, NULL, n, in, out);
+        else print_text(c, NULL, n, conn, bvox_volume_geometry(vol));
     }
     free(lv);
     bvox_components_destroy(c);

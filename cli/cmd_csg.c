@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "manip.h"
 #include "opts.h"
+#include "outofcore.h"
 
 #include <string.h>
 
@@ -113,6 +114,17 @@ int cmd_csg(int argc, char **argv)
     o.load = load;
     o.load_ctx = &a.ra;
     o.parse_only = check;
+    bvox_info info;
+    if (!check) { /* a .zarr grid over --max-memory: by slabs */
+        int r = cli_ooc_csg(cmd, expr, &o, &a.ra, out, &a.wo, &info);
+        if (r < 0) return CLI_FAIL;
+        if (r > 0) {
+            const char *format = a.wo.format ? a.wo.format : bvox_format_for_path(out);
+            if (json) cli_print_info_json_io(stdout, &info, out, format, NULL, out);
+            else cli_print_info_text(stdout, &info, out, format);
+            return CLI_OK;
+        }
+    }
     bvox_volume *vol = NULL;
     if (bvox_csg_eval(expr, &o, &vol)) {
         if (strstr(bvox_errmsg(), "no output grid dimensions")) /* name the option */
@@ -123,7 +135,6 @@ int cmd_csg(int argc, char **argv)
         puts("ok");
         return CLI_OK;
     }
-    bvox_info info;
     bvox_status st = bvox_info_compute(vol, &info);
     if (!st) st = bvox_write(out, vol, &a.wo);
     bvox_volume_destroy(vol);

@@ -6,6 +6,7 @@
 #include "args.h"
 #include "cli.h"
 #include "opts.h"
+#include "outofcore.h"
 
 #include <string.h>
 
@@ -48,11 +49,18 @@ int cmd_info(int argc, char **argv)
     CLI_PARSE_OR_RETURN(&cli_spec_info, argc, argv, &a);
     if (!a.path) return cli_usage_error("info", "missing the FILE to read");
 
-    bvox_volume *vol = NULL;
-    if (cli_read_volume(a.path, &a.ra, &vol)) return cli_fail();
     bvox_info info;
-    bvox_status st = bvox_info_compute(vol, &info);
-    bvox_volume_destroy(vol);
+    bvox_status st;
+    bvox__slab_source src;
+    if (cli_ooc_open(a.path, &a.ra, &src) == 1) { /* a .zarr over --max-memory: by slabs */
+        st = bvox__stream_info(&src, &info);
+        bvox__slab_source_close(&src);
+    } else {
+        bvox_volume *vol = NULL;
+        if (cli_read_volume(a.path, &a.ra, &vol)) return cli_fail();
+        st = bvox_info_compute(vol, &info);
+        bvox_volume_destroy(vol);
+    }
     if (st) return cli_fail();
     const char *format = cli_input_format(a.path, &a.ra);
     if (a.json) cli_print_info_json_io(stdout, &info, a.path, format, a.path, NULL);

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "json.h"
 #include "opts.h"
+#include "outofcore.h"
 
 #include <math.h>
 #include <string.h>
@@ -205,9 +206,26 @@ int cmd_measure(int argc, char **argv)
     if (!path) return cli_usage_error(cmd, "missing the FILE to measure");
     if (json && csv) return cli_usage_error(cmd, "give --json or --csv, not both");
 
+    bvox_status st;
+    bvox__slab_source src;
+    int ooc = cli_ooc_open(path, &a.ra, &src);
+    if (ooc == 1) { /* a .zarr over --max-memory: every measure by slabs, one pass */
+        if (csv) {
+            bvox__slab_source_close(&src);
+            return cli_ooc_refuse(cmd, path, "--csv (the measures of every component)");
+        }
+        bvox_measures m;
+        st = bvox__stream_measure(&src, &m);
+        bvox_info info = {src.dims, src.geom, m.count, m.volume, m.count == 0, m.bbox};
+        bvox__slab_source_close(&src);
+        if (st) return cli_fail();
+        const char *format = cli_input_format(path, &a.ra);
+        if (json) print_json(&info, &m, path, format);
+        else print_text(&info, &m, path, format);
+        return CLI_OK;
+    }
     bvox_volume *vol = NULL;
     if (cli_read_volume(path, &a.ra, &vol)) return cli_fail();
-    bvox_status st;
     if (csv) {
         bvox_measures *all = NULL;
         int64_t n = 0;

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "json.h"
 #include "opts.h"
+#include "outofcore.h"
 
 #include <string.h>
 
@@ -147,11 +148,25 @@ int cmd_mesh(int argc, char **argv)
     if (mo.lambda > -mo.mu - 1e-12 && mo.smooth > 0)
         return cli_usage_error(cmd, "Taubin smoothing needs mu < -lambda");
 
-    bvox_volume *vol = NULL;
-    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_mesh *m = NULL;
-    bvox_status st = bvox_mesh_from_volume(vol, &mo, &m);
-    bvox_volume_destroy(vol);
+    bvox_status st;
+    bvox__slab_source src;
+    if (cli_ooc_open(in, &a.ra, &src) == 1) { /* a .zarr over --max-memory: by slabs */
+        const char *what = mo.method != BVOX_MESH_MC ? "--method cuberille"
+                           : mo.smooth > 0           ? "--smooth"
+                                                     : NULL;
+        if (what) {
+            bvox__slab_source_close(&src);
+            return cli_ooc_refuse(cmd, in, what);
+        }
+        st = bvox__stream_mesh(&src, &m);
+        bvox__slab_source_close(&src);
+    } else {
+        bvox_volume *vol = NULL;
+        if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
+        st = bvox_mesh_from_volume(vol, &mo, &m);
+        bvox_volume_destroy(vol);
+    }
     if (!st) st = bvox_mesh_write(out, m, fmt, a.ascii);
     if (!st && a.json) {
         bvox_mesh_info mi;

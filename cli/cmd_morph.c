@@ -14,6 +14,7 @@
 #include "json.h"
 #include "manip.h"
 #include "opts.h"
+#include "outofcore.h"
 
 #include <string.h>
 
@@ -194,6 +195,20 @@ int cmd_morph(int argc, char **argv)
     /* Refuse an output name of unknown format before reading a large input. */
     if (cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
 
+    bvox__slab_source src;
+    if (cli_ooc_open(in, &a.ra, &src) == 1) { /* a .zarr over --max-memory: by slabs */
+        bvox__slab_sink sink;
+        int ok = o <= CLOSE && cli_ooc_sink(cmd, out, &src, &a.wo, &sink);
+        if (o > CLOSE) cli_ooc_refuse(cmd, in, op_names[o]);
+        bvox_status st = BVOX_EINVAL;
+        if (ok) {
+            st = bvox__stream_morph(&src, (bvox__stream_morph_op)o, conn, radius, &sink);
+            sink.close(&sink, true, &st);
+            if (st) cli_fail();
+        }
+        bvox__slab_source_close(&src);
+        return ok && !st ? CLI_OK : CLI_FAIL;
+    }
     bvox_volume *vol = NULL, *res = NULL;
     if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st = run((op)o, vol, conn, radius, min_size, &res);

@@ -98,16 +98,6 @@ void cli_print_info_text(FILE *f, const bvox_info *info, const char *source, con
             hi[1], lo[2], hi[2], sep, unit);
 }
 
-void cli_print_info_json(FILE *f, const bvox_info *info, const char *source, const char *format)
-{
-    cli_json j;
-    cli_json_init(&j, f);
-    cli_json_begin_object(&j);
-    cli_info_json_fields(&j, info, source, format);
-    cli_json_end_object(&j);
-    fputc('\n', f);
-}
-
 void cli_print_info_json_io(FILE *f, const bvox_info *info, const char *source,
                             const char *format, const char *input, const char *output)
 {

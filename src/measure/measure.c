@@ -117,18 +117,15 @@ static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures
     return st;
 }
 
-bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
-                               const int32_t bbox_shift[3], bvox_measures *out)
+void bvox__measure_from_scan(const bvox__scan *sc, const bvox_geometry *geom,
+                             const double weight[BVOX__NDIR], const int32_t bbox_shift[3],
+                             bvox_measures *out)
 {
-    BVOX_CHECK_VOLUME(vol);
     bvox_measures m;
     memset(&m, 0, sizeof m);
     m.principal_axes[0] = m.principal_axes[4] = m.principal_axes[8] = 1;
-    bvox__scan s;
-    bvox_status st = bvox__measure_scan(vol, &s);
-    if (!st) st = bvox__progress(0.4); /* then the labellings of topology() */
-    if (st) return st;
-    const double *sp = vol->geom.spacing, *org = vol->geom.origin;
+    const bvox__scan s = *sc;
+    const double *sp = geom->spacing, *org = geom->origin;
     m.count = s.count;
     m.volume = (double)s.count * sp[0] * sp[1] * sp[2];
     m.euler = s.euler;
@@ -168,6 +165,21 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
             m.sphericity = cbrt(M_PI) * pow(6 * m.volume, 2.0 / 3.0) / m.area;
             if (m.sphericity > 1) m.sphericity = 1;
         }
+    }
+    *out = m;
+}
+
+bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
+                               const int32_t bbox_shift[3], bvox_measures *out)
+{
+    BVOX_CHECK_VOLUME(vol);
+    bvox__scan s;
+    bvox_status st = bvox__measure_scan(vol, &s);
+    if (!st) st = bvox__progress(0.4); /* then the labellings of topology() */
+    if (st) return st;
+    bvox_measures m;
+    bvox__measure_from_scan(&s, &vol->geom, weight, bbox_shift, &m);
+    if (s.count) {
         st = topology(vol, s.count, &m);
         if (st) return st;
     }

@@ -71,4 +71,12 @@ void bvox__crofton_solid_angles(const double spacing[3], double omega[BVOX__NDIR
 bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX__NDIR],
                                const int32_t bbox_shift[3], bvox_measures *out);
 
+/* The physical measures of one scan's sums (everything but the topology
+ * that needs labelling: components, cavities, tunnels stay 0); geom gives
+ * the spacing and origin. Used by bvox__measure_with and by the out-of-core
+ * measure, which adds the scans of its slabs (src/stream/). */
+void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
+                             const double weight[BVOX__NDIR], const int32_t bbox_shift[3],
+                             bvox_measures *out);
+
 #endif /* BVOX_MEASURE_H */

@@ -50,9 +50,11 @@ typedef struct ball_job {
     const int *kstart; /* terms of slice k: kstart[k] .. kstart[k + 1] - 1 */
     const int *lev_h;  /* z reach of each level, increasing */
     int nlev;
-    int64_t nchunks;
+    int64_t nchunks;     /* bands of rows, all rounds together */
+    int64_t nslots;      /* bands run at once: each has its scratch slot */
+    int64_t chunk0;      /* the first band of the round being run */
     int64_t tx;          /* tile width, columns */
-    size_t chunk_words;  /* scratch per chunk */
+    size_t chunk_words;  /* scratch per slot */
     uint64_t *scratch;
     const uint64_t **ptrs; /* per chunk: one pointer per term into its level, at column x0 */
     gather_fn gather;
@@ -124,11 +126,12 @@ static void band(const ball_job *j, int64_t chunk)
             if (y < ya || y >= yb) memset(out_seg(j, y, 0), 0, (size_t)nx * wpc * sizeof(uint64_t));
     }
     if (ya >= yb) return;
-    uint64_t *scratch = j->scratch + (size_t)chunk * j->chunk_words;
+    const size_t slot = (size_t)(chunk % j->nslots);
+    uint64_t *scratch = j->scratch + slot * j->chunk_words;
     /* level l: columns x0 - rx .. x0 + tx + rx of the current input row */
     const size_t zstride = (size_t)(j->tx + 2 * rx) * wpc;
     uint64_t *tmp = scratch + (size_t)j->nlev * zstride; /* one level's size */
-    const uint64_t **ptrs = j->ptrs + (size_t)chunk * (size_t)j->kstart[ry + 1];
+    const uint64_t **ptrs = j->ptrs + slot * (size_t)j->kstart[ry + 1];
     for (int t = 0; t < j->kstart[ry + 1]; t++)
         ptrs[t] = scratch + (size_t)j->terms[t].lev * zstride + (size_t)(rx + j->terms[t].dx) * wpc;
     const uint64_t fill = erode ? ~0ull : 0;
@@ -181,7 +184,8 @@ static void band(const ball_job *j, int64_t chunk)
 
 static void bands(void *ctx, int64_t begin, int64_t end)
 {
-    for (int64_t c = begin; c < end; c++) band(ctx, c);
+    const ball_job *j = ctx;
+    for (int64_t c = begin; c < end; c++) band(j, j->chunk0 + c);
 }
 
 bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, bvox_volume **out)
@@ -276,7 +280,18 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
     if (nchunks > in->ny / min_rows) nchunks = in->ny / min_rows;
     if ((double)in->nwords * n < 1 << 20 && bvox__morph_ball_test_tile <= 0) nchunks = 1;
     if (nchunks < 1) nchunks = 1;
-    j.nchunks = nchunks;
+    /* With a progress callback, the rows go in rounds of nchunks bands, the
+     * callback (which may cancel) between rounds. Each band recomputes ry
+     * rows on either side, so rounds are few enough to keep bands 16 reaches
+     * high: at most an eighth more work. */
+    int64_t rounds = 1;
+    if (bvox__progress_active()) {
+        rounds = in->ny / (nchunks * 16 * ((int64_t)ry + 1));
+        if (rounds > 16) rounds = 16;
+        if (rounds < 1) rounds = 1;
+    }
+    j.nslots = nchunks;
+    j.nchunks = nchunks * rounds;
     j.chunk_words = (size_t)(nlev + 1) * (size_t)(tx + 2 * rx) * wpc;
     size_t bytes = 0;
     j.ptrs = bvox__mem_zalloc((size_t)nchunks * (size_t)n, sizeof *j.ptrs);
@@ -292,7 +307,15 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
         *out = NULL;
         goto done;
     }
-    bvox__parallel_for(nchunks, 1, bands, &j);
+    for (int64_t r = 0; r < rounds && !st; r++) {
+        j.chunk0 = r * nchunks;
+        bvox__parallel_for(nchunks, 1, bands, &j);
+        st = bvox__progress_steps(r + 1, rounds);
+    }
+    if (st) {
+        bvox_volume_destroy(*out);
+        *out = NULL;
+    }
     bvox__free(j.scratch, bytes);
 done:
     free(terms);
