@@ -45,7 +45,7 @@ int cli_labels_load(const char *path, const struct cli_read_args *ra, const char
                     int64_t max_labels, bvox_labelset **set, bvox_label_table **table);
 int cli_mesh_labels(const char *in, const struct cli_read_args *ra, const char *labels,
                     const char *lut, int64_t max_labels, const char *out, const char *fmt,
-                    int ascii);
+                    int ascii, int single);
 int cmd_edit(int argc, char **argv);
 int cmd_cut(int argc, char **argv);
 int cmd_csg(int argc, char **argv);

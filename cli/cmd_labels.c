@@ -18,6 +18,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 typedef struct labels_args {
     const char *path, *lut;
@@ -288,6 +289,9 @@ int cli_labels_load(const char *path, const cli_read_args *ra, const char *lut,
     *set_out = NULL;
     *table_out = NULL;
     bvox_label_table *table = NULL;
+    /* a Slicer segmentation names its own segments */
+    size_t plen = strlen(path);
+    if (!lut && plen > 9 && !strcasecmp(path + plen - 9, ".seg.nrrd")) lut = path;
     if (lut && bvox_label_table_read(lut, &table)) return -1;
     bvox_labelset *set = NULL;
     if (bvox_labels_read(path, &ra->opts, max_labels, &set)) {

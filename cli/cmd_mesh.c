@@ -3,8 +3,8 @@
  * options, bvox_mesh_from_volume (marching cubes or cuberille, optional
  * Taubin smoothing), bvox_mesh_write in the format OUT's extension names
  * (STL, PLY, OBJ, OFF; binary unless --ascii). Prints one summary line.
- * With --labels, a label volume becomes one mesh per label in a folder
- * (cli/mesh_labels.c).
+ * With --labels, a label volume becomes one mesh per label in a folder, or
+ * one .ply/.obj file with a coloured object per label (cli/mesh_labels.c).
  */
 #include "args.h"
 #include "cli.h"
@@ -13,6 +13,7 @@
 #include "outofcore.h"
 
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct mesh_args {
     const char *in, *out, *fmt;
@@ -46,9 +47,11 @@ static const cli_opt mesh_opts[] = {
      A(fmt), .choices = cli_mesh_formats},
     {"--labels", 0, CLI_STR, "all|L,L,...",
      "IN is a label volume: one cuberille mesh per label in the folder OUT, named "
-     "LABEL_NAME.EXT (--mesh-format, default ply); touching labels share their boundary",
+     "LABEL_NAME.EXT (--mesh-format, default ply), or with OUT a .ply or .obj file, one "
+     "file with one coloured object per label; touching labels share their boundary",
      A(labels)},
-    {"--lut", 0, CLI_PATH, "TABLE", "label names for the file names (see 'bvox labels')",
+    {"--lut", 0, CLI_PATH, "TABLE",
+     "label names (and colours) for the file or object names (see 'bvox labels')",
      A(lut)},
     {"--max-labels", 0, CLI_INT, "N", "refuse label volumes with more distinct labels",
      A(max_labels), .def = "65535", .lo = 1, .hi = 2147483647,
@@ -80,7 +83,8 @@ const cli_spec cli_spec_mesh = {
     .examples = "  bvox mesh embryo.nii.gz -o embryo.stl\n"
                 "  bvox mesh atlas.nii.gz --label 37 -o hippocampus.ply --smooth 10\n"
                 "  bvox mesh cells.tif -o cells.obj --method cuberille\n"
-                "  bvox mesh aal.nii.gz --labels all --lut aal.nii.txt -o aal_meshes/\n",
+                "  bvox mesh aal.nii.gz --labels all --lut aal.nii.txt -o aal_meshes/\n"
+                "  bvox mesh seg.nii.gz --labels 1,5,7 --lut colors.txt -o organs.ply\n",
 };
 
 /* The keys of meshinfo --json where they mean the same (vertices,
@@ -129,6 +133,14 @@ int cmd_mesh(int argc, char **argv)
     if (a.labels || a.lut) {
         if (!a.labels) return cli_usage_error(cmd, "--lut goes with --labels");
         if (!out) return cli_usage_error(cmd, "needs -o FOLDER for the per-label meshes");
+        /* OUT.ply / OUT.obj that is not an existing folder: one file */
+        const char *ext = bvox_mesh_format_for_path(out);
+        struct stat sb;
+        size_t olen = strlen(out);
+        int single = ext && (!strcmp(ext, "ply") || !strcmp(ext, "obj")) &&
+                     out[olen - 1] != '/' && !(stat(out, &sb) == 0 && S_ISDIR(sb.st_mode));
+        if (single && fmt && strcmp(fmt, ext))
+            return cli_usage_error(cmd, "--mesh-format %s does not match %s", fmt, out);
         if (method_given && mo.method != BVOX_MESH_CUBERILLE)
             return cli_usage_error(cmd, "per-label meshes are cuberille (shared boundaries); "
                                         "--method mc does not apply");
@@ -137,7 +149,7 @@ int cmd_mesh(int argc, char **argv)
                                         "boundaries would part)");
         if (a.json) return cli_usage_error(cmd, "--json goes with one mesh, not --labels");
         return cli_mesh_labels(in, &a.ra, a.labels, a.lut, a.max_labels, out, fmt ? fmt : "ply",
-                               a.ascii);
+                               a.ascii, single);
     }
     if (!out) return cli_usage_error(cmd, "needs -o OUT (.stl, .ply, .obj or .off)");
     if (!fmt && !bvox_mesh_format_for_path(out))

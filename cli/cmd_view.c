@@ -16,8 +16,8 @@
 #include <string.h>
 
 typedef struct view_args {
-    const char *in, *script, *output;
-    int demo, bench, offscreen;
+    const char *in, *script, *output, *lut;
+    int demo, bench, offscreen, labels;
     int64_t frames, size[2];
     cli_read_args ra;
 } view_args;
@@ -57,6 +57,13 @@ static const cli_opt view_opts[] = {
      .fn = take_size, .bad = "--size: '%s' is not W,H with each in 64..8192"},
     {"--output", 'o', CLI_PATH, "OUT",
      "where ctrl+s saves the model (default bvox-view-model.nii.gz)", A(output)},
+    {"--labels", 0, CLI_FLAG, NULL,
+     "MODEL is a label volume (an atlas, a segmentation): show every label, each in its "
+     "colour (--lut, else a palette); a click names the label",
+     A(labels)},
+    {"--lut", 0, CLI_PATH, "TABLE",
+     "with --labels: the label names and colours (FreeSurfer, Slicer, ITK-SNAP or AAL table)",
+     A(lut)},
     {NULL},
 };
 static const cli_group view_group = {"Options", view_opts, NULL};
@@ -95,6 +102,8 @@ int cmd_view(int argc, char **argv)
     if (in && demo) return cli_usage_error(cmd, "give MODEL or --demo, not both");
     if (script && bench) return cli_usage_error(cmd, "--script and --bench exclude each other");
     if (offscreen && !script) return cli_usage_error(cmd, "--offscreen goes with --script");
+    if (a.lut && !a.labels) return cli_usage_error(cmd, "--lut goes with --labels");
+    if (a.labels && demo) return cli_usage_error(cmd, "--labels needs a label volume, not --demo");
 #ifndef BVOX_HAVE_VIEWER
     (void)output, (void)frames, (void)width, (void)height;
     fprintf(stderr, "bvox: view: this bvox was built without the viewer "
@@ -102,9 +111,24 @@ int cmd_view(int argc, char **argv)
     return CLI_FAIL;
 #else
     bvox_volume *vol = NULL;
-    bvox_status st = demo ? bvox_demo_specimen(&vol) : cli_read_volume(in, &a.ra, &vol);
-    if (st) return cli_fail();
-    vw_run_opts o = {script, bench, (int)frames, (int)width, (int)height, output, offscreen};
-    return vw_run(&o, vol) ? CLI_FAIL : CLI_OK;
+    bvox_labelset *set = NULL;
+    bvox_label_table *table = NULL;
+    bvox_status st;
+    if (a.labels) {
+        if (cli_labels_load(in, &a.ra, a.lut, BVOX_LABELS_MAX_DEFAULT, &set, &table)) return cli_fail();
+        st = vw_labels_model(set, &vol);
+    } else {
+        st = demo ? bvox_demo_specimen(&vol) : cli_read_volume(in, &a.ra, &vol);
+    }
+    if (st) {
+        bvox_labelset_destroy(set);
+        bvox_label_table_destroy(table);
+        return cli_fail();
+    }
+    vw_run_opts o = {script, bench, (int)frames, (int)width, (int)height, output, offscreen, set, table};
+    int rc = vw_run(&o, vol);
+    bvox_labelset_destroy(set);
+    bvox_label_table_destroy(table);
+    return rc ? CLI_FAIL : CLI_OK;
 #endif
 }

@@ -15,6 +15,7 @@
 void vw_model_changed(vw_state *s, const bvox_box *changed)
 {
     s->count = bvox_volume_count(s->model);
+    s->sel_count_ok = 0; /* the selection's volume is counted again */
     s->need_surface = 1;
     s->need_mosaic = 1;
     if (!changed || s->dirty_state == 2) {

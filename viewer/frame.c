@@ -26,6 +26,10 @@
 
 static const uint8_t BG[3] = {22, 26, 34};
 
+/* drawn over the 3D pane whenever its shading is applied (below) */
+static void draw_ruler_3d(vw_state *s, vw_rect r);
+static void draw_scale_bar(vw_state *s, vw_rect r);
+
 double vw_now(void)
 {
     struct timespec t;
@@ -225,7 +229,12 @@ void vw_apply_lut(vw_state *s)
     int n = vw_panes(s, rects, kinds);
     build_lut(s);
     for (int i = 0; i < n; i++)
-        if (kinds[i] == VW_PANE_3D && s->view3d.valid) apply_pane(s, rects[i]);
+        if (kinds[i] == VW_PANE_3D && s->view3d.valid) {
+            apply_pane(s, rects[i]);
+            vw_labels_tint(s, rects[i]);
+            draw_ruler_3d(s, rects[i]);
+            if (s->overlay) draw_scale_bar(s, rects[i]);
+        }
     s->need_lut = 0;
 }
 
@@ -252,6 +261,78 @@ static void draw_cursor_3d(vw_state *s, vw_rect r)
             memcpy(s->rgb + ((size_t)(r.y + y) * (size_t)s->width + (size_t)(r.x + x)) * 3, cur, 3);
         }
     }
+}
+
+/* Where physical point p falls in the 3D pane: pane pixel (u, v) and the
+ * depth in the cast's steps. */
+static void project(const vw_3d *v, const double p[3], double *u, double *w, double *depth)
+{
+    double d[3];
+    for (int a = 0; a < 3; a++) d[a] = p[a] - v->origin[a];
+    *u = dot3(d, v->eye) / v->pixel;
+    *w = dot3(d, v->eye + 3) / v->pixel;
+    *depth = dot3(d, v->eye + 6) / v->step;
+}
+
+/* A line of the canvas clipped to r (Bresenham), 2 pixels wide. */
+static void draw_line(vw_state *s, vw_rect r, int x0, int y0, int x1, int y1, const uint8_t c[3])
+{
+    int dx = abs(x1 - x0), dy = -abs(y1 - y0), sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+    int err = dx + dy;
+    for (int guard = 0; guard < 100000; guard++) {
+        for (int k = 0; k < 2; k++) {
+            int x = x0 + (dx > -dy ? 0 : k), y = y0 + (dx > -dy ? k : 0);
+            if (x >= r.x && y >= r.y && x < r.x + r.w && y < r.y + r.h)
+                memcpy(s->rgb + ((size_t)y * (size_t)s->width + (size_t)x) * 3, c, 3);
+        }
+        if (x0 == x1 && y0 == y1) break;
+        int e2 = 2 * err;
+        if (e2 >= dy) err += dy, x0 += sx;
+        if (e2 <= dx) err += dx, y0 += sy;
+    }
+}
+
+/* The ruler in the 3D pane: its points as small squares, the line between
+ * them, and the length beside the middle. */
+static void draw_ruler_3d(vw_state *s, vw_rect r)
+{
+    static const uint8_t col[3] = {80, 255, 160};
+    const vw_3d *v = &s->view3d;
+    if (!s->ruler_n || !v->valid || v->pixel <= 0) return;
+    int px[2], py[2];
+    for (int i = 0; i < s->ruler_n; i++) {
+        double p[3], u, w, d;
+        for (int a = 0; a < 3; a++) p[a] = s->ruler[i][a] * s->sp[a];
+        project(v, p, &u, &w, &d);
+        px[i] = r.x + (int)lround(u), py[i] = r.y + (int)lround(w);
+        vw_fill_rect(s->rgb, s->width, s->height, (vw_rect){px[i] - 3, py[i] - 3, 7, 7}, col, 255);
+    }
+    if (s->ruler_n < 2) return;
+    draw_line(s, r, px[0], py[0], px[1], py[1], col);
+    char text[64];
+    snprintf(text, sizeof text, "%.4g %s", vw_ruler_length(s), s->geom.unit[0] ? s->geom.unit : "units");
+    vw_text(s->rgb, s->width, s->height, (px[0] + px[1]) / 2 + 8, (py[0] + py[1]) / 2 - 20, 2, text, col);
+}
+
+/* A scale bar at the bottom left of the 3D pane: a round length in the
+ * volume's unit, at most a quarter of the pane wide. */
+static void draw_scale_bar(vw_state *s, vw_rect r)
+{
+    static const uint8_t col[3] = {240, 240, 235}, shade[3] = {0, 0, 0};
+    const vw_3d *v = &s->view3d;
+    if (!v->valid || v->pixel <= 0 || r.w < 120 || r.h < 80) return;
+    double len = vw_scale_bar_length(v->pixel, r.w / 4);
+    if (len <= 0) return;
+    int n = (int)lround(len / v->pixel), sc = r.w >= 600 ? 2 : 1;
+    char text[48];
+    snprintf(text, sizeof text, "%g %s", len, s->geom.unit[0] ? s->geom.unit : "units");
+    int x = r.x + 16, y = r.y + r.h - 16 - 4 * sc, tw = vw_text_width(text, sc);
+    vw_fill_rect(s->rgb, s->width, s->height,
+                 (vw_rect){x - 6, y - 9 * sc - 10, (n > tw ? n : tw) + 12, 9 * sc + 10 + 4 * sc + 6}, shade, 120);
+    vw_fill_rect(s->rgb, s->width, s->height, (vw_rect){x, y, n, 2 * sc}, col, 255);
+    vw_fill_rect(s->rgb, s->width, s->height, (vw_rect){x, y - 3 * sc, sc, 5 * sc}, col, 255);
+    vw_fill_rect(s->rgb, s->width, s->height, (vw_rect){x + n - sc, y - 3 * sc, sc, 5 * sc}, col, 255);
+    vw_text(s->rgb, s->width, s->height, x, y - 9 * sc - 4, sc, text, col);
 }
 
 /* -------------------------------------------------------------- slices */
@@ -332,7 +413,10 @@ static void draw_slice(vw_state *s, vw_pane_kind kind, vw_rect r)
                 memcpy(p, frame_bg, 3);
                 continue;
             }
-            const uint8_t *c = bvox_volume_get(vol, vx[0], vx[1], vx[2]) ? on : off;
+            const int set = bvox_volume_get(vol, vx[0], vx[1], vx[2]);
+            uint8_t lab[3];
+            const uint8_t *c = set ? on : off;
+            if (set && s->labels && vw_label_at(s, vx, NULL, lab)) c = lab; /* its label's colour */
             int col[3] = {c[0], c[1], c[2]};
             if (vx[g.u] == s->cursor[g.u] || vx[g.v] == s->cursor[g.v])
                 for (int k = 0; k < 3; k++) col[k] = (col[k] + cur[k]) / 2;
@@ -423,7 +507,7 @@ static void draw_overlay(vw_state *s)
     static const char *const shades[] = {"depth", "binary gradient", "gradient from depth", "combined"};
     static const char *const prims[] = {"", "sphere", "box", "cylinder"};
     int sc = s->layout != VW_LAYOUT_ORTHO && s->width >= 700 ? 2 : 1;
-    char l[5][160];
+    char l[7][160];
     double vox = s->sp[0] * s->sp[1] * s->sp[2];
     const char *unit = s->geom.unit[0] ? s->geom.unit : "units";
     snprintf(l[0], sizeof l[0], "%dx%dx%d  %lld voxels  %.6g %s^3", (int)s->dims.nx, (int)s->dims.ny,
@@ -443,11 +527,35 @@ static void draw_overlay(vw_state *s)
     if (s->cut) k += snprintf(t + k, cap - (size_t)k, "  cut keeps %s", s->keep_above ? "far" : "near");
     if (s->prim && k < (int)cap)
         k += snprintf(t + k, cap - (size_t)k, "  %s %d", prims[s->prim], s->prim_size);
-    if (s->sel_n && k < (int)cap) snprintf(t + k, cap - (size_t)k, "  box selected");
+    if (s->labels && k < (int)cap) {
+        const char *name;
+        int64_t lab = vw_label_at(s, s->cursor, &name, NULL);
+        if (lab) k += snprintf(t + k, cap - (size_t)k, "  label %lld %s", (long long)lab, name);
+    }
+    int extra = 0;
+    char *m = l[4];
+    if (s->sel_n) {
+        bvox_box b;
+        int64_t cnt = 0;
+        double vol = 0;
+        vw_selection_box(s, &b);
+        if (vw_selection_volume(s, &cnt, &vol) == BVOX_OK)
+            snprintf(m, sizeof l[4], "box %dx%dx%d: %lld voxels = %.6g %s^3", (int)(b.x1 - b.x0),
+                     (int)(b.y1 - b.y0), (int)(b.z1 - b.z0), (long long)cnt, vol, unit);
+        else snprintf(m, sizeof l[4], "box: cannot count (%.80s)", bvox_errmsg());
+        m = l[4 + ++extra];
+    }
+    if (s->ruler_n == 2)
+        snprintf(m, sizeof l[4], "ruler %.6g %s  (%d,%d,%d to %d,%d,%d)", vw_ruler_length(s), unit,
+                 (int)s->ruler[0][0], (int)s->ruler[0][1], (int)s->ruler[0][2], (int)s->ruler[1][0],
+                 (int)s->ruler[1][1], (int)s->ruler[1][2]), extra++;
+    else if (s->ruler_n == 1)
+        snprintf(m, sizeof l[4], "ruler from %d,%d,%d: g at the second point", (int)s->ruler[0][0],
+                 (int)s->ruler[0][1], (int)s->ruler[0][2]), extra++;
     snprintf(l[3], sizeof l[3], "undo %d (%.1f KiB)   h: help", bvox_journal_steps(s->journal),
              bvox_journal_bytes(s->journal) / 1024.0);
-    snprintf(l[4], sizeof l[4], "%s", s->status);
-    int lines = s->status[0] ? 5 : 4, wmax = 0;
+    snprintf(l[4 + extra], sizeof l[4], "%s", s->status);
+    int lines = 4 + extra + (s->status[0] ? 1 : 0), wmax = 0;
     for (int i = 0; i < lines; i++) {
         int w = vw_text_width(l[i], sc);
         wmax = w > wmax ? w : wmax;
@@ -455,7 +563,7 @@ static void draw_overlay(vw_state *s)
     vw_fill_rect(s->rgb, s->width, s->height, (vw_rect){0, 0, wmax + 12 * sc / 2 + 8, lines * 9 * sc + 8},
                  shade, 150);
     for (int i = 0; i < lines; i++)
-        vw_text(s->rgb, s->width, s->height, 6, 5 + i * 9 * sc, sc, l[i], i == 4 ? hi : fg);
+        vw_text(s->rgb, s->width, s->height, 6, 5 + i * 9 * sc, sc, l[i], i == 4 + extra ? hi : fg);
 }
 
 static void draw_help(vw_state *s)
@@ -505,13 +613,17 @@ bvox_status vw_render(vw_state *s)
         double b = vw_now();
         if (s->need_code) {
             make_codes(s);
+            vw_labels_pixels(s); /* the label each pixel shows, once per cast */
             s->need_code = 0;
             s->need_lut = 1;
         }
         double c = vw_now();
         build_lut(s); /* the light may have changed: tables are cheap */
         apply_pane(s, rects[i]);
+        vw_labels_tint(s, rects[i]);
         if (s->layout == VW_LAYOUT_ORTHO) draw_cursor_3d(s, rects[i]);
+        draw_ruler_3d(s, rects[i]);
+        if (s->overlay) draw_scale_bar(s, rects[i]);
         s->need_lut = 0;
         double d = vw_now();
         s->times.cast = (b - a) * 1e3;

@@ -137,6 +137,15 @@ static void key(vw_state *s, int k, unsigned mods)
     case '.': if (s->prim_size < 4096) s->prim_size++; break;
     case 'u': if (s->prim) report(s, vw_apply_primitive(s, BVOX_CSG_UNION), "union"); break;
     case 'd': if (s->prim) report(s, vw_apply_primitive(s, BVOX_CSG_DIFFERENCE), "difference"); break;
+    case 'g': /* the ruler: a point at the cursor; a third starts again */
+        if (s->ruler_n == 2) s->ruler_n = 0;
+        memcpy(s->ruler[s->ruler_n++], s->cursor, sizeof s->cursor);
+        if (s->ruler_n == 2) {
+            snprintf(s->status, sizeof s->status, "ruler %.6g %s", vw_ruler_length(s),
+                     s->geom.unit[0] ? s->geom.unit : "units");
+            if (s->log) fprintf(s->log, "view: ruler %.9g %s\n", vw_ruler_length(s), s->geom.unit);
+        }
+        break;
     default: break;
     }
     if (k == VW_KEY_F12) {
@@ -166,6 +175,41 @@ static int pane_at(const vw_state *s, int x, int y, vw_rect *r, vw_pane_kind *ki
     return 0;
 }
 
+/* A file dropped on the window: read it (as `bvox view FILE` would, 1 where
+ * nonzero) and show it instead of the model. A failure keeps the model and
+ * says why. */
+static void open_dropped(vw_state *s, const char *path)
+{
+    bvox_volume *vol = NULL;
+    bvox_status st = bvox_read(path, NULL, &vol);
+    if (!st) st = vw_replace_model(s, vol);
+    if (st) {
+        snprintf(s->status, sizeof s->status, "cannot open the dropped file: %.110s", bvox_errmsg());
+        if (s->log) fprintf(s->log, "view: cannot open %s: %s\n", path, bvox_errmsg());
+        return;
+    }
+    snprintf(s->status, sizeof s->status, "opened %.140s", path);
+    if (s->log)
+        fprintf(s->log, "view: opened %s (%dx%dx%d, %lld voxels)\n", path, (int)s->dims.nx,
+                (int)s->dims.ny, (int)s->dims.nz, (long long)s->count);
+}
+
+/* The status line after a click that moved the cursor: the voxel, and the
+ * label it belongs to in a label volume. */
+static void say_cursor(vw_state *s)
+{
+    const int32_t *c = s->cursor;
+    const char *name = "";
+    int64_t lab = vw_label_at(s, c, &name, NULL);
+    if (lab)
+        snprintf(s->status, sizeof s->status, "cursor %d,%d,%d: label %lld %.80s", (int)c[0], (int)c[1],
+                 (int)c[2], (long long)lab, name);
+    else snprintf(s->status, sizeof s->status, "cursor %d,%d,%d", (int)c[0], (int)c[1], (int)c[2]);
+    if (s->labels && s->log)
+        fprintf(s->log, "view: picked %d,%d,%d label %lld%s%s\n", (int)c[0], (int)c[1], (int)c[2],
+                (long long)lab, name[0] ? " " : "", name);
+}
+
 static void brush_at(vw_state *s, int x, int y)
 {
     int32_t hit[3];
@@ -182,6 +226,8 @@ void vw_handle(vw_state *s, const vw_event *ev)
     switch (ev->type) {
     case VW_EV_QUIT: s->quit = 1; break;
     case VW_EV_EXPOSE: break; /* the caller draws again */
+    case VW_EV_RESIZE: report(s, vw_resize(s, ev->x, ev->y), "resize"); break;
+    case VW_EV_DROP: if (ev->path) open_dropped(s, ev->path); break;
     case VW_EV_KEY: key(s, ev->key, ev->mods); break;
     case VW_EV_WHEEL:
         s->zoom *= pow(1.1, ev->wheel);
@@ -283,10 +329,10 @@ void vw_handle(vw_state *s, const vw_event *ev)
             int32_t hit[3];
             if (vw_pick(s, ev->x, ev->y, hit)) {
                 memcpy(s->cursor, hit, sizeof hit);
-                snprintf(s->status, sizeof s->status, "cursor %d,%d,%d", (int)hit[0], (int)hit[1],
-                         (int)hit[2]);
+                say_cursor(s);
             }
         }
+        if (s->drag_mode == DRAG_CURSOR) say_cursor(s);
         if (s->stroke) {
             bvox_journal_end(s->journal);
             s->stroke = 0;

@@ -1,8 +1,9 @@
 /*
- * present.c — the only file that talks to SDL2: a window with a streaming
- * RGB texture the canvas is copied into, SDL's events turned into vw_events,
- * scripted events pushed through SDL's own queue, and the window's pixels
- * read back for screenshots.
+ * present.c — the only file that talks to SDL2: a resizable window with a
+ * streaming RGB texture the canvas is copied into (made again at the new
+ * size after a resize), SDL's events turned into vw_events (a resize, a
+ * dropped file), scripted events pushed through SDL's own queue, and the
+ * window's pixels read back for screenshots.
  */
 #include "view.h"
 #include "core/alloc.h" /* the allocation seam: the one header of src/ the viewer uses */
@@ -17,6 +18,7 @@ struct vw_window {
     SDL_Renderer *ren;
     SDL_Texture *tex;
     int w, h;
+    char drop[4096]; /* the last dropped file's path (the event points here) */
 };
 
 int vw_have_sdl(void) { return 1; }
@@ -57,7 +59,7 @@ int vw_window_open(vw_window **out, int width, int height, const char *title, ch
     }
     w->w = width, w->h = height;
     w->win = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, width, height,
-                              SDL_WINDOW_SHOWN);
+                              SDL_WINDOW_SHOWN | SDL_WINDOW_RESIZABLE);
     if (w->win) {
         w->ren = SDL_CreateRenderer(w->win, -1, SDL_RENDERER_ACCELERATED);
         if (!w->ren) w->ren = SDL_CreateRenderer(w->win, -1, SDL_RENDERER_SOFTWARE);
@@ -72,6 +74,24 @@ int vw_window_open(vw_window **out, int width, int height, const char *title, ch
     }
     *out = w;
     return 1;
+}
+
+int vw_window_set_size(vw_window *w, int width, int height)
+{
+    SDL_SetWindowSize(w->win, width, height);
+    return 0;
+}
+
+int vw_window_resize(vw_window *w, int width, int height)
+{
+    if (width == w->w && height == w->h) return 0;
+    SDL_Texture *t = SDL_CreateTexture(w->ren, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING,
+                                       width, height);
+    if (!t) return -1;
+    SDL_DestroyTexture(w->tex);
+    w->tex = t;
+    w->w = width, w->h = height;
+    return 0;
 }
 
 void vw_window_close(vw_window *w)
@@ -159,7 +179,6 @@ static SDL_Keymod sdl_mods(unsigned m)
 
 int vw_window_events(vw_window *w, vw_event *ev, int max, int timeout_ms)
 {
-    (void)w;
     int n = 0;
     SDL_Event e;
     int got = timeout_ms > 0 ? SDL_WaitEventTimeout(&e, timeout_ms) : SDL_PollEvent(&e);
@@ -171,6 +190,8 @@ int vw_window_events(vw_window *w, vw_event *ev, int max, int timeout_ms)
         case SDL_QUIT: v.type = VW_EV_QUIT; break;
         case SDL_WINDOWEVENT:
             if (e.window.event == SDL_WINDOWEVENT_CLOSE) v.type = VW_EV_QUIT;
+            else if (e.window.event == SDL_WINDOWEVENT_SIZE_CHANGED)
+                v.type = VW_EV_RESIZE, v.x = e.window.data1, v.y = e.window.data2;
             else if (e.window.event == SDL_WINDOWEVENT_EXPOSED || e.window.event == SDL_WINDOWEVENT_SHOWN ||
                      e.window.event == SDL_WINDOWEVENT_RESTORED)
                 v.type = VW_EV_EXPOSE;
@@ -201,6 +222,13 @@ int vw_window_events(vw_window *w, vw_event *ev, int max, int timeout_ms)
             v.type = VW_EV_WHEEL;
             v.wheel = e.wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e.wheel.y : e.wheel.y;
             ok = v.wheel != 0;
+            break;
+        case SDL_DROPFILE:
+            v.type = VW_EV_DROP;
+            snprintf(w->drop, sizeof w->drop, "%s", e.drop.file ? e.drop.file : "");
+            SDL_free(e.drop.file);
+            v.path = w->drop;
+            ok = w->drop[0] != 0;
             break;
         default: ok = 0; break;
         }
@@ -240,6 +268,18 @@ int vw_window_push(vw_window *w, const vw_event *v)
         e.type = SDL_MOUSEMOTION;
         e.motion.windowID = id;
         e.motion.x = v->x, e.motion.y = v->y;
+        break;
+    case VW_EV_DROP:
+        e.type = SDL_DROPFILE;
+        e.drop.windowID = id;
+        e.drop.file = SDL_strdup(v->path ? v->path : "");
+        if (!e.drop.file) return -1;
+        break;
+    case VW_EV_RESIZE: /* what the window system says after SDL_SetWindowSize */
+        e.type = SDL_WINDOWEVENT;
+        e.window.windowID = id;
+        e.window.event = SDL_WINDOWEVENT_SIZE_CHANGED;
+        e.window.data1 = v->x, e.window.data2 = v->y;
         break;
     case VW_EV_EXPOSE:
         e.type = SDL_WINDOWEVENT;

@@ -51,3 +51,13 @@ int vw_window_push(vw_window *w, const vw_event *ev)
     (void)w, (void)ev;
     return -1;
 }
+int vw_window_set_size(vw_window *w, int width, int height)
+{
+    (void)w, (void)width, (void)height;
+    return -1;
+}
+int vw_window_resize(vw_window *w, int width, int height)
+{
+    (void)w, (void)width, (void)height;
+    return -1;
+}

@@ -25,6 +25,11 @@ static int fail_status(const char *what)
 static int draw(vw_state *s, vw_window *win)
 {
     if (vw_render(s)) return fail_status("rendering");
+    /* after a resize the window's texture follows the canvas */
+    if (win && vw_window_resize(win, s->width, s->height)) {
+        fprintf(stderr, "bvox: view: the window cannot show %dx%d\n", s->width, s->height);
+        return 1;
+    }
     if (win && vw_window_present(win, s->rgb, s->width, s->height)) {
         fprintf(stderr, "bvox: view: the window refused the frame\n");
         return 1;
@@ -163,7 +168,22 @@ static int run_bench(vw_state *s, int frames)
 static int feed(vw_state *s, vw_window *win, const vw_event *ev, int n)
 {
     for (int i = 0; i < n; i++) {
-        if (win) {
+        if (win && ev[i].type == VW_EV_RESIZE) {
+            /* a real resize: the window system is asked, and its answer
+             * comes back as the event the viewer handles */
+            vw_window_set_size(win, ev[i].x, ev[i].y);
+            double end = vw_now() + 5;
+            while (!(s->width == ev[i].x && s->height == ev[i].y) && vw_now() < end) {
+                vw_event got[64];
+                int k = vw_window_events(win, got, 64, 20);
+                for (int j = 0; j < k; j++) vw_handle(s, &got[j]);
+            }
+            if (s->width != ev[i].x || s->height != ev[i].y) {
+                fprintf(stderr, "bvox: view: the window did not become %dx%d (it is %dx%d)\n",
+                        ev[i].x, ev[i].y, s->width, s->height);
+                return 1;
+            }
+        } else if (win) {
             if (vw_window_push(win, &ev[i])) {
                 fprintf(stderr, "bvox: view: the window refused an event\n");
                 return 1;
@@ -257,6 +277,13 @@ int vw_run(const vw_run_opts *o, bvox_volume *model)
         return 1;
     }
     if (o->output) s->save_path = o->output;
+    if (o->labels) {
+        st = vw_set_labels(s, o->labels, o->lut);
+        if (st) {
+            vw_close(s);
+            return fail_status("the label colours");
+        }
+    }
     if (o->bench) {
         int rc = run_bench(s, o->frames > 0 ? o->frames : 120);
         vw_close(s);

@@ -15,6 +15,9 @@
  *   wait MS                     let MS milliseconds pass (frames keep coming)
  *   screenshot PATH             write what the window shows as a PNG
  *   save PATH                   write the model (format from the extension)
+ *   resize W H                  the window becomes W x H (64..8192), as when
+ *                               its corner is dragged
+ *   drop PATH                   a file dropped on the window (SDL's drop event)
  *   quit                        stop here (the end of the file does too)
  */
 #include "view.h"
@@ -214,8 +217,12 @@ static bvox_status parse_line(char *line, int lineno, vw_script *sc, int *cap)
     } else if (!strcmp(cmd, "wait")) {
         c.type = VW_CMD_WAIT;
         if (n != 2 || parse_int(tok[1], 0, 600000, &c.amount)) return fail(lineno, "wait MS (0..600000)");
-    } else if (!strcmp(cmd, "screenshot") || !strcmp(cmd, "save")) {
-        c.type = cmd[1] == 'c' ? VW_CMD_SCREENSHOT : VW_CMD_SAVE;
+    } else if (!strcmp(cmd, "resize")) {
+        c.type = VW_CMD_RESIZE;
+        if (n != 3 || parse_int(tok[1], 64, 8192, &c.x0) || parse_int(tok[2], 64, 8192, &c.y0))
+            return fail(lineno, "resize W H (64..8192 each)");
+    } else if (!strcmp(cmd, "screenshot") || !strcmp(cmd, "save") || !strcmp(cmd, "drop")) {
+        c.type = cmd[0] == 'd' ? VW_CMD_DROP : cmd[1] == 'c' ? VW_CMD_SCREENSHOT : VW_CMD_SAVE;
         if (n != 2) return fail(lineno, "%s PATH (one word)", cmd);
         c.path = bvox__mem_strdup(tok[1]);
         if (!c.path) return fail(lineno, "out of memory"), BVOX_ENOMEM;
@@ -224,7 +231,7 @@ static bvox_status parse_line(char *line, int lineno, vw_script *sc, int *cap)
         c.type = VW_CMD_QUIT;
     } else {
         return fail(lineno, "unknown command '%s' (key, drag, click, move, wheel, wait, "
-                            "screenshot, save, quit)", cmd);
+                            "screenshot, save, resize, drop, quit)", cmd);
     }
     if (push(sc, cap, &c)) {
         free(c.path);
@@ -344,6 +351,8 @@ int vw_script_events(const vw_cmd *c, vw_event *ev, int max)
     case VW_CMD_MOVE: ADD(.type = VW_EV_MOTION, .x = c->x0, .y = c->y0); break;
     case VW_CMD_WHEEL: ADD(.type = VW_EV_WHEEL, .wheel = c->amount, .x = c->x0, .y = c->y0); break;
     case VW_CMD_QUIT: ADD(.type = VW_EV_QUIT); break;
+    case VW_CMD_RESIZE: ADD(.type = VW_EV_RESIZE, .x = c->x0, .y = c->y0); break;
+    case VW_CMD_DROP: ADD(.type = VW_EV_DROP, .path = c->path); break;
     default: break;
     }
 #undef ADD

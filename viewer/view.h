@@ -30,7 +30,9 @@ enum { VW_BUTTON_LEFT = 1, VW_BUTTON_MIDDLE = 2, VW_BUTTON_RIGHT = 3 };
 
 typedef enum vw_event_type {
     VW_EV_KEY, VW_EV_DOWN, VW_EV_UP, VW_EV_MOTION, VW_EV_WHEEL, VW_EV_QUIT,
-    VW_EV_EXPOSE /* the window must be drawn again (nothing changes) */
+    VW_EV_EXPOSE, /* the window must be drawn again (nothing changes) */
+    VW_EV_RESIZE, /* the window's new size: x = width, y = height */
+    VW_EV_DROP    /* a file dropped on the window: path */
 } vw_event_type;
 typedef struct vw_event {
     vw_event_type type;
@@ -39,6 +41,7 @@ typedef struct vw_event {
     int button;     /* VW_EV_DOWN/UP */
     int x, y;       /* pointer, canvas pixels */
     int wheel;      /* VW_EV_WHEEL: + zooms in */
+    const char *path; /* VW_EV_DROP: valid until the next vw_window_events */
 } vw_event;
 
 /* Key names for scripts and the help: "a", "shift+a", "ctrl+z", "up",
@@ -47,7 +50,12 @@ int vw_key_parse(const char *text, int *key, unsigned *mods);
 const char *vw_key_name(int key); /* static buffer for printable keys */
 
 /* The shading modes, in the order the s key cycles them: the library's
- * (the 3D pane is shaded by bvox_shade_codes and bvox_shade_table_build). */
+ * (the 3D pane is shaded by bvox_shade_codes and bvox_shade_table_build).
+ * Smooth shading (issue 18: normals from the occupancy around the hit
+ * voxel) joins here as one more entry before VW_NSHADE once the render
+ * library has a BVOX_SHADE_SMOOTH mode: the pane passes the mode through
+ * bvox_shade_opts, so nothing else in the viewer changes (the overlay's
+ * name list in frame.c and the help line gain one word). */
 typedef enum vw_shade { VW_SHADE_DEPTH = BVOX_SHADE_DEPTH, VW_SHADE_BINARY = BVOX_SHADE_BINARY,
                         VW_SHADE_GRADIENT = BVOX_SHADE_GRADIENT,
                         VW_SHADE_COMBINED = BVOX_SHADE_BINARY_DEPTH, VW_NSHADE } vw_shade;
@@ -76,6 +84,9 @@ typedef struct vw_3d {
     int valid;
     int coarse;       /* cast at half resolution, pixels doubled */
 } vw_3d;
+
+/* A label volume shown in its table's colours (labels.c). */
+typedef struct vw_labels vw_labels;
 
 typedef struct vw_state {
     /* the model and what is displayed of it */
@@ -148,12 +159,27 @@ typedef struct vw_state {
     int (*readback)(void *ctx, uint8_t *rgb, int width, int height);
     void *readback_ctx;
     char status[160];        /* last message shown in the overlay */
+    /* measuring: the ruler's points (g marks the cursor), the selection's
+     * count of 1-voxels (cached for the box and the model it was made on) */
+    int ruler_n;             /* points set: 0, 1 or 2 */
+    int32_t ruler[2][3];
+    int sel_count_ok;
+    int32_t sel_counted[2][3];
+    int64_t sel_count;
+    vw_labels *labels;       /* NULL: a binary model in one colour */
 } vw_state;
 
 /* Open a viewer state on model (taken over: destroyed by vw_close) with a
  * canvas of width x height pixels. */
 bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out);
 void vw_close(vw_state *s);
+/* Show another model (taken over; a dropped file): the view, light, shading
+ * and layout stay, the rest (cut, selection, ruler, undo, labels) starts
+ * afresh. On failure the old model stays and model is destroyed. */
+bvox_status vw_replace_model(vw_state *s, bvox_volume *model);
+/* A new canvas size (the window was resized; 64..8192 each): the panes are
+ * laid out again and the 3D pane is cast at its new size. */
+bvox_status vw_resize(vw_state *s, int width, int height);
 
 /* ---- view_state.c: the state and its geometry (calls no other viewer file) ---- */
 void vw_set_axis_view(vw_state *s, bvox_view view);
@@ -194,6 +220,34 @@ bvox_status vw_render(vw_state *s);
 /* Only the shading table and its application (a light change). */
 void vw_apply_lut(vw_state *s);
 
+/* ---- measure.c: the ruler, the selection's volume, the scale bar ---- */
+/* The ruler's length (physical, between the voxel centres), or -1 without
+ * two points. */
+double vw_ruler_length(const vw_state *s);
+/* The selection box (inclusive corners) as a half-open bvox_box; 0 if none. */
+int vw_selection_box(const vw_state *s, bvox_box *box);
+/* 1-voxels of the model inside the selection box and their volume
+ * (physical, unit^3); cached until the box or the model changes. */
+bvox_status vw_selection_volume(vw_state *s, int64_t *count, double *volume);
+/* A round length (1, 2 or 5 times a power of ten) for a scale bar of at
+ * most max_px pixels of units_per_px each, as long as possible; 0 if none. */
+double vw_scale_bar_length(double units_per_px, int max_px);
+
+/* ---- labels.c: a label volume's objects in their table's colours ---- */
+/* The binary model of a label set: the union of its objects. */
+bvox_status vw_labels_model(const bvox_labelset *set, bvox_volume **out);
+/* Show s's model (made by vw_labels_model from set) in the colours of
+ * table (NULL, or labels it lacks: a fixed palette); names from the table. */
+bvox_status vw_set_labels(vw_state *s, const bvox_labelset *set, const bvox_label_table *table);
+void vw_labels_free(vw_labels *l);
+/* The label at voxel v (0: none), its name ("" if none) and colour. */
+int64_t vw_label_at(const vw_state *s, const int32_t v[3], const char **name, uint8_t rgb[3]);
+/* The label of the voxel each pixel of the 3D pane shows (after a cast). */
+void vw_labels_pixels(vw_state *s);
+/* Colour the 3D pane's object pixels (canvas rectangle r) by those labels
+ * (a light change re-applies only this). */
+void vw_labels_tint(vw_state *s, vw_rect r);
+
 /* ---- pick.c: ray from a pixel of the 3D pane to the first 1-voxel ---- */
 /* The ray of pane pixel (u, v) (pixel centres at integers) in the physical
  * axis frame: point p0 at the front of the view and unit direction dir. */
@@ -227,7 +281,7 @@ void vw_fill_rect(uint8_t *rgb, int w, int h, vw_rect r, const uint8_t color[3],
 /* ---- script.c: the script language ---- */
 typedef enum vw_cmd_type {
     VW_CMD_KEY, VW_CMD_DRAG, VW_CMD_CLICK, VW_CMD_MOVE, VW_CMD_WHEEL, VW_CMD_WAIT,
-    VW_CMD_SCREENSHOT, VW_CMD_SAVE, VW_CMD_QUIT
+    VW_CMD_SCREENSHOT, VW_CMD_SAVE, VW_CMD_QUIT, VW_CMD_RESIZE, VW_CMD_DROP
 } vw_cmd_type;
 typedef struct vw_cmd {
     vw_cmd_type type;
@@ -237,7 +291,7 @@ typedef struct vw_cmd {
     int button;
     int x0, y0, x1, y1, steps;
     int amount;     /* wheel clicks, wait milliseconds */
-    char *path;     /* screenshot, save (owned) */
+    char *path;     /* screenshot, save, drop (owned) */
 } vw_cmd;
 typedef struct vw_script {
     vw_cmd *cmds;
@@ -261,6 +315,8 @@ typedef struct vw_run_opts {
     int width, height;    /* canvas (0: 800 x 800) */
     const char *output;   /* ctrl+s saves here */
     int offscreen;        /* script without a window (plain memory) */
+    const bvox_labelset *labels;     /* model made from it: show it in colours */
+    const bvox_label_table *lut;     /* their names and colours (NULL: a palette) */
 } vw_run_opts;
 /* Runs the viewer on model (taken over); prints errors ("bvox: ...") and
  * returns the exit code: 0, or 1 when something failed. */
@@ -280,8 +336,14 @@ int vw_window_events(vw_window *w, vw_event *ev, int max, int timeout_ms);
 /* Read back what the window shows (RGB, width*height*3); 0 on success. */
 int vw_window_read(vw_window *w, uint8_t *rgb, int width, int height);
 /* Push an event through the window system's queue (script mode), so that
- * replayed input travels the same path as real input; 0 on success. */
+ * replayed input travels the same path as real input (a drop as SDL's own
+ * drop event); 0 on success. */
 int vw_window_push(vw_window *w, const vw_event *ev);
+/* Ask the window system for a new window size (script mode: the resize
+ * comes back as a VW_EV_RESIZE event, as when the user drags a corner). */
+int vw_window_set_size(vw_window *w, int width, int height);
+/* Make the window show canvases of width x height (after a resize). */
+int vw_window_resize(vw_window *w, int width, int height);
 void vw_sleep_ms(int ms);
 double vw_now(void);
 /* 1 when built with SDL2. */

@@ -35,6 +35,8 @@ const char *const vw_help_lines[] = {
     "e               brush on/off: click/drag edits",
     "x               brush adds / removes   [ ]  radius",
     "b / B           selection corner 1 / 2 at cursor",
+    "                (its volume shows in the overlay)",
+    "g               ruler: mark the cursor (twice)",
     "ctrl+drag       select a box in a slice (all depth)",
     "delete / k      remove / keep the selection box",
     "escape          drop the selection and primitive",
@@ -43,6 +45,7 @@ const char *const vw_help_lines[] = {
     "ctrl+z ctrl+y   undo / redo",
     "ctrl+s          save the model",
     "f12 ctrl+p      screenshot    v  overlay on/off",
+    "drop a file     open it; drag a corner: resize",
     "h ? f1          this help     q  quit",
     NULL};
 
@@ -248,7 +251,8 @@ int vw_state_ok(const vw_state *s)
             if (!(fabs(d - (i == j)) < 1e-6)) return 0;
         }
     if (!(s->zoom > 0) || (unsigned)s->shade >= VW_NSHADE || (unsigned)s->layout > VW_LAYOUT_MOSAIC ||
-        (unsigned)s->prim >= VW_NPRIM || s->sel_n < 0 || s->sel_n > 2)
+        (unsigned)s->prim >= VW_NPRIM || s->sel_n < 0 || s->sel_n > 2 || s->ruler_n < 0 ||
+        s->ruler_n > 2)
         return 0;
     const int32_t n[3] = {s->dims.nx, s->dims.ny, s->dims.nz};
     for (int a = 0; a < 3; a++)
@@ -263,20 +267,18 @@ int vw_state_ok(const vw_state *s)
 
 /* ------------------------------------------------------------ open/close */
 
-bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
+/* Take model as the state's: its geometry, centre and size, the cursor at
+ * its centre, a fresh journal; nothing else of s is touched. */
+static bvox_status take_model(vw_state *s, bvox_volume *model)
 {
-    *out = NULL;
-    if (!model || width < 64 || height < 64 || width > 8192 || height > 8192) {
-        bvox_volume_destroy(model);
-        return BVOX_EINVAL;
-    }
-    vw_state *s = bvox__mem_zalloc(1, sizeof *s);
-    if (!s) {
-        bvox_volume_destroy(model);
-        return BVOX_ENOMEM;
-    }
+    bvox_journal *j = NULL;
+    bvox_dims d = bvox_volume_dims(model);
+    bvox_status st = bvox_journal_create(d, bvox_memory_budget() / 4, &j);
+    if (st) return st;
+    bvox_journal_destroy(s->journal);
+    s->journal = j;
     s->model = model;
-    s->dims = bvox_volume_dims(model);
+    s->dims = d;
     s->geom = *bvox_volume_geometry(model);
     memcpy(s->sp, s->geom.spacing, sizeof s->sp);
     bvox_box b;
@@ -291,13 +293,33 @@ bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
     s->radius = 0.5 * sqrt(ext2);
     for (int a = 0; a < 3; a++) s->cursor[a] = (lo[a] + hi[a]) / 2;
     s->count = bvox_volume_count(model);
-    bvox_status st = bvox_journal_create(s->dims, bvox_memory_budget() / 4, &s->journal);
+    return BVOX_OK;
+}
+
+bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
+{
+    *out = NULL;
+    if (!model || width < 64 || height < 64 || width > 8192 || height > 8192) {
+        bvox_volume_destroy(model);
+        return BVOX_EINVAL;
+    }
+    vw_state *s = bvox__mem_zalloc(1, sizeof *s);
+    if (!s) {
+        bvox_volume_destroy(model);
+        return BVOX_ENOMEM;
+    }
+    bvox_status st = take_model(s, model);
+    if (st) {
+        bvox_volume_destroy(model);
+        free(s);
+        return st;
+    }
     s->width = width;
     s->height = height;
     s->rgb = bvox__mem_zalloc((size_t)width * (size_t)height, 3);
-    if (st || !s->rgb) {
+    if (!s->rgb) {
         vw_close(s);
-        return st ? st : BVOX_ENOMEM;
+        return BVOX_ENOMEM;
     }
     s->zoom = 1;
     s->iso = 7;
@@ -318,9 +340,52 @@ bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
     return BVOX_OK;
 }
 
+bvox_status vw_replace_model(vw_state *s, bvox_volume *model)
+{
+    bvox_volume *old = s->model;
+    bvox_status st = take_model(s, model);
+    if (st) {
+        bvox_volume_destroy(model);
+        return st;
+    }
+    bvox_volume_destroy(old);
+    bvox_volume_destroy(s->cut_copy);
+    s->cut_copy = NULL;
+    bvox_surface_destroy(s->surf);
+    s->surf = NULL;
+    bvox_image_destroy(s->mosaic);
+    s->mosaic = NULL;
+    vw_labels_free(s->labels);
+    s->labels = NULL;
+    s->cut = 0;
+    s->sel_n = 0;
+    s->ruler_n = 0;
+    s->sel_count_ok = 0;
+    s->dirty_state = 0;
+    s->zoom = 1;
+    s->pan[0] = s->pan[1] = 0;
+    s->need_surface = s->need_cast = s->need_code = s->need_lut = s->need_mosaic = 1;
+    return BVOX_OK;
+}
+
+bvox_status vw_resize(vw_state *s, int width, int height)
+{
+    if (width < 64 || height < 64 || width > 8192 || height > 8192) return BVOX_EINVAL;
+    if (width == s->width && height == s->height) return BVOX_OK;
+    uint8_t *rgb = bvox__mem_zalloc((size_t)width * (size_t)height, 3);
+    if (!rgb) return BVOX_ENOMEM;
+    free(s->rgb);
+    s->rgb = rgb;
+    s->width = width;
+    s->height = height;
+    s->need_cast = 1; /* the 3D pane's pre-image follows its new size */
+    return BVOX_OK;
+}
+
 void vw_close(vw_state *s)
 {
     if (!s) return;
+    vw_labels_free(s->labels);
     bvox_volume_destroy(s->model);
     bvox_volume_destroy(s->cut_copy);
     bvox_surface_destroy(s->surf);

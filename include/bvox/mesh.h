@@ -170,5 +170,19 @@ BVOX_API void bvox_label_file_name(int64_t label, const char *name, const char *
 BVOX_API bvox_status bvox_labelset_write_meshes(const bvox_labelset *set, const int64_t *indices,
                                        int64_t n, const char *const *names, const char *dir,
                                        const char *format, int ascii);
+/* The listed objects' meshes (as bvox_labelset_mesh) in ONE file, one
+ * coloured object per label: path ending in .ply (binary, or ascii != 0:
+ * vertex and face colours, a face property `label`) or .obj (an `o`/`g`
+ * LABEL_NAME and `usemtl label_LABEL` per object; the materials' Kd in
+ * BASE.mtl beside it). names[i] (or NULL; names may be NULL) names object
+ * indices[i]; rgb holds 3 bytes per listed object (NULL: a colour of bvox's
+ * choosing per label). Touching labels share their boundary faces as in
+ * bvox_labelset_mesh. Written through temporary files: on failure nothing
+ * is left. BVOX_EINVAL for another extension or a bad index. */
+BVOX_API bvox_status bvox_labelset_write_mesh_file(const bvox_labelset *set,
+                                                   const int64_t *indices, int64_t n,
+                                                   const char *const *names,
+                                                   const unsigned char *rgb, const char *path,
+                                                   int ascii);
 
 #endif /* BVOX_MESH_H */

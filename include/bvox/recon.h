@@ -349,4 +349,38 @@ BVOX_API bvox_status bvox_reconstruct(const char *const *inputs, int32_t n,
 BVOX_API bvox_status bvox_stack_align(bvox_contour_stack *stack, const bvox_recon_opts *opts,
                                       bvox_recon_report **report);
 
+/* ------------------------------------------------------ the demo's story */
+
+/* `bvox demo`: the paper's system end to end on the built-in specimen
+ * (bvox_demo_specimen). The specimen is cut into 70 serial sections 40 um
+ * apart, each imaged as a microscope would (uneven light, noise, texture,
+ * three embedding markers, a random rigid shift and turn), the model is
+ * reconstructed from the images (bvox_reconstruct_images: markers aligned,
+ * shape-based interpolation to the specimen's 25 um slices) and compared
+ * with the specimen on its grid. */
+typedef struct bvox_demo_opts {
+    const char *dir;   /* NULL (default): write nothing; else the folder (made if
+                          missing, its parent must exist) gets specimen.nii.gz,
+                          specimen.tif, section_0000.png .., model.nii.gz (the
+                          reconstruction on the specimen's grid), picture1.png ..
+                          picture4.png (bvox_demo_picture of the model) and
+                          turntable.gif, through the folder-safety rules of folder
+                          outputs (a folder holding other files is refused) */
+    int force;         /* with dir: add to a folder holding other files */
+} bvox_demo_opts;
+BVOX_API bvox_demo_opts bvox_demo_opts_default(void);
+
+typedef struct bvox_demo_report {
+    int32_t sections;               /* section images */
+    int32_t width, height;          /* their size, pixels */
+    double pixel, section_spacing;  /* um */
+    int32_t markers;                /* markers per section */
+    int32_t fallbacks;              /* sections not aligned by their markers */
+    int64_t specimen_voxels, model_voxels;
+    double dice;                    /* 2 |A and B| / (|A| + |B|), model vs specimen */
+    double volume_error_percent;    /* 100 (model volume - specimen volume) / specimen volume */
+    double ms_sections, ms_reconstruct, ms_compare, ms_write; /* wall clock */
+} bvox_demo_report;
+BVOX_API bvox_status bvox_demo_run(const bvox_demo_opts *opts, bvox_demo_report *report);
+
 #endif /* BVOX_RECON_H */

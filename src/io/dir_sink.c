@@ -45,7 +45,12 @@ static const struct {
     [BVOX__DIR_SVG_SECTIONS] = {"svg-sections", "section_", ".svg"},
     [BVOX__DIR_LABEL_MESHES] = {"label-meshes", "", ""},
     [BVOX__DIR_ZARR] = {"zarr", "", ""},
+    [BVOX__DIR_DEMO] = {"demo", "section_", ".png"},
 };
+
+const char *const bvox__demo_file_names[] = {
+    "specimen.nii.gz", "specimen.tif", "model.nii.gz", "picture1.png", "picture2.png",
+    "picture3.png",    "picture4.png", "turntable.gif", NULL};
 #define NKINDS (sizeof kinds / sizeof kinds[0])
 #define MANIFEST_HEADER "bvox output manifest 1"
 #define MANIFEST_MAX (16u << 20) /* 65535 names of ~20 bytes fit many times */
@@ -83,6 +88,9 @@ static bool zarr_top_name(const char *s)
 static bool owned_name(int kind, const char *s)
 {
     if (kind == BVOX__DIR_LABEL_MESHES) return label_mesh_name(s);
+    if (kind == BVOX__DIR_DEMO)
+        for (const char *const *f = bvox__demo_file_names; *f; f++)
+            if (!strcmp(s, *f)) return true;
     if (kind == BVOX__DIR_PNG_SLICES && !strcmp(s, BVOX__VOXEL_SIZE_NAME)) return true;
     if (kind == BVOX__DIR_ZARR) return zarr_top_name(s);
     size_t np = strlen(kinds[kind].prefix), ns = strlen(kinds[kind].suffix), n = strlen(s);

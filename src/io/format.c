@@ -14,10 +14,11 @@ static const bvox__format *const formats[] = {
     &bvox__format_nifti, &bvox__format_binvox, &bvox__format_tiff,
     &bvox__format_png,   &bvox__format_raw,    &bvox__format_nrrd,
     &bvox__format_zarr,
+    &bvox__format_metaimage,
 };
 #define NFORMATS (sizeof formats / sizeof formats[0])
 
-const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd, zarr"; }
+const char *bvox_format_list(void) { return "nifti, binvox, tiff, png, raw, nrrd, zarr, metaimage"; }
 
 static const bvox__format *by_name(const char *name)
 {
@@ -26,6 +27,7 @@ static const bvox__format *by_name(const char *name)
     /* common aliases */
     if (!strcasecmp(name, "nii")) return &bvox__format_nifti;
     if (!strcasecmp(name, "tif")) return &bvox__format_tiff;
+    if (!strcasecmp(name, "mha") || !strcasecmp(name, "mhd")) return &bvox__format_metaimage;
     return NULL;
 }
 
@@ -206,7 +208,8 @@ static bvox_status output_format(const char *path, const bvox_write_opts *opts,
     if (!f)
         return bvox__fail(BVOX_EINVAL,
                           "%s: cannot tell the output format from the extension (use one of "
-                          ".nii .nii.gz .binvox .tif .tiff .raw .zarr, a folder with --format png)",
+                          ".nii .nii.gz .binvox .tif .tiff .raw .zarr .nrrd .nhdr .mha .mhd, a "
+                          "folder with --format png)",
                           path);
     if (!f->write_path)
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: writing %s is not supported", path, f->name);
@@ -260,7 +263,7 @@ static bvox_status no_samples(const bvox__format *f, const char *name)
 {
     return bvox__fail(BVOX_EUNSUPPORTED,
                       "%s: %s files hold binary voxels, not labels (label volumes are read "
-                      "from nifti, tiff, raw or nrrd)",
+                      "from nifti, tiff, raw, nrrd or metaimage)",
                       name, f->name);
 }
 

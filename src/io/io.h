@@ -95,14 +95,19 @@ typedef struct bvox__sink {
 } bvox__sink;
 
 /* Open a temporary file next to path (".name.XXXXXX" in the same folder).
- * gzip != 0 compresses what is written (for .nii.gz). Refused (BVOX_EIO):
+ * gzip != 0 compresses what is written: a gzip stream (for .nii.gz), or a
+ * bare zlib stream when gzip is BVOX__SINK_ZLIB (MetaImage's CompressedData). Refused (BVOX_EIO):
  * a path that names a folder, a device, a FIFO or a socket. A symlink is
  * followed: the temporary file is made beside its final target, which the
  * rename replaces (the link stays a link). An existing file's permission
  * bits (and group, where allowed) are kept; a new file gets 0666 less the
  * umask. */
+#define BVOX__SINK_ZLIB 2
 bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s);
 bvox_status bvox__sink_write(bvox__sink *s, const void *data, size_t size);
+/* Compress what is written from now on (mode 1 gzip, BVOX__SINK_ZLIB zlib):
+ * a plain header before compressed data (.nrrd, .mha). No-op if already. */
+bvox_status bvox__sink_compress(bvox__sink *s, int mode);
 /* Flush, fsync, close, rename over path and fsync the folder. On failure
  * the temporary file is removed and an existing file at path is unchanged.
  * Always releases s. */
@@ -146,7 +151,9 @@ typedef enum {
     BVOX__DIR_PNG_SLICES,   /* slice_NNNN.png */
     BVOX__DIR_SVG_SECTIONS, /* section_NNNN.svg */
     BVOX__DIR_LABEL_MESHES, /* LABEL[_NAME].stl|ply|obj|off (bvox mesh --labels) */
-    BVOX__DIR_ZARR          /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
+    BVOX__DIR_ZARR,         /* .zgroup, .zattrs, level folders 0, 1, ... (zarr.c) */
+    BVOX__DIR_DEMO          /* bvox demo -o: section_NNNN.png and the names of
+                               bvox__demo_file_names */
 } bvox__dir_kind;
 #define BVOX__MANIFEST_NAME ".bvox-manifest"
 /* The voxel size of a PNG slice folder (PNG has no z): "SX SY SZ [UNIT]". */
@@ -164,6 +171,8 @@ typedef struct bvox__dir_sink {
     bool force;
     int slot;
 } bvox__dir_sink;
+/* The fixed file names of BVOX__DIR_DEMO, NULL-terminated. */
+extern const char *const bvox__demo_file_names[];
 bvox_status bvox__dir_sink_open(const char *path, bvox__dir_kind kind, bool force,
                                 bvox__dir_sink *d);
 /* Put the files in place as described above; always releases d. */
@@ -216,10 +225,59 @@ extern const bvox__format bvox__format_binvox;
 extern const bvox__format bvox__format_tiff;
 extern const bvox__format bvox__format_png;
 extern const bvox__format bvox__format_raw;
-extern const bvox__format bvox__format_nrrd; /* read only (nrrd.c) */
+extern const bvox__format bvox__format_nrrd; /* nrrd.c, nrrd_write.c */
 extern const bvox__format bvox__format_zarr;
 /* A folder holding .zarray or .zgroup (zarr.c). */
 bool bvox__zarr_is_dir(const char *path);
+extern const bvox__format bvox__format_metaimage; /* metaimage.c */
+
+/* Headers with a separate data file (detached.c): read `file` (relative to
+ * the folder of header_path, or absolute) whole. */
+bvox_status bvox__read_beside(const char *header_path, const char *file, bvox__bytes *out);
+/* The data file of a header path: path less its last `strip` characters,
+ * plus ext, into out; *base points at its file name within out. */
+bvox_status bvox__detached_name(const char *path, size_t strip, const char *ext, char *out,
+                                size_t cap, const char **base);
+/* vol's bytes 0/1 into data_path (gz as bvox__write_byte_slices), then the
+ * header into path; on failure neither is left behind. */
+bvox_status bvox__write_detached(const char *path, const char *data_path, const bvox_volume *vol,
+                                 int gz, const char *header, size_t header_size);
+/* The NRRD writer (nrrd_write.c), for the format table in nrrd.c. */
+bvox_status bvox__nrrd_write(const char *path, const bvox_volume *vol,
+                             const bvox_write_opts *opts);
+/* LPS (ITK, 3D Slicer: NRRD, MetaImage) <-> RAS (bvox): negate the first two
+ * world axes of origin and direction, in place. */
+void bvox__geometry_flip_lps(bvox_geometry *g);
+
+/* 3D Slicer segmentations (seg_nrrd.c): the Segment<N>_ keys of a NRRD
+ * header, segment N at seg[N] (present: it had a key). */
+typedef struct bvox__segment {
+    char name[96];
+    unsigned char rgb[3];
+    bool present, has_color, has_value, has_layer;
+    int64_t label_value;
+    long layer;
+} bvox__segment;
+typedef struct bvox__segs {
+    bvox__segment *seg;
+    long n, cap;
+} bvox__segs;
+bvox_status bvox__segs_parse(const uint8_t *header, size_t size, const char *name,
+                             bvox__segs *out);
+void bvox__segs_release(bvox__segs *s);
+/* The label segment i gets: its LabelValue in a 3D file, i + 1 in a
+ * layered (4D) one. */
+int64_t bvox__segs_label(const bvox__segs *s, long i, bool layered);
+/* The segments as a label table (names, colours); BVOX_EFORMAT without any. */
+bvox_status bvox__segs_table(const uint8_t *header, size_t size, const char *name, bool layered,
+                             bvox_label_table **out);
+/* g holds `layers` samples per voxel (layer fastest): replace them by one
+ * uint16 label per voxel as described in seg_nrrd.c. */
+bvox_status bvox__segs_flatten(bvox__gray *g, int64_t layers, const uint8_t *header,
+                               size_t header_size, const char *name);
+/* 1 if data is a NRRD header with a first "list" axis of layers (a
+ * segmentation with overlapping segments). For label_table.c. */
+bool bvox__nrrd_layered(const uint8_t *data, size_t size);
 
 /* The typed samples of a file or buffer, for readers of label volumes: the
  * format resolved as bvox_read does (forced, extension, content). On success
@@ -280,9 +338,12 @@ int bvox__ome_describe(const bvox_volume *vol, char *buf, size_t cap);
 void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t one,
                          uint8_t *dst);
 /* Write header (header_size bytes; none when 0), then every slice as bytes
- * 0/1 in that order, to path through a sink (gz: gzip-compressed): the whole
- * file or, on failure, nothing. */
-bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
+ * 0/1 in that order, to path through a sink (gz as bvox__sink_open's gzip:
+ * 0 plain, 1 gzip, BVOX__SINK_ZLIB zlib; plus BVOX__SINK_PLAIN_HEADER: the
+ * header is written plain, only the slices compressed): the whole file or,
+ * on failure, nothing. */
+#define BVOX__SINK_PLAIN_HEADER 8
+bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, int gz,
                                     const void *header, size_t header_size);
 /* The whole volume as bytes 0/1, z fastest, then y, then x:
  * dst[((size_t)x * ny + y) * nz + z] = voxel. Each column's words expand in

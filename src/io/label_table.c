@@ -6,6 +6,7 @@
  *   3D Slicer .ctbl/.txt   index name R G B A       and Slicer differ: see below)
  *   ITK-SNAP description   index R G B A visible mesh "name"   (A: 0..1 opacity)
  *   AAL / mricron .txt     index name code          (no colour)
+ *   3D Slicer .seg.nrrd    its Segment<N>_Name/_Color keys (seg_nrrd.c)
  *
  * The kind is told per line: a quoted name means ITK-SNAP; otherwise the
  * second token is the name and three integers 0..255 after it are a colour.
@@ -192,6 +193,9 @@ bvox_status bvox_label_table_parse(const char *text, size_t size, const char *na
     if (!out || (!text && size)) return bvox__fail(BVOX_EINVAL, "bvox_label_table_parse: NULL");
     *out = NULL;
     if (!name) name = "table";
+    if (size >= 8 && !memcmp(text, "NRRD000", 7)) /* a Slicer .seg.nrrd: its segments */
+        return bvox__segs_table((const uint8_t *)text, size, name,
+                                bvox__nrrd_layered((const uint8_t *)text, size), out);
     bvox_label_table *t = bvox__mem_zalloc(1, sizeof *t);
     char *line = bvox__mem_alloc(size + 1);
     if (!t || !line) {

@@ -16,7 +16,10 @@
  * Detached data ("data file: NAME") is looked up beside the header when the
  * reader is given the header's path (bvox_read passes it as the name);
  * "LIST" and multi-file forms are refused, as are ascii/hex/bzip2
- * encodings and non-scalar (vector, 4D) volumes.
+ * encodings and non-scalar (vector) volumes. A 4D file whose first axis is
+ * a list is a 3D Slicer segmentation with layers: seg_nrrd.c turns its
+ * samples into one label per voxel. The writer is nrrd_write.c;
+ * the same reasons keep it off teem (whose writer also goes through biff).
  */
 #include "io.h"
 
@@ -30,6 +33,8 @@
 typedef struct nrrd_header {
     int dimension;
     int64_t sizes[4];
+    int64_t layers; /* dimension 4: the first ("list") axis, a segmentation's
+                       layers (seg_nrrd.c); 0 otherwise */
     bvox_dtype dtype;
     bool have_type, big_endian, gzip, lps, have_dirs, have_origin, have_spacings;
     double dirs[3][3]; /* space direction of axis i: dirs[i] */
@@ -153,24 +158,29 @@ static bvox_status parse_header(const uint8_t *data, size_t size, const char *na
             h->have_type = true;
         } else if (!strcasecmp(field, "dimension")) {
             h->dimension = atoi(v);
-            if (h->dimension < 2 || h->dimension > 3)
+            if (h->dimension < 2 || h->dimension > 4)
                 return bvox__fail(BVOX_EUNSUPPORTED,
-                                  "%s: NRRD dimension %s (bvox reads 2D and 3D scalar volumes)",
+                                  "%s: NRRD dimension %s (bvox reads 2D and 3D scalar volumes, "
+                                  "and 4D segmentation layers)",
                                   name, v);
         } else if (!strcasecmp(field, "sizes")) {
             if (!h->dimension)
                 return bvox__fail(BVOX_EFORMAT, "%s: 'sizes' before 'dimension'", name);
             char *p = v;
+            int64_t all[4] = {1, 1, 1, 1};
             for (int i = 0; i < h->dimension; i++) {
                 char *e;
                 long long s = strtoll(p, &e, 10);
                 if (e == p || s < 1 || s > BVOX_MAX_DIM)
                     return bvox__fail(BVOX_EFORMAT,
                                       "%s: NRRD sizes '%s' (each 1..%d)", name, v, BVOX_MAX_DIM);
-                h->sizes[i] = s;
+                all[i] = s;
                 p = e;
             }
             if (*trim(p)) return bvox__fail(BVOX_EFORMAT, "%s: NRRD sizes '%s'", name, v);
+            int lead = h->dimension == 4; /* the layer axis comes first */
+            h->layers = lead ? all[0] : 0;
+            for (int i = 0; i < 3; i++) h->sizes[i] = all[i + lead];
             have_sizes = true;
         } else if (!strcasecmp(field, "endian")) {
             h->big_endian = !strcasecmp(v, "big");
@@ -189,10 +199,13 @@ static bvox_status parse_header(const uint8_t *data, size_t size, const char *na
         } else if (!strcasecmp(field, "space directions")) {
             if (!h->dimension)
                 return bvox__fail(BVOX_EFORMAT, "%s: 'space directions' before 'dimension'", name);
-            bool none[3];
-            if (!parse_vectors(v, h->dimension, h->dirs, none) || none[0] || none[1] ||
-                (h->dimension == 3 && none[2]))
+            bool none[4];
+            double dirs[4][3];
+            int lead = h->dimension == 4; /* "none" for the layer axis */
+            if (!parse_vectors(v, h->dimension, dirs, none) || (lead && !none[0]) ||
+                none[lead] || none[lead + 1] || (h->dimension >= 3 && none[lead + 2]))
                 return bvox__fail(BVOX_EFORMAT, "%s: NRRD space directions '%s'", name, v);
+            memcpy(h->dirs, dirs[lead], sizeof h->dirs);
             h->have_dirs = true;
         } else if (!strcasecmp(field, "space origin")) {
             bool none;
@@ -203,11 +216,13 @@ static bvox_status parse_header(const uint8_t *data, size_t size, const char *na
             h->have_origin = true;
         } else if (!strcasecmp(field, "spacings")) {
             char *p = v;
-            for (int i = 0; i < h->dimension && i < 3; i++) {
+            for (int i = 0, k = 0; i < h->dimension && k < 3; i++) {
                 char *e;
-                h->spacings[i] = strtod(p, &e);
+                double x = strtod(p, &e); /* "nan" for the layer axis of a 4D file */
                 if (e == p) break;
                 p = e;
+                if (h->dimension == 4 && i == 0) continue;
+                h->spacings[k++] = x;
             }
             h->have_spacings = true;
         } else if (!strcasecmp(field, "space units")) {
@@ -232,6 +247,15 @@ static bvox_status parse_header(const uint8_t *data, size_t size, const char *na
                 return bvox__fail(BVOX_EFORMAT, "%s: NRRD byte skip %s", name, v);
         } else if (!strcasecmp(field, "kinds")) {
             for (char *c = v; *c; c++) *c = (char)tolower((unsigned char)*c);
+            if (h->dimension == 4) { /* the first axis is the layers: "list" */
+                if (strncmp(v, "list", 4) && strncmp(v, "vector", 6) && strncmp(v, "???", 3) &&
+                    strncmp(v, "none", 4))
+                    return bvox__fail(BVOX_EUNSUPPORTED,
+                                      "%s: NRRD kinds '%s': a 4D file is read as segmentation "
+                                      "layers (its first axis a list)",
+                                      name, v);
+                v += strcspn(v, " \t");
+            }
             if (strstr(v, "vector") || strstr(v, "rgb") || strstr(v, "list"))
                 return bvox__fail(BVOX_EUNSUPPORTED,
                                   "%s: NRRD kinds '%s': bvox reads scalar volumes", name, v);
@@ -254,7 +278,7 @@ static bvox_status parse_header(const uint8_t *data, size_t size, const char *na
 static void set_geometry(const nrrd_header *h, bvox_geometry *g)
 {
     *g = bvox_geometry_default();
-    int naxes = h->dimension;
+    int naxes = h->dimension < 3 ? h->dimension : 3;
     if (h->have_dirs) {
         for (int i = 0; i < 3; i++) {
             double v[3] = {0, 0, 0};
@@ -277,12 +301,7 @@ static void set_geometry(const nrrd_header *h, bvox_geometry *g)
             if (h->spacings[i] > 0 && isfinite(h->spacings[i])) g->spacing[i] = h->spacings[i];
     }
     if (h->have_origin) memcpy(g->origin, h->origin, sizeof g->origin);
-    if (h->lps) { /* LPS -> RAS: negate the first two world axes */
-        for (int r = 0; r < 2; r++) {
-            g->origin[r] = -g->origin[r];
-            for (int c = 0; c < 3; c++) g->direction[r * 3 + c] = -g->direction[r * 3 + c];
-        }
-    }
+    if (h->lps) bvox__geometry_flip_lps(g);
     if (strlen(h->unit) < sizeof g->unit) strcpy(g->unit, h->unit);
 }
 
@@ -294,16 +313,6 @@ static size_t skip_lines(const uint8_t *d, size_t size, size_t pos, int64_t line
         if (pos < size) pos++;
     }
     return pos;
-}
-
-/* The folder of path, with a trailing '/', into dir ("" when none). */
-static void dir_of(const char *path, char *dir, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    size_t n = slash ? (size_t)(slash - path + 1) : 0;
-    if (n >= size) n = 0;
-    memcpy(dir, path, n);
-    dir[n] = '\0';
 }
 
 static bvox_status nrrd_gray_memory(const uint8_t *data, size_t size, const char *name,
@@ -320,18 +329,14 @@ static bvox_status nrrd_gray_memory(const uint8_t *data, size_t size, const char
     st = bvox__check_dims(d, name, &words_bytes);
     if (st) return st;
     if (!bvox__mul_size((size_t)d.nx * (size_t)d.ny, (size_t)d.nz, &n) ||
-        !bvox__mul_size(n, elem, &need))
+        !bvox__mul_size(n, h.layers ? (size_t)h.layers : 1, &n) || !bvox__mul_size(n, elem, &need))
         return bvox__fail(BVOX_ETOOBIG, "%s: NRRD sizes overflow", name);
 
     bvox__bytes detached = {0};
     const uint8_t *src = data + h.header_end;
     size_t avail = size - h.header_end;
     if (h.data_file[0]) {
-        char path[4096], dir[2048];
-        dir_of(name, dir, sizeof dir);
-        if (h.data_file[0] == '/') snprintf(path, sizeof path, "%s", h.data_file);
-        else snprintf(path, sizeof path, "%s%s", dir, h.data_file);
-        st = bvox__read_file(path, &detached);
+        st = bvox__read_beside(name, h.data_file, &detached);
         if (st) return st;
         src = detached.data;
         avail = detached.size;
@@ -381,6 +386,13 @@ static bvox_status nrrd_gray_memory(const uint8_t *data, size_t size, const char
         g->byteswap = elem > 1 && h.big_endian != host_big;
     }
     set_geometry(&h, &g->geom);
+    if (h.layers) { /* a layered segmentation: one label per voxel (seg_nrrd.c) */
+        st = bvox__segs_flatten(g, h.layers, data, h.header_end, name);
+        if (st) {
+            bvox__gray_release(g);
+            return st;
+        }
+    }
     return BVOX_OK;
 truncated:
     st = bvox__fail(BVOX_EFORMAT,
@@ -408,9 +420,17 @@ static bvox_status nrrd_read_memory(const uint8_t *data, size_t size, const char
     return st;
 }
 
+bool bvox__nrrd_layered(const uint8_t *data, size_t size)
+{
+    nrrd_header h;
+    bvox_status st = parse_header(data, size, "table", &h);
+    bvox__clear_error();
+    return !st && h.layers > 0;
+}
+
 static const char *const nrrd_extensions[] = {".nrrd", ".nhdr", NULL};
 
 const bvox__format bvox__format_nrrd = {
-    "nrrd", nrrd_extensions, nrrd_sniff, nrrd_read_memory, NULL, NULL, NULL, NULL,
+    "nrrd", nrrd_extensions, nrrd_sniff, nrrd_read_memory, NULL, bvox__nrrd_write, NULL, NULL,
     nrrd_gray_memory,
 };

@@ -341,14 +341,26 @@ bvox_status bvox__sink_open(const char *path, int gzip, bvox__sink *s)
         return bvox__fail(BVOX_EIO, "%s: cannot open for writing", path);
     }
     if (gzip) {
-        z_stream *z = bvox__mem_zalloc(1, sizeof *z);
-        if (!z || deflateInit2(z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
-            free(z);
+        bvox_status st = bvox__sink_compress(s, gzip);
+        if (st) {
             bvox__sink_abort(s);
-            return bvox__fail(BVOX_ENOMEM, "%s: cannot start zlib", path);
+            return st;
         }
-        s->gz = z;
     }
+    return BVOX_OK;
+}
+
+bvox_status bvox__sink_compress(bvox__sink *s, int mode)
+{
+    if (s->gz) return BVOX_OK;
+    z_stream *z = bvox__mem_zalloc(1, sizeof *z);
+    if (!z || deflateInit2(z, 6, Z_DEFLATED, mode == BVOX__SINK_ZLIB ? 15 : 15 + 16, 8,
+                           Z_DEFAULT_STRATEGY) != Z_OK) {
+        free(z);
+        s->failed = true;
+        return s->status = bvox__fail(BVOX_ENOMEM, "%s: cannot start zlib", s->name);
+    }
+    s->gz = z;
     return BVOX_OK;
 }
 

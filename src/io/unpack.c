@@ -82,7 +82,7 @@ void bvox__unpack_slices(const bvox_volume *vol, int32_t z0, int32_t n, uint8_t 
     bvox__parallel_for(vol->ny, ((int64_t)1 << 20) / per_row + 1, unpack_rows, &c);
 }
 
-bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bool gz,
+bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, int gz,
                                     const void *header, size_t header_size)
 {
     int32_t chunk = vol->nz < 64 ? vol->nz : 64;
@@ -96,8 +96,10 @@ bvox_status bvox__write_byte_slices(const char *path, const bvox_volume *vol, bo
         return st;
     }
     bvox__sink s;
-    st = bvox__sink_open(path, gz, &s);
+    int mode = gz & ~BVOX__SINK_PLAIN_HEADER;
+    st = bvox__sink_open(path, gz & BVOX__SINK_PLAIN_HEADER ? 0 : mode, &s);
     if (st == BVOX_OK && header_size) st = bvox__sink_write(&s, header, header_size);
+    if (st == BVOX_OK && mode) st = bvox__sink_compress(&s, mode);
     for (int32_t z0 = 0; st == BVOX_OK && z0 < vol->nz; z0 += 64) {
         int32_t n = vol->nz - z0 < 64 ? vol->nz - z0 : 64;
         bvox__unpack_slices(vol, z0, n, 1, buf);

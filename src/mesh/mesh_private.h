@@ -173,4 +173,24 @@ bvox_status bvox__text_int(bvox__text *t, int same_line, const char *what, int64
 bvox_status bvox__mesh_add_polygon(bvox_mesh *m, const int64_t *idx, int64_t n, const char *name,
                                    int64_t line);
 
+/* ---- buffered mesh output (mesh_write.c), for the writers of mesh_write.c
+ * and mesh_labels_file.c: 1 MiB blocks into a temporary-file sink; the
+ * first failure is kept in st and later writes do nothing. ---- */
+#include "io/io.h"
+#define BVOX__MESH_OUT_BLOCK (1u << 20)
+typedef struct bvox__mesh_out {
+    bvox__sink sink;
+    char *buf;
+    size_t n;
+    bvox_status st;
+} bvox__mesh_out;
+bvox_status bvox__mesh_out_open(bvox__mesh_out *o, const char *path);
+void bvox__mesh_out_put(bvox__mesh_out *o, const void *p, size_t n);
+void bvox__mesh_out_printf(bvox__mesh_out *o, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+void bvox__mesh_out_le32(bvox__mesh_out *o, uint32_t v);
+void bvox__mesh_out_f64(bvox__mesh_out *o, double d);
+/* Flush and commit (commit false, or an earlier failure: remove); frees. */
+bvox_status bvox__mesh_out_close(bvox__mesh_out *o, bool commit);
+
 #endif

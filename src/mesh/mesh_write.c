@@ -7,20 +7,16 @@
 #include "io/io.h"
 #include "mesh_private.h"
 
+#include <stdarg.h>
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
-#define BLOCK (1u << 20)
-
-typedef struct out {
-    bvox__sink sink;
-    char *buf;
-    size_t n;
-    bvox_status st;
-} out;
+#define BLOCK BVOX__MESH_OUT_BLOCK
+typedef bvox__mesh_out out;
 
 static void flush(out *o)
 {
@@ -28,15 +24,15 @@ static void flush(out *o)
     o->n = 0;
 }
 
-static void put(out *o, const void *p, size_t n)
+void bvox__mesh_out_put(out *o, const void *p, size_t n)
 {
     if (o->n + n > BLOCK) flush(o);
     memcpy(o->buf + o->n, p, n);
     o->n += n;
 }
+#define put bvox__mesh_out_put
 
-static void putf(out *o, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void putf(out *o, const char *fmt, ...)
+void bvox__mesh_out_printf(out *o, const char *fmt, ...)
 {
     if (o->n + 256 > BLOCK) flush(o);
     va_list ap;
@@ -45,24 +41,53 @@ static void putf(out *o, const char *fmt, ...)
     va_end(ap);
     if (k > 0) o->n += (size_t)k;
 }
+#define putf bvox__mesh_out_printf
 
-static void put_le32(out *o, uint32_t v)
+void bvox__mesh_out_le32(out *o, uint32_t v)
 {
     uint8_t b[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
     put(o, b, 4);
 }
+#define put_le32 bvox__mesh_out_le32
 static void put_f32(out *o, float f)
 {
     uint32_t u;
     memcpy(&u, &f, 4);
     put_le32(o, u);
 }
-static void put_f64(out *o, double d)
+void bvox__mesh_out_f64(out *o, double d)
 {
     uint64_t u;
     memcpy(&u, &d, 8);
     put_le32(o, (uint32_t)u);
     put_le32(o, (uint32_t)(u >> 32));
+}
+#define put_f64 bvox__mesh_out_f64
+
+bvox_status bvox__mesh_out_open(out *o, const char *path)
+{
+    memset(o, 0, sizeof *o);
+    bvox_status st;
+    o->buf = bvox__alloc(BLOCK, false, "mesh output buffer", &st);
+    if (!o->buf) return st;
+    st = bvox__sink_open(path, 0, &o->sink);
+    if (st) {
+        bvox__free(o->buf, BLOCK);
+        o->buf = NULL;
+    }
+    return st;
+}
+
+bvox_status bvox__mesh_out_close(out *o, bool commit)
+{
+    flush(o);
+    bvox__free(o->buf, BLOCK);
+    o->buf = NULL;
+    if (o->st || !commit) {
+        bvox__sink_abort(&o->sink);
+        return o->st;
+    }
+    return bvox__sink_commit(&o->sink);
 }
 
 static void normal(const bvox_mesh *m, int64_t t, double n[3])
@@ -239,26 +264,13 @@ bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *fo
                        path, (long long)shared);
     }
     out o;
-    memset(&o, 0, sizeof o);
-    bvox_status st;
-    o.buf = bvox__alloc(BLOCK, false, "mesh output buffer", &st);
-    if (!o.buf) return st;
-    st = bvox__sink_open(path, 0, &o.sink);
-    if (st) {
-        bvox__free(o.buf, BLOCK);
-        return st;
-    }
+    bvox_status st = bvox__mesh_out_open(&o, path);
+    if (st) return st;
     switch (kind) {
     case 0: write_stl(&o, m, ascii); break;
     case 1: write_ply(&o, m, ascii); break;
     case 2: write_obj(&o, m); break;
     default: write_off(&o, m); break;
     }
-    flush(&o);
-    bvox__free(o.buf, BLOCK);
-    if (o.st) {
-        bvox__sink_abort(&o.sink);
-        return o.st;
-    }
-    return bvox__sink_commit(&o.sink);
+    return bvox__mesh_out_close(&o, true);
 }

@@ -14,24 +14,12 @@
  *    base 50 um above the body): pi 300^2 350 / 3.
  * The hole is cut before ring and cap are added, so it only touches the body.
  */
-#include "internal.h"
+#include "ops/demo.h"
 
-#define DEMO_NX 256
-#define DEMO_NY 256
-#define DEMO_NZ 128
-#define DEMO_SXY 10.0 /* um */
-#define DEMO_SZ 25.0  /* um: thick sections */
-
-bvox_status bvox_demo_specimen(bvox_volume **out)
+bvox_status bvox__demo_draw(bvox_volume *v)
 {
-    *out = NULL;
-    bvox_volume *v = NULL;
-    bvox_status st = bvox_volume_create((bvox_dims){DEMO_NX, DEMO_NY, DEMO_NZ}, &v);
-    if (st) return st;
-    st = bvox_volume_set_spacing(v, DEMO_SXY, DEMO_SXY, DEMO_SZ, "um");
-    if (st) goto fail;
-
-    /* Centre of the volume: voxel centres run from 0 to (n-1)*spacing. */
+    /* The specimen's centre, fixed in the physical frame of the built-in
+     * grid: voxel centres run from 0 to (n-1)*spacing. */
     const double cx = (DEMO_NX - 1) * DEMO_SXY / 2, cy = (DEMO_NY - 1) * DEMO_SXY / 2;
     const double cz = (DEMO_NZ - 1) * DEMO_SZ / 2;
     const bvox_shape body = {.kind = BVOX_SHAPE_ELLIPSOID,
@@ -61,12 +49,24 @@ bvox_status bvox_demo_specimen(bvox_volume **out)
                  {&ring, BVOX_CSG_UNION},
                  {&cap, BVOX_CSG_UNION}};
     for (size_t i = 0; i < sizeof steps / sizeof steps[0]; i++) {
-        st = bvox_shape_draw(v, steps[i].shape, steps[i].op);
-        if (st) goto fail;
+        bvox_status st = bvox_shape_draw(v, steps[i].shape, steps[i].op);
+        if (st) return st;
+    }
+    return BVOX_OK;
+}
+
+bvox_status bvox_demo_specimen(bvox_volume **out)
+{
+    *out = NULL;
+    bvox_volume *v = NULL;
+    bvox_status st = bvox_volume_create((bvox_dims){DEMO_NX, DEMO_NY, DEMO_NZ}, &v);
+    if (st) return st;
+    st = bvox_volume_set_spacing(v, DEMO_SXY, DEMO_SXY, DEMO_SZ, "um");
+    if (!st) st = bvox__demo_draw(v);
+    if (st) {
+        bvox_volume_destroy(v);
+        return st;
     }
     *out = v;
     return BVOX_OK;
-fail:
-    bvox_volume_destroy(v);
-    return st;
 }

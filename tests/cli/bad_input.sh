@@ -167,6 +167,20 @@ expect 1 "SVG elliptical arc" -- "$BVOX" reconstruct "$in/arc.svg" -o "$out/m.ni
 printf 'key 5\nfrobnicate 3\n' >"$in/bad-script.txt"
 expect 1 "bad viewer script" -- "$BVOX" view --demo --script "$in/bad-script.txt"
 
+# MetaImage: data cut short, a missing .zraw, several channels; a .mhd that
+# cannot be written leaves neither the header nor its data file.
+"$BVOX" convert "$in/good.nii" "$in/good.mha" || fail "making good.mha"
+printf 'NDims = 3\nDimSize = 4 3 2\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n0123' \
+    >"$in/short.mha"
+expect 1 "MetaImage data cut short" -- "$BVOX" convert "$in/short.mha" "$out/x.nii"
+printf 'NDims = 3\nDimSize = 4 3 2\nElementType = MET_UCHAR\nCompressedData = True\nElementDataFile = gone.zraw\n' \
+    >"$in/gone.mhd"
+expect 1 "MetaImage data file missing" -- "$BVOX" info "$in/gone.mhd"
+printf 'NDims = 3\nDimSize = 4 3 2\nElementNumberOfChannels = 3\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n' \
+    >"$in/rgb.mha"
+expect 1 "MetaImage with 3 channels" -- "$BVOX" info "$in/rgb.mha"
+expect 1 ".mhd into a missing folder" -- "$BVOX" convert "$in/good.mha" "$out/nowhere/x.mhd"
+
 # A failed conversion leaves an existing output unchanged.
 printf 'keep me' >"$out/keep.nii"
 expect 1 "bad input, existing output" -- "$BVOX" convert "$in/short-data.nii" "$out/keep.nii"

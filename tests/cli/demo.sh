@@ -3,10 +3,16 @@
 # it writes with -o (NIfTI and TIFF) read back with the same dimensions and
 # count, and the paper's four pictures are there; the count agrees with the
 # specimen's exact volume, computed here in closed form from its shapes (see
-# src/demo.c), within the discretisation error of 10 x 10 x 25 um voxels.
+# src/ops/demo.c), within the discretisation error of 10 x 10 x 25 um voxels.
+# The reconstruction from the simulated sections: its Dice and volume error,
+# printed and in --json, are recomputed here from the written model and
+# specimen (raw bytes), and must be good (Dice >= 0.97, |error| < 5 %); the
+# section images are gray, with three markers each; -o follows the folder
+# rules (its own earlier output replaced, a foreign folder refused, --force).
 # Usage: sh demo.sh BVOX DATADIR
 set -eu
 BVOX=$1
+here=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -19,6 +25,12 @@ grep -q '^voxel size: *10 x 10 x 25 um$' "$tmp/demo.txt" || fail "voxel size"
 count=$(sed -n 's/^count: *\([0-9][0-9]*\) voxels.*/\1/p' "$tmp/demo.txt")
 [ -n "$count" ] || fail "no count in: $(cat "$tmp/demo.txt")"
 grep -q '^volume: .* um^3 (.* mm^3)$' "$tmp/demo.txt" || fail "volume line"
+grep -q '^reconstruction: 65 sections of 352 x 352 pixels (10 um, 40 um apart, 3 markers, 0 not aligned by them)$' \
+    "$tmp/demo.txt" || fail "reconstruction line: $(cat "$tmp/demo.txt")"
+dice=$(sed -n 's/^dice: \([0-9.]*\)$/\1/p' "$tmp/demo.txt")
+verr=$(sed -n 's/^volume error: \([-+0-9.]*\) %.*/\1/p' "$tmp/demo.txt")
+[ -n "$dice" ] && [ -n "$verr" ] || fail "no dice or volume error in: $(cat "$tmp/demo.txt")"
+grep -q "^wrote into $tmp/out/sub: " "$tmp/demo.err" || fail "demo -o does not say where: $(cat "$tmp/demo.err")"
 
 # The count against the closed form (spheroid with a bored hole + torus +
 # cone, all disjoint): relative error under 1.5 %.
@@ -50,12 +62,16 @@ assert math.isclose(obj["volume_mm3"], count * 2500.0 * 1e-9), obj["volume_mm3"]
 b = obj["bbox"]
 # Symmetric in x and y about the centre (voxel 127.5): the torus is widest.
 assert b["min"][0] + b["max"][0] == 255 and b["min"][1] + b["max"][1] == 255, b
+r = obj["reconstruction"]
+assert r["sections"] == 65, r
+assert r["dice"] >= 0.97 and abs(r["volume_error_percent"]) < 5, r
 PY
 
 # Exactly the two files and the four pictures, no temporary ones; each
 # volume reads back the same.
-[ "$(ls -A "$tmp/out/sub" | tr '\n' ' ')" = \
-  "picture1.png picture2.png picture3.png picture4.png specimen.nii.gz specimen.tif " ] ||
+sections=$(i=0; while [ $i -lt 65 ]; do printf 'section_%04d.png ' $i; i=$((i + 1)); done)
+[ "$(LC_ALL=C ls -A "$tmp/out/sub" | tr '\n' ' ')" = \
+  ".bvox-manifest model.nii.gz picture1.png picture2.png picture3.png picture4.png ${sections}specimen.nii.gz specimen.tif turntable.gif " ] ||
     fail "demo -o wrote: $(ls -A "$tmp/out/sub")"
 # The paper's pictures: 512 x 512, gray but for picture 3 (its cut face
 # tinted); their content is compared with golden copies by the unit test
@@ -79,4 +95,62 @@ assert obj["count"] == count, (obj["count"], count)
 assert all(math.isclose(a, b, rel_tol=1e-5) for a, b in zip(obj["voxel_size"], [10, 10, 25])), obj
 PY
 done
+# The model on the specimen's grid; Dice and volume error recomputed from
+# the raw bytes of the two volumes (not from bvox's own counts).
+"$BVOX" convert "$tmp/out/sub/model.nii.gz" "$tmp/model.raw" >/dev/null || fail "model to raw"
+"$BVOX" convert "$tmp/out/sub/specimen.nii.gz" "$tmp/specimen.raw" >/dev/null || fail "specimen to raw"
+python3 - "$tmp/model.raw" "$tmp/specimen.raw" "$dice" "$verr" "$tmp/demo.json" <<'PY' || fail "the reconstruction's numbers"
+import json, sys
+m, s = (open(p, "rb").read() for p in sys.argv[1:3])
+assert len(m) == len(s) == 256 * 256 * 128, (len(m), len(s))
+a = sum(1 for v in s if v)
+b = sum(1 for v in m if v)
+both = sum(1 for x, y in zip(m, s) if x and y)
+dice = 2 * both / (a + b)
+printed = float(sys.argv[3])
+assert abs(dice - printed) < 6e-5, (dice, printed)
+assert dice >= 0.97, dice
+obj = json.loads(open(sys.argv[5]).read())
+assert abs(obj["reconstruction"]["dice"] - dice) < 1e-9, (obj["reconstruction"], dice)
+# the volume error counts the whole reconstruction; on the grid nothing is lost
+err = 100.0 * (b - a) / a
+assert abs(err - float(sys.argv[4])) < 0.006, (err, sys.argv[4])
+assert abs(err) < 5, err
+print("demo: dice %.4f, volume error %+.2f %%" % (dice, err))
+PY
+
+# Section images: gray, 352 x 352, three dark round markers, the object
+# (read by the tests' own PNG reader); the turntable: a looping GIF of 36 frames.
+python3 - "$tmp/out/sub" "$here" <<'PY' || fail "the section images or the turntable"
+import sys
+sys.path.insert(0, sys.argv[2])
+import pngtool
+for k in (1, 32, 64):
+    img = pngtool.read_png("%s/section_%04d.png" % (sys.argv[1], k))
+    assert (img["width"], img["height"], img["channels"], img["bits"]) == (352, 352, 1, 8), img["width"]
+    rows = img["rows"]
+    dark = [(x, y) for y in range(352) for x in range(352) if rows[y][x] < 50]
+    # marker pixels only (radius 5: ~80 each), in three separate places
+    cells = {(x // 40, y // 40) for x, y in dark}
+    assert 3 <= len(cells) <= 6 and 150 < len(dark) < 400, (k, len(cells), len(dark))
+    tissue = sum(1 for row in rows for v in row if 50 <= v < 110)
+    assert tissue > (5 if k in (1, 64) else 5000), (k, tissue)
+gif = pngtool.read_gif("%s/turntable.gif" % sys.argv[1])
+assert gif["frames"] == 36 and (gif["width"], gif["height"]) == (256, 256), gif
+PY
+
+# -o again into its own output: replaced; into a folder with other files:
+# refused (exit 1, nothing written), unless --force.
+"$BVOX" demo -o "$tmp/out/sub" >/dev/null 2>&1 || fail "demo -o over its own output"
+mkdir "$tmp/mine"
+echo keep >"$tmp/mine/notes.txt"
+set +e
+"$BVOX" demo -o "$tmp/mine" >"$tmp/refused.out" 2>&1
+rc=$?
+set -e
+[ $rc -eq 1 ] || fail "demo -o into a foreign folder must exit 1 (got $rc)"
+[ "$(ls -A "$tmp/mine")" = "notes.txt" ] || fail "a refused demo wrote: $(ls -A "$tmp/mine")"
+grep -q "^bvox: " "$tmp/refused.out" || fail "no clear refusal: $(cat "$tmp/refused.out")"
+"$BVOX" demo -o "$tmp/mine" --force >/dev/null 2>&1 || fail "demo -o --force"
+[ -f "$tmp/mine/model.nii.gz" ] && [ "$(cat "$tmp/mine/notes.txt")" = keep ] || fail "--force"
 echo "ok"

@@ -143,6 +143,40 @@ set -e
 [ $rc -eq 1 ] && grep -q "no voxel has label 5" "$tmp/err" || fail "mesh --labels 5: $rc $(cat "$tmp/err")"
 [ ! -e "$tmp/m3" ] || fail "a folder was left behind"
 
+# One file, one coloured object per label: PLY (ascii) with the table's
+# colours on vertices and faces and a label per face; OBJ + MTL. Each object
+# is the label's closed surface (shared faces in both), so the file's volume
+# is the sum of the labels' voxel volumes: 124 + 1 + 12.
+"$BVOX" --quiet mesh "$tmp/lab.raw" --dims 12,10,9 --type u16 --labels all --lut "$tmp/itk.txt" \
+    --ascii -o "$tmp/all.ply" >"$tmp/o" || fail "mesh --labels all -o all.ply exited $?"
+grep -q "3 labels in one file" "$tmp/o" || fail "one-file summary: $(cat "$tmp/o")"
+python3 - "$tmp/all.ply" <<'PY' || fail "all.ply content"
+import sys
+lines = open(sys.argv[1]).read().split("\n")
+end = lines.index("end_header")
+head = lines[:end]
+assert "comment object 4_Cortex: " in "\n".join(head)
+nv = int([l for l in head if l.startswith("element vertex")][0].split()[2])
+body = lines[end + 1:]
+faces = [l.split() for l in body[nv:] if l]
+by_label = {}
+for f in faces:
+    by_label.setdefault(int(f[7]), set()).add(tuple(f[4:7]))
+# one colour per label: the table's for 4 and 9, bvox's palette for 300
+assert by_label[4] == {("255", "0", "0")}, by_label[4]
+assert by_label[9] == {("0", "255", "0")}, by_label[9]
+assert len(by_label[300]) == 1 and sorted(by_label) == [4, 9, 300]
+# label 9 (one voxel) is 12 triangles, and label 4 holds the same 12 faces
+# (its cavity) besides its outside
+assert sum(1 for f in faces if f[7] == "9") == 12
+PY
+"$BVOX" meshinfo "$tmp/all.ply" --json >"$tmp/mi" || fail "meshinfo all.ply"
+jcheck "$tmp/mi" 'near(o["volume"], 137)' || fail "volume of all.ply: $(cat "$tmp/mi")"
+"$BVOX" --quiet mesh "$tmp/lab.raw" --dims 12,10,9 --type u16 --labels 4,300 -o "$tmp/two.obj" \
+    >/dev/null || fail "-o two.obj"
+[ "$(grep -c '^o ' "$tmp/two.obj")" = 2 ] && grep -q '^mtllib two.mtl$' "$tmp/two.obj" &&
+    [ "$(grep -c '^Kd ' "$tmp/two.mtl")" = 2 ] || fail "two.obj/two.mtl"
+
 # Bad input: too many labels, float labels that are not integers, binary
 # formats, a missing table, bad command lines.
 set +e

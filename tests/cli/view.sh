@@ -11,7 +11,8 @@
 # and the saved model holds exactly the voxels the script left: the model cut
 # at z >= 31 minus the brush ball around the voxel the click picked, which
 # must be the first voxel under the click (computed here from the raw bytes,
-# and again with `bvox edit` + `bvox csg`). Also: usage errors (exit 2), no
+# and again with `bvox edit` + `bvox csg`). The desktop: a real resize and a
+# dropped file (SDL's drop event). Also: usage errors (exit 2), no
 # display (exit 1, clear message), a bad script (exit 1, its line), --bench.
 # Skipped (exit 77) only when xvfb-run is missing: scripts/install-deps.sh
 # installs it.
@@ -38,6 +39,8 @@ set +e
 "$BVOX" view >/dev/null 2>&1; [ $? -eq 2 ] || fail "view without MODEL must exit 2"
 "$BVOX" view --demo --offscreen >/dev/null 2>&1; [ $? -eq 2 ] || fail "--offscreen without --script must exit 2"
 "$BVOX" view --demo --size 10,10 >/dev/null 2>&1; [ $? -eq 2 ] || fail "--size 10,10 must exit 2"
+"$BVOX" view --demo --lut x.txt >/dev/null 2>&1; [ $? -eq 2 ] || fail "--lut without --labels must exit 2"
+"$BVOX" view --demo --labels >/dev/null 2>&1; [ $? -eq 2 ] || fail "--labels with --demo must exit 2"
 set -e
 
 # the model: a ball and a bar along +x (not symmetric, so a turn shows)
@@ -78,6 +81,14 @@ inx() { # inx NAME CMD...: stdout, stderr and status in $tmp/NAME.{out,err,rc}
     fi
     [ -s "$name.rc" ] || fail "xvfb-run did not run the viewer"
 }
+
+# --labels with a table that is not there: exit 1, one clear line, no window
+set +e
+(unset DISPLAY WAYLAND_DISPLAY; "$BVOX" view "$tmp/ball.nii" --labels --lut "$tmp/no-such-lut.txt" >"$tmp/lut.out" 2>&1)
+rc=$?
+set -e
+[ $rc -eq 1 ] || fail "--labels with a missing --lut must exit 1 (got $rc)"
+grep -q "^bvox: .*no-such-lut.txt" "$tmp/lut.out" || fail "no clear message for a missing table: $(cat "$tmp/lut.out")"
 
 # a bad script: exit 1 naming the line, before any window opens (no display here)
 printf 'key 5\njump 3 4\n' >"$tmp/bad.txt"
@@ -186,6 +197,42 @@ rc=$?
 set -e
 [ $rc -ne 3 ] || fail "goldens updated (BVOX_UPDATE_GOLDEN): this run fails on purpose"
 [ $rc -eq 0 ] || fail "the screenshots are not as expected"
+
+# the desktop: the window resized by the window system (the script asks it
+# for 400x300; the viewer follows the size event it sends) and a file
+# dropped on it (SDL's own drop event): the screenshots, read back from the
+# window, have the new size and equal the off-screen canvas; the dropped
+# model replaces the ball (logged, another silhouette).
+"$BVOX" csg "box(min=10,20,5, max=50,40,60)" --dims 64,64,64 -o "$tmp/other.nii" >/dev/null ||
+    fail "making the model to drop"
+printf 'screenshot d0.png\nresize 400 300\nscreenshot d1.png\ndrop %s\nscreenshot d2.png\nkey g\n' \
+    "$tmp/other.nii" >"$tmp/desk.txt"
+mkdir "$tmp/dwin" "$tmp/doff"
+(cd "$tmp/dwin" && inx desk "$BVOX" view "$tmp/ball.nii" --script "$tmp/desk.txt" --size 320,320)
+[ "$(cat "$tmp/desk.rc")" -eq 0 ] || fail "the desktop script failed in the window: $(cat "$tmp/desk.err")"
+(cd "$tmp/doff" && "$BVOX" view "$tmp/ball.nii" --script "$tmp/desk.txt" --size 320,320 \
+    --offscreen >log.txt 2>err.txt) || fail "the desktop script failed off screen: $(cat "$tmp/doff/err.txt")"
+ocount=$("$BVOX" info "$tmp/other.nii" | sed -n 's/^count: *\([0-9]*\) voxels.*/\1/p')
+grep -q "^view: opened $tmp/other.nii (64x64x64, $ocount voxels)$" "$tmp/desk.out" ||
+    fail "the drop did not open the file: $(cat "$tmp/desk.out")"
+python3 - "$pngtool" "$tmp/dwin" "$tmp/doff" <<'PY' || fail "the desktop screenshots"
+import json, subprocess, sys
+tool, win, off = sys.argv[1:4]
+def load(path):
+    g = json.loads(subprocess.check_output([sys.executable, tool, "read", path]))
+    return g["width"], g["height"], g["rows"]
+sizes = {}
+for k in ("d0", "d1", "d2"):
+    w = load("%s/%s.png" % (win, k))
+    assert w == load("%s/%s.png" % (off, k)), "window and canvas differ in " + k
+    sizes[k] = w[:2]
+assert sizes == {"d0": (320, 320), "d1": (400, 300), "d2": (400, 300)}, sizes
+# below the overlay: the ball and the box differ
+a, b = load("%s/d1.png" % win)[2], load("%s/d2.png" % win)[2]
+diff = sum(1 for y in range(80, 300) for x in range(400 * 3) if a[y][x] != b[y][x])
+assert diff > 3000, ("the dropped model looks like the old one", diff)
+print("desktop: resize and drop as expected")
+PY
 
 # the benchmark runs off screen and prints the rate
 "$BVOX" view "$tmp/ball.nii" --bench --frames 4 --size 128,128 >"$tmp/bench.txt" || fail "--bench"

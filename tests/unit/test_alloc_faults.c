@@ -276,6 +276,8 @@ TEST(binvox) { return format_case("v.binvox", NULL, 1); }
 TEST(tiff) { return format_case("v.tif", NULL, 1); }
 TEST(raw) { return format_case("v.raw", NULL, 1); }
 TEST(png_slices) { return format_case("slices", "png", 0); }
+TEST(metaimage) { return format_case("v.mha", NULL, 1); }
+TEST(nrrd_gzip) { return format_case("v.nrrd", NULL, 1); }
 TEST(zarr) { return format_case("v.zarr", NULL, 0); }
 
 static uint32_t *labels;

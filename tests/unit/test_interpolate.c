@@ -4,11 +4,14 @@
  * annotated slices unchanged; a box annotated on two slices is filled
  * exactly (equal shapes interpolate to themselves); an explicitly
  * annotated empty slice closes the shape; and AAL regions (realdata)
- * annotated on every 5th slice (1 mm voxels: 5 mm gaps): the left thalamus
- * (77), a compact nucleus, comes back with Dice >= 0.95. The thin folded
- * cortical regions do not (precentral gyrus 0.93, mean over the 116 regions
- * 0.879, measured when this was written): the mean is checked >= 0.87 as a
- * guard against regressions, not as a claim.
+ * annotated on every 5th slice (1 mm voxels: 5 mm gaps), the first slice of
+ * each region among the kept ones: the regions that come back with Dice >=
+ * 0.95 with the cubic blend along z, the left thalamus (77, 0.955) and the
+ * left cerebellum 9 (105, 0.9505; 0.948 with the linear blend), are checked
+ * at 0.95. The thin folded cortical regions are not (precentral gyrus 0.93;
+ * the mean over the 116 regions is 0.886, linear 0.879, measured when this
+ * was written): the mean is checked >= 0.88 as a guard against regressions,
+ * not as a claim.
  */
 #include "harness.h"
 
@@ -94,8 +97,8 @@ TEST(realdata_aal_region_every_fifth_slice)
 {
     bvox_labelset *set;
     CHECK_OK(bvox_labels_read("/usr/share/mricron/templates/aal.nii.gz", NULL, 0, &set));
-    const int64_t labels[] = {77}; /* thalamus L */
-    for (size_t k = 0; k < 1; k++) {
+    const int64_t labels[] = {77, 105}; /* thalamus L, cerebellum 9 L */
+    for (size_t k = 0; k < 2; k++) {
         int64_t i = bvox_labelset_find(set, labels[k]);
         CHECK(i >= 0);
         const bvox_volume *v = set->objects[i].volume;
@@ -120,7 +123,7 @@ TEST(realdata_aal_region_every_fifth_slice)
         bvox_volume_destroy(s);
     }
     fprintf(stderr, "mean Dice over %lld regions: %.4f\n", (long long)set->n, sum / set->n);
-    CHECK(sum / set->n >= 0.87);
+    CHECK(sum / set->n >= 0.88);
     bvox_labelset_destroy(set);
     return 0;
 }

@@ -257,6 +257,171 @@ TEST(touching_labels_share_faces)
     return 0;
 }
 
+/* A small label volume (blocks 1, 2, 3 touching, 5 apart) as a label set. */
+static bvox_labelset *block_labels(void)
+{
+    bvox_dims d = {9, 6, 5};
+    uint32_t lab[9 * 6 * 5] = {0};
+    for (int z = 1; z < 4; z++)
+        for (int y = 1; y < 5; y++)
+            for (int x = 0; x < 9; x++)
+                lab[(z * 6 + y) * 9 + x] = x < 3 ? 1 : x < 5 ? 2 : x < 7 ? 3 : (y > 2 ? 5 : 0);
+    bvox_volume *like;
+    if (bvox_volume_create(d, &like)) return NULL;
+    bvox_geometry g = bvox_geometry_default();
+    g.spacing[2] = 2.5;
+    g.origin[0] = -1.25;
+    bvox_volume_set_geometry(like, &g);
+    const char *path = harness_path("blocks.nii");
+    bvox_labelset *set = NULL;
+    if (!bvox_write_labels_nifti(path, like, lab)) bvox_labels_read(path, NULL, 0, &set);
+    bvox_volume_destroy(like);
+    return set;
+}
+
+/* The file's objects are the labels' own meshes (bitwise: %.17g text), in
+ * the given colours: the ascii PLY parsed by hand, face by face. */
+TEST(one_file_ply_objects_are_the_label_meshes)
+{
+    bvox_labelset *set = block_labels();
+    CHECK(set && set->n == 4);
+    int64_t idx[3] = {0, 1, 3}; /* labels 1, 2, 5 */
+    const char *names[3] = {"left", NULL, "far away"};
+    unsigned char rgb[9] = {255, 0, 0, 0, 255, 0, 1, 2, 3};
+    const char *path = harness_path("all.ply");
+    CHECK_OK(bvox_labelset_write_mesh_file(set, idx, 3, names, rgb, path, 1));
+    FILE *f = fopen(path, "r");
+    CHECK(f);
+    char line[512];
+    long long nv = -1, nf = -1;
+    int objects = 0;
+    while (fgets(line, sizeof line, f) && strcmp(line, "end_header\n")) {
+        sscanf(line, "element vertex %lld", &nv);
+        sscanf(line, "element face %lld", &nf);
+        objects += !strncmp(line, "comment object ", 15);
+    }
+    CHECK_EQ(objects, 3);
+    bvox_mesh *m[3];
+    long long tv = 0, tf = 0;
+    for (int i = 0; i < 3; i++) {
+        CHECK_OK(bvox_labelset_mesh(set, idx[i], &m[i]));
+        tv += m[i]->nvertices;
+        tf += m[i]->ntriangles;
+    }
+    CHECK_EQ(nv, tv);
+    CHECK_EQ(nf, tf);
+    double *v = malloc((size_t)nv * 3 * sizeof *v);
+    unsigned *vc = malloc((size_t)nv * 3 * sizeof *vc);
+    CHECK(v && vc);
+    for (long long i = 0; i < nv; i++)
+        CHECK(fscanf(f, "%lf %lf %lf %u %u %u", v + 3 * i, v + 3 * i + 1, v + 3 * i + 2,
+                     vc + 3 * i, vc + 3 * i + 1, vc + 3 * i + 2) == 6);
+    int obj = 0;
+    long long in_obj = 0, base = 0;
+    for (long long t = 0; t < nf; t++) {
+        int three;
+        long long a[3], label;
+        unsigned c[3];
+        CHECK(fscanf(f, "%d %lld %lld %lld %u %u %u %lld", &three, a, a + 1, a + 2, c, c + 1,
+                     c + 2, &label) == 8);
+        while (in_obj == m[obj]->ntriangles) { /* the next object */
+            base += m[obj]->nvertices;
+            obj++;
+            in_obj = 0;
+        }
+        CHECK_EQ(label, set->objects[idx[obj]].label);
+        for (int k = 0; k < 3; k++) CHECK_EQ(c[k], rgb[3 * obj + k]);
+        for (int k = 0; k < 3; k++) {
+            long long want = base + m[obj]->triangles[3 * in_obj + k];
+            CHECK_EQ(a[k], want);
+            for (int j = 0; j < 3; j++) {
+                CHECK(v[3 * a[k] + j] == m[obj]->vertices[3 * (want - base) + j]);
+                CHECK_EQ(vc[3 * a[k] + j], rgb[3 * obj + j]);
+            }
+        }
+        in_obj++;
+    }
+    CHECK(obj == 2 && in_obj == m[2]->ntriangles);
+    fclose(f);
+    free(v);
+    free(vc);
+    /* binary: the same counts through the mesh reader (colours read past) */
+    CHECK_OK(bvox_labelset_write_mesh_file(set, idx, 3, names, NULL, path, 0));
+    bvox_mesh *r;
+    CHECK_OK(bvox_mesh_read(path, NULL, &r));
+    CHECK_EQ(r->nvertices, tv);
+    CHECK_EQ(r->ntriangles, tf);
+    CHECK(r->vertices[0] == m[0]->vertices[0]);
+    bvox_mesh_destroy(r);
+    for (int i = 0; i < 3; i++) bvox_mesh_destroy(m[i]);
+    /* STL holds no colours: refused, nothing written */
+    CHECK_STATUS(bvox_labelset_write_mesh_file(set, idx, 3, NULL, NULL, harness_path("x.stl"), 0),
+                 BVOX_EINVAL);
+    CHECK(access(harness_path("x.stl"), F_OK) != 0);
+    bvox_labelset_destroy(set);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
+/* OBJ: an o/g/usemtl per label with its own vertices and faces, and the
+ * .mtl's Kd the given colour. */
+TEST(one_file_obj_with_materials)
+{
+    bvox_labelset *set = block_labels();
+    CHECK(set && set->n == 4);
+    int64_t idx[2] = {1, 2}; /* labels 2 and 3: they touch */
+    unsigned char rgb[6] = {255, 128, 0, 0, 0, 255};
+    const char *path = harness_path("two.obj");
+    CHECK_OK(bvox_labelset_write_mesh_file(set, idx, 2, NULL, rgb, path, 0));
+    FILE *f = fopen(path, "r");
+    CHECK(f);
+    char line[512];
+    int obj = -1, mtllib = 0;
+    long long nv[2] = {0, 0}, nf[2] = {0, 0};
+    while (fgets(line, sizeof line, f)) {
+        if (!strcmp(line, "mtllib two.mtl\n")) mtllib = 1;
+        if (!strncmp(line, "o ", 2)) {
+            obj++;
+            char want[64];
+            snprintf(want, sizeof want, "o %lld\n", (long long)set->objects[idx[obj]].label);
+            CHECK(!strcmp(line, want));
+        }
+        if (!strncmp(line, "usemtl ", 7)) {
+            char want[64];
+            snprintf(want, sizeof want, "usemtl label_%lld\n",
+                     (long long)set->objects[idx[obj]].label);
+            CHECK(!strcmp(line, want));
+        }
+        if (line[0] == 'v' && line[1] == ' ') nv[obj]++;
+        if (line[0] == 'f' && line[1] == ' ') nf[obj]++;
+    }
+    fclose(f);
+    CHECK(mtllib && obj == 1);
+    for (int i = 0; i < 2; i++) {
+        bvox_mesh *m;
+        CHECK_OK(bvox_labelset_mesh(set, idx[i], &m));
+        CHECK_EQ(nv[i], m->nvertices);
+        CHECK_EQ(nf[i], m->ntriangles);
+        bvox_mesh_destroy(m);
+    }
+    f = fopen(harness_path("two.mtl"), "r");
+    CHECK(f);
+    int kd = 0;
+    double r, g, b;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "Kd %lf %lf %lf", &r, &g, &b) == 3) {
+            CHECK_NEAR(r, rgb[3 * kd] / 255.0, 1e-6);
+            CHECK_NEAR(g, rgb[3 * kd + 1] / 255.0, 1e-6);
+            CHECK_NEAR(b, rgb[3 * kd + 2] / 255.0, 1e-6);
+            kd++;
+        }
+    fclose(f);
+    CHECK_EQ(kd, 2);
+    bvox_labelset_destroy(set);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
 TEST(realdata_aal_neighbours_share_faces)
 {
     bvox_labelset *set;

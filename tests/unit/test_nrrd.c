@@ -166,7 +166,14 @@ TEST(bad_headers)
         {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 3 2\n\n", BVOX_EFORMAT, "'encoding'"},
         {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 3 2\nencoding: ascii\n\n",
          BVOX_EUNSUPPORTED, "encoding 'ascii'"},
-        {"NRRD0004\ntype: uchar\ndimension: 4\n", BVOX_EUNSUPPORTED, "dimension 4"},
+        {"NRRD0004\ntype: uchar\ndimension: 5\n", BVOX_EUNSUPPORTED, "dimension 5"},
+        /* 4D only as segmentation layers: the first axis a list */
+        {"NRRD0004\ntype: uchar\ndimension: 4\nsizes: 2 2 2 2\n"
+         "kinds: domain domain domain domain\n",
+         BVOX_EUNSUPPORTED, "segmentation layers"},
+        {"NRRD0004\ntype: float\ndimension: 4\nsizes: 2 1 1 1\nkinds: list domain domain "
+         "domain\nencoding: raw\n\n01234567",
+         BVOX_EUNSUPPORTED, "layered segmentation of f32"},
         {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 0 2\n", BVOX_EFORMAT, "sizes"},
         {"NRRD0004\ntype: block\n", BVOX_EUNSUPPORTED, "type 'block'"},
         {"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 3 2\nencoding: gzip\n\nnot gzip",
@@ -189,5 +196,130 @@ TEST(bad_headers)
         }
         CHECK_EQ(bvox_memory_in_use(), 0);
     }
+    return 0;
+}
+
+/* A header and samples in one buffer (malloc'ed). */
+static uint8_t *with_data(const char *hdr, const uint8_t *v, size_t n, size_t *size)
+{
+    size_t hn = strlen(hdr);
+    uint8_t *buf = malloc(hn + n);
+    if (!buf) return NULL;
+    memcpy(buf, hdr, hn);
+    memcpy(buf + hn, v, n);
+    *size = hn + n;
+    return buf;
+}
+
+/* Slicer's .seg.nrrd with one layer: the label values are the labels, the
+ * segments' names and colours the table. */
+TEST(seg_nrrd_segments_as_labels)
+{
+    const char *hdr = "NRRD0004\ntype: unsigned char\ndimension: 3\n"
+                      "space: left-posterior-superior\nsizes: 4 3 2\n"
+                      "space directions: (1,0,0) (0,1,0) (0,0,2)\nkinds: domain domain domain\n"
+                      "encoding: raw\nspace origin: (0,0,0)\n"
+                      "Segment0_Color:=1 0 0\nSegment0_ID:=Segment_1\n"
+                      "Segment0_LabelValue:=1\nSegment0_Layer:=0\nSegment0_Name:=Liver\n"
+                      "Segment1_Color:=0 0.5 1\nSegment1_LabelValue:=7\nSegment1_Layer:=0\n"
+                      "Segment1_Name:=Left kidney\n"
+                      "Segmentation_MasterRepresentation:=Binary labelmap\n\n";
+    uint8_t v[24] = {0};
+    v[0] = v[1] = v[2] = 1;          /* 3 voxels of Liver */
+    v[12] = v[13] = v[14] = v[15] = 7; /* 4 of Left kidney */
+    size_t n;
+    uint8_t *buf = with_data(hdr, v, 24, &n);
+    CHECK(buf);
+    bvox_labelset *set;
+    CHECK_OK(bvox_labels_read_memory(buf, n, "s.seg.nrrd", NULL, 0, &set));
+    CHECK_EQ(set->n, 2);
+    CHECK(set->objects[0].label == 1 && set->objects[0].count == 3);
+    CHECK(set->objects[1].label == 7 && set->objects[1].count == 4);
+    bvox_labelset_destroy(set);
+    bvox_label_table *t;
+    CHECK_OK(bvox_label_table_parse((const char *)buf, n, "s.seg.nrrd", &t));
+    CHECK_EQ(t->n, 2);
+    const bvox_label_entry *e = bvox_label_table_find(t, 1);
+    CHECK(e && !strcmp(e->name, "Liver") && e->has_color && e->rgba[0] == 255 && e->rgba[1] == 0);
+    e = bvox_label_table_find(t, 7);
+    CHECK(e && !strcmp(e->name, "Left kidney") && e->rgba[1] == 128 && e->rgba[2] == 255);
+    bvox_label_table_destroy(t);
+    free(buf);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
+/* Overlapping segments in two layers (a 4D file, the layer axis first):
+ * each segment becomes label N + 1; a voxel in two keeps the later one. */
+TEST(seg_nrrd_segments_as_bit_layers)
+{
+    const char *hdr = "NRRD0004\ntype: unsigned char\ndimension: 4\n"
+                      "space: left-posterior-superior\nsizes: 2 4 3 2\n"
+                      "space directions: none (0.5,0,0) (0,0.5,0) (0,0,3)\n"
+                      "kinds: list domain domain domain\nencoding: gzip\n"
+                      "space origin: (1,2,3)\n"
+                      "Segment0_LabelValue:=1\nSegment0_Layer:=0\nSegment0_Name:=skin\n"
+                      "Segment1_LabelValue:=2\nSegment1_Layer:=0\nSegment1_Name:=bone\n"
+                      "Segment2_LabelValue:=1\nSegment2_Layer:=1\nSegment2_Name:=tumour\n"
+                      "Segment2_Color:=0 1 0\n\n";
+    uint8_t v[48] = {0}; /* v[2 * voxel + layer] */
+    for (int i = 0; i < 6; i++) v[2 * i] = 1;      /* voxels 0..5: skin */
+    for (int i = 6; i < 10; i++) v[2 * i] = 2;     /* 6..9: bone */
+    for (int i = 4; i < 8; i++) v[2 * i + 1] = 1;  /* 4..7: tumour, over skin and bone */
+    const char *path = harness_path("layers.seg.nrrd");
+    CHECK_OK(write_file(path, hdr, strlen(hdr), NULL, 0, 0));
+    { /* the samples gzip-encoded after the plain header */
+        bvox__sink s;
+        CHECK_OK(bvox__sink_open(path, 0, &s));
+        CHECK_OK(bvox__sink_write(&s, hdr, strlen(hdr)));
+        CHECK_OK(bvox__sink_compress(&s, 1));
+        CHECK_OK(bvox__sink_write(&s, v, sizeof v));
+        CHECK_OK(bvox__sink_commit(&s));
+    }
+    bvox_labelset *set;
+    CHECK_OK(bvox_labels_read(path, NULL, 0, &set));
+    CHECK_EQ(set->n, 3);
+    CHECK(set->objects[0].label == 1 && set->objects[0].count == 4); /* skin 0..3 */
+    CHECK(set->objects[1].label == 2 && set->objects[1].count == 2); /* bone 8, 9 */
+    CHECK(set->objects[2].label == 3 && set->objects[2].count == 4); /* tumour 4..7 */
+    CHECK_NEAR(set->geometry.spacing[2], 3, 1e-12);
+    CHECK_NEAR(set->geometry.origin[0], -1, 1e-12);
+    CHECK_EQ(set->dims.nx, 4);
+    bvox_labelset_destroy(set);
+    bvox_label_table *t;
+    CHECK_OK(bvox_label_table_read(path, &t));
+    const bvox_label_entry *e = bvox_label_table_find(t, 3);
+    CHECK(e && !strcmp(e->name, "tumour") && e->rgba[1] == 255);
+    e = bvox_label_table_find(t, 2);
+    CHECK(e && !strcmp(e->name, "bone") && !e->has_color);
+    bvox_label_table_destroy(t);
+    /* as a binary volume: every voxel of any segment */
+    bvox_volume *vol;
+    CHECK_OK(bvox_read(path, NULL, &vol));
+    CHECK_EQ(bvox_volume_count(vol), 10);
+    bvox_volume_destroy(vol);
+    /* Slicer before 4.11: one 0/1 layer per segment, no LabelValue/Layer keys */
+    const char *old = "NRRD0004\ntype: uchar\ndimension: 4\nsizes: 2 4 3 2\n"
+                      "kinds: list domain domain domain\nencoding: raw\n"
+                      "Segment0_Name:=a\nSegment1_Name:=b\n\n";
+    uint8_t w[48] = {0};
+    w[0] = 1;          /* voxel 0 in a */
+    w[3] = w[5] = 1;   /* voxels 1, 2 in b */
+    size_t n;
+    uint8_t *buf = with_data(old, w, 48, &n);
+    CHECK(buf);
+    CHECK_OK(bvox_labels_read_memory(buf, n, "old.seg.nrrd", NULL, 0, &set));
+    CHECK(set->n == 2 && set->objects[0].count == 1 && set->objects[1].count == 2);
+    bvox_labelset_destroy(set);
+    free(buf);
+    /* float layers are refused clearly */
+    const char *fl = "NRRD0004\ntype: float\ndimension: 4\nsizes: 2 4 3 2\n"
+                     "kinds: list domain domain domain\nencoding: raw\n\n";
+    float fz[48] = {0};
+    buf = with_data(fl, (const uint8_t *)fz, sizeof fz, &n);
+    CHECK(buf);
+    CHECK_STATUS(bvox_labels_read_memory(buf, n, "f.seg.nrrd", NULL, 0, &set), BVOX_EUNSUPPORTED);
+    free(buf);
+    CHECK_EQ(bvox_memory_in_use(), 0);
     return 0;
 }

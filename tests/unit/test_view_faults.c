@@ -1,8 +1,9 @@
 /*
  * test_view_faults.c — the out-of-memory sweep of test_alloc_faults.c over
  * the viewer's core (viewer/ allocates through the same seam): opening a
- * state, drawing every layout and shading, an edit with its undo, and
- * parsing a script, each with allocation n failed for n = 1, 2, ... until
+ * state, drawing every layout and shading, an edit with its undo, parsing
+ * a script, and the desktop (a resize, the selection's volume, a dropped
+ * model replacing the old one, a label volume in colours), each with allocation n failed for n = 1, 2, ... until
  * it succeeds. A failure must be a clean BVOX_ENOMEM that leaves nothing
  * allocated (ASan's leak check) and nothing budgeted.
  */
@@ -88,6 +89,47 @@ static int sweep(const char *what, bvox_status (*op)(void))
     }
     return 1;
 }
+
+/* Resize, count the selection, replace the model, show labels. */
+static bvox_status desktop(void)
+{
+    bvox_volume *v = torus();
+    if (!v) return BVOX_ENOMEM;
+    vw_state *s = NULL;
+    bvox_status st = vw_open(v, 120, 100, &s);
+    if (st) return st;
+    st = vw_resize(s, 150, 90);
+    if (!st) st = vw_render(s);
+    s->sel_n = 2;
+    s->sel[0][0] = 2, s->sel[0][1] = 3, s->sel[0][2] = 10;
+    s->sel[1][0] = 20, s->sel[1][1] = 20, s->sel[1][2] = 60;
+    int64_t count = 0;
+    double vol;
+    if (!st) st = vw_selection_volume(s, &count, &vol);
+    if (!st && count <= 0) st = (bvox_status)-1000;
+    bvox_volume *w = torus();
+    if (!st) st = w ? vw_replace_model(s, w) : BVOX_ENOMEM; /* w is taken over either way */
+    else bvox_volume_destroy(w);
+    /* a label volume of two labels on the torus's grid */
+    static uint8_t raw[30 * 26 * 70];
+    for (size_t i = 0; i < sizeof raw; i++) raw[i] = (uint8_t)(i % 30 < 10 ? 0 : i % 30 < 20 ? 4 : 9);
+    bvox_read_opts o = BVOX_READ_OPTS_INIT;
+    o.format = "raw";
+    o.raw_dims = (bvox_dims){30, 26, 70};
+    o.raw_dtype = BVOX_DT_U8;
+    bvox_labelset *set = NULL;
+    bvox_volume *m = NULL;
+    if (!st) st = bvox_labels_read_memory(raw, sizeof raw, "l.raw", &o, 0, &set);
+    if (!st) st = vw_labels_model(set, &m);
+    if (!st) st = vw_replace_model(s, m);
+    if (!st) st = vw_set_labels(s, set, NULL);
+    if (!st) st = vw_render(s);
+    bvox_labelset_destroy(set);
+    vw_close(s);
+    return st;
+}
+
+TEST(desktop) { return sweep("desktop", desktop); }
 
 TEST(session)
 {
