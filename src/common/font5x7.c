@@ -7,8 +7,8 @@
  * hinting and anti-aliasing change between versions and font packages), no
  * font file has to be found at run time, and a scale-bar label needs 12
  * characters, not typography. Drawn at an integer scale it stays sharp. The
- * glyphs are the classic 5x7 LCD set (the viewer's overlay uses the same
- * set, viewer/font.c): 5 columns a glyph, bit 0 the top row.
+ * glyphs are the classic 5x7 LCD set (the viewer's overlay draws the same
+ * ones, through bvox__font_glyph): 5 columns a glyph, bit 0 the top row.
  */
 #include "common/font5x7.h"
 
@@ -110,6 +110,11 @@ static const uint8_t glyphs[95][5] = {
     {0x08, 0x04, 0x08, 0x10, 0x08}, /* ~ */
 };
 
+const uint8_t *bvox__font_glyph(unsigned char c)
+{
+    return glyphs[c >= 32 && c < 127 ? c - 32u : '?' - 32u];
+}
+
 /* Cells are 6 x 9 pixels at scale 1 (one column and two rows of spacing). */
 int32_t bvox__text_width(const char *text, int scale)
 {
@@ -123,10 +128,10 @@ void bvox__text_draw(bvox_image *img, int32_t x, int32_t y, int scale, const cha
 {
     const int ch = img->channels;
     for (const unsigned char *t = (const unsigned char *)text; *t; t++, x += 6 * scale) {
-        unsigned g = *t >= 32 && *t < 127 ? *t - 32u : '?' - 32u;
+        const uint8_t *glyph = bvox__font_glyph(*t);
         for (int col = 0; col < 5; col++)
             for (int row = 0; row < 7; row++) {
-                if (!(glyphs[g][col] >> row & 1)) continue;
+                if (!(glyph[col] >> row & 1)) continue;
                 for (int a = 0; a < scale; a++)
                     for (int b = 0; b < scale; b++) {
                         int32_t px = x + col * scale + b, py = y + row * scale + a;

@@ -10,6 +10,9 @@
 /* Cell height at scale 1 (7 rows of glyph, 2 of spacing). */
 #define BVOX_FONT_CELL_H 9
 
+/* The 5 column bytes of c's glyph (bit 0 the top row); '?' for a
+ * character outside printable ASCII. The viewer's overlay draws these too. */
+const uint8_t *bvox__font_glyph(unsigned char c);
 /* Width in pixels of text drawn at scale (no trailing spacing). */
 int32_t bvox__text_width(const char *text, int scale);
 /* Draw text (ASCII; others show as '?') with its top left at (x, y), in rgb
