@@ -3,19 +3,31 @@
  * image operations, cut and depth-cue options into a bvox_render_opts and
  * make one library call (bvox_render, bvox_render_sheet or
  * bvox_render_turntable); --depth also writes the pre-image's depth map
- * (bvox_preimage_depth_map) as a 16-bit PNG.
+ * (bvox_preimage_depth_map) as a 16-bit PNG. Several inputs (one grid) or
+ * --labels go to bvox_render_objects / bvox_render_labels, each object in
+ * its --color (issue 18 item 2, issue 19 item 4).
  */
 #include "args.h"
 #include "cli.h"
 #include "manip.h"
 #include "opts.h"
+#include "common/color.h"
 #include "common/names.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+
+#define MAX_COLORS 256
 
 typedef struct render_args {
-    const char *in, *out, *depth;
+    cli_list ins;
+    const char *out, *depth;
+    /* --- issue 18 item 2: colours and annotations --- */
+    uint8_t colors[MAX_COLORS][3];
+    int ncolors, labels;
+    const char *background, *lut;
     bvox_render_opts o;
     cli_plane cut;
     int keep, sheet; /* keep: -1 not given, 0 above, 1 below */
@@ -29,6 +41,7 @@ static int take_view(const char *cmd, const cli_opt *o, const char *v, void *tar
 static int take_shade(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_size(const char *cmd, const cli_opt *o, const char *v, void *target);
 static int take_stereo(const char *cmd, const cli_opt *o, const char *v, void *target);
+static int take_colors(const char *cmd, const cli_opt *o, const char *v, void *target);
 
 static const char *const shades[] = {"depth", "binary", "gradient", "binary+depth", "smooth",
                                      "binary-preimage", "enlarged-gradient", NULL};
@@ -107,11 +120,35 @@ static const cli_opt render_opts[] = {
      "the entry face for an axis view, in pixel units from the front of the fitting sphere for "
      "a projection",
      A(depth)},
+    /* --- issue 18 item 2, issue 19 item 4: colours and annotations --- */
+    {"--color", 0, CLI_STR, "C[,C...]",
+     "the object's colour (a name: red, green, blue, orange, ... or #rrggbb), the shading "
+     "modulating it and the cut face in a lighter tone of it; with several IN, one colour per "
+     "volume in order",
+     .offset = 0, .size = sizeof(render_args), .fn = take_colors}, /* target: the args */
+    {"--background", 0, CLI_STR, "C", "the background: a colour, or transparent (an RGBA PNG)",
+     A(background)},
+    {"--scale-bar", 0, CLI_FLAG, NULL,
+     "a scale bar, lower left: a round length (1, 2 or 5 x 10^k of the volume's unit) near a "
+     "fifth of the width, labelled",
+     A(o.scale_bar)},
+    {"--axes", 0, CLI_FLAG, NULL,
+     "an x/y/z triad, lower right, turned as the view (x red, y green, z blue)", A(o.axes)},
+    {"--title", 0, CLI_STR, "TEXT", "a line of text at the top (ASCII)", A(o.title)},
+    {"--labels", 0, CLI_FLAG, NULL,
+     "IN is a label volume: every label in its colour (from --lut, else a palette of distinct "
+     "hues)",
+     A(labels)},
+    {"--lut", 0, CLI_PATH, "FILE",
+     "with --labels: the label table giving the colours (FreeSurfer LUT, ITK-SNAP, Slicer, "
+     "AAL)",
+     A(lut)},
     {NULL},
 };
 static const cli_group render_group = {"Options", render_opts, NULL};
 static const cli_pos render_pos[] = {
-    {"IN", "the volume to render", A(in)},
+    {"IN...", "the volume to render; several (one grid) for one picture of them all",
+     A(ins), .many = 1},
     {NULL},
 };
 
@@ -130,7 +167,11 @@ const cli_spec cli_spec_render = {
                 "  bvox render embryo.nii.gz -o half.png --view 30,20 --cut 1,0,0,-1.2 --keep below\n"
                 "  bvox render embryo.nii.gz -o spin.gif --view iso --turntable 36\n"
                 "  bvox render embryo.nii.gz -o pub.png --view iso --shade smooth --ao --shadows "
-                "--supersample 2\n",
+                "--supersample 2\n"
+                "  bvox render a.nii b.nii --color red,#00ff88 --view iso --scale-bar --axes "
+                "-o both.png\n"
+                "  bvox render atlas.nii --labels --lut atlas.txt --view iso --background white "
+                "-o atlas.png\n",
 };
 
 /* "a,b,...": exactly n finite numbers. */
@@ -184,6 +225,36 @@ static int take_stereo(const char *cmd, const cli_opt *o, const char *v, void *t
     return CLI_OPT_OK;
 }
 
+/* "red,#00ff88,...": up to MAX_COLORS colours into the args' list. The
+ * option has no target field (offset 0 is the list): target is the args. */
+static int take_colors(const char *cmd, const cli_opt *o, const char *v, void *target)
+{
+    (void)o;
+    render_args *a = target;
+    a->ncolors = 0;
+    const char *p = v;
+    for (;;) {
+        const char *comma = strchr(p, ',');
+        size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        char one[32];
+        if (len == 0 || len >= sizeof one || a->ncolors == MAX_COLORS) {
+            cli_usage_error(cmd, "--color: '%s' is not a list of colours (names: %s; or #rrggbb)",
+                            v, bvox__color_names());
+            return CLI_OPT_FAILED;
+        }
+        memcpy(one, p, len);
+        one[len] = '\0';
+        if (bvox__color_parse(one, a->colors[a->ncolors])) {
+            cli_usage_error(cmd, "--color: '%s' is not a colour (names: %s; or #rrggbb)", one,
+                            bvox__color_names());
+            return CLI_OPT_FAILED;
+        }
+        a->ncolors++;
+        if (!comma) return CLI_OPT_OK;
+        p = comma + 1;
+    }
+}
+
 static int write_depth(const bvox_preimage *pre, const char *path)
 {
     bvox_image *d = NULL;
@@ -193,21 +264,55 @@ static int write_depth(const bvox_preimage *pre, const char *path)
     return st ? cli_fail() : CLI_OK;
 }
 
-int cmd_render(int argc, char **argv)
+/* Several inputs, or a label volume: one picture of all their objects. */
+static bvox_status render_many(render_args *a, const bvox_render_opts *o, bvox_image **img)
+{
+    const int n = a->ins.n;
+    bvox_status st = BVOX_OK;
+    if (a->labels) {
+        bvox_labelset *set = NULL;
+        bvox_label_table *table = NULL;
+        if (cli_labels_load(a->ins.items[0], &a->ra, a->lut, 0, &set, &table)) return BVOX_EINVAL;
+        st = bvox_render_labels(set, table, o, img);
+        bvox_labelset_destroy(set);
+        bvox_label_table_destroy(table);
+        return st;
+    }
+    bvox_volume **vols = calloc((size_t)n, sizeof *vols);
+    uint8_t(*colors)[3] = calloc((size_t)n, sizeof *colors);
+    if (!vols || !colors) {
+        free(vols);
+        free(colors);
+        return BVOX_ENOMEM;
+    }
+    /* no --color: a palette that tells the objects apart on black or white */
+    static const uint8_t fallback[6][3] = {{230, 60, 60},  {60, 200, 110}, {70, 130, 240},
+                                          {240, 180, 40}, {200, 90, 220}, {40, 200, 210}};
+    for (int k = 0; k < n; k++)
+        memcpy(colors[k], a->ncolors ? a->colors[k] : fallback[k % 6], 3);
+    for (int k = 0; k < n && !st; k++)
+        if (cli_read_volume(a->ins.items[k], &a->ra, &vols[k])) st = BVOX_EINVAL;
+    if (!st) st = bvox_render_objects((const bvox_volume *const *)vols, (const uint8_t(*)[3])colors,
+                                      n, o, img);
+    for (int k = 0; k < n; k++) bvox_volume_destroy(vols[k]);
+    free(vols);
+    free(colors);
+    return st;
+}
+
+static int render_main(render_args *a)
 {
     const char *cmd = "render";
-    render_args a = {.o = bvox_render_opts_default(), .keep = -1};
-    cli_read_args_init(&a.ra);
-    CLI_PARSE_OR_RETURN(&cli_spec_render, argc, argv, &a);
-    const char *in = a.in, *out = a.out, *depth = a.depth;
-    bvox_render_opts o = a.o;
-    int keep_given = a.keep >= 0, sheet = a.sheet;
-    int64_t turntable = a.turntable;
-    if (a.cut.given) {
-        memcpy(o.plane, a.cut.p, sizeof o.plane);
+    const char *in = a->ins.n ? a->ins.items[0] : NULL, *out = a->out, *depth = a->depth;
+    bvox_render_opts o = a->o;
+    int keep_given = a->keep >= 0, sheet = a->sheet;
+    int64_t turntable = a->turntable;
+    const int many = a->ins.n > 1 || a->labels;
+    if (a->cut.given) {
+        memcpy(o.plane, a->cut.p, sizeof o.plane);
         o.cut = 1;
     }
-    if (keep_given) o.keep_above = a.keep == 0;
+    if (keep_given) o.keep_above = a->keep == 0;
     if (!in) return cli_usage_error(cmd, "needs IN");
     if (!out || !*out) return cli_usage_error(cmd, "needs -o OUT.png");
     if (keep_given && !o.cut) return cli_usage_error(cmd, "--keep needs --cut");
@@ -221,11 +326,59 @@ int cmd_render(int argc, char **argv)
     if (!bvox__ends_with_ci(out, ".png") && !(turntable && bvox__ends_with_ci(out, ".gif")))
         return cli_usage_error(cmd, "%s: the output must end in .png%s", out,
                                turntable ? " or .gif" : "");
+    /* --- issue 18 item 2: colours and annotations --- */
+    if (a->labels && a->ins.n > 1) return cli_usage_error(cmd, "--labels takes one IN");
+    /* a stray word after IN (a flag's value given to a flag) stays a usage
+     * error, as it was when render took one IN */
+    for (int k = 1; k < a->ins.n; k++) {
+        struct stat sb;
+        if (stat(a->ins.items[k], &sb))
+            return cli_usage_error(cmd, "'%s' is not an option or a file to render",
+                                   a->ins.items[k]);
+    }
+    if (a->lut && !a->labels) return cli_usage_error(cmd, "--lut needs --labels");
+    if (a->labels && a->ncolors) return cli_usage_error(cmd, "--labels takes its colours from --lut, not --color");
+    if (a->ncolors > 1 && a->ncolors != a->ins.n)
+        return cli_usage_error(cmd, "--color: %d colours for %d volumes", a->ncolors, a->ins.n);
+    if (a->ncolors == 1 && !many) {
+        o.color_set = 1;
+        memcpy(o.color, a->colors[0], 3);
+    }
+    if (a->background) {
+        if (!strcmp(a->background, "transparent")) o.transparent = 1;
+        else if (bvox__color_parse(a->background, o.background))
+            return cli_usage_error(cmd, "--background: '%s' is not a colour or transparent "
+                                        "(names: %s; or #rrggbb)",
+                                   a->background, bvox__color_names());
+    }
+    if (o.title)
+        for (const unsigned char *t = (const unsigned char *)o.title; *t; t++)
+            if (*t < 32 || *t > 126)
+                return cli_usage_error(cmd, "--title: only printable ASCII can be drawn");
+    if (o.title && strlen(o.title) > 200)
+        return cli_usage_error(cmd, "--title: at most 200 characters");
+    if ((o.scale_bar || o.axes || o.title) && (turntable || sheet))
+        return cli_usage_error(cmd, "--scale-bar, --axes and --title need a single picture (no "
+                                    "--turntable, --sheet)");
+    if (o.transparent && turntable)
+        return cli_usage_error(cmd, "--background transparent: a turntable has no alpha");
+    if (o.transparent && o.stereo == BVOX_STEREO_ANAGLYPH)
+        return cli_usage_error(cmd, "--background transparent: an anaglyph has no alpha");
+    if (many && (turntable || sheet || depth))
+        return cli_usage_error(cmd, "several volumes or --labels make a single picture (no "
+                                    "--turntable, --sheet, --depth)");
 
-    bvox_volume *vol = NULL;
-    if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();
     bvox_status st;
     int rc = CLI_OK;
+    if (many) {
+        bvox_image *img = NULL;
+        st = render_many(a, &o, &img);
+        if (!st) st = bvox_image_write_png(img, out);
+        bvox_image_destroy(img);
+        return st ? cli_fail() : CLI_OK;
+    }
+    bvox_volume *vol = NULL;
+    if (cli_read_volume(in, &a->ra, &vol)) return cli_fail();
     if (turntable) {
         st = bvox_render_turntable(vol, &o, (int)turntable, out);
     } else if (sheet) {
@@ -245,4 +398,23 @@ int cmd_render(int argc, char **argv)
     bvox_volume_destroy(vol);
     if (st) return cli_fail();
     return rc;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_args a = {.o = bvox_render_opts_default(), .keep = -1};
+    cli_read_args_init(&a.ra);
+    a.ins.items = calloc((size_t)argc + 1, sizeof *a.ins.items);
+    if (!a.ins.items) {
+        fprintf(stderr, "bvox: out of memory\n");
+        return CLI_FAIL;
+    }
+    int r = cli_parse(&cli_spec_render, argc, argv, &a);
+    if (r != CLI_PARSED) {
+        free(a.ins.items);
+        return r == CLI_PARSE_HELP ? CLI_OK : CLI_USAGE;
+    }
+    r = render_main(&a);
+    free(a.ins.items);
+    return r;
 }

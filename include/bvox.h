@@ -740,12 +740,13 @@ BVOX_API const bvox_label_entry *bvox_label_table_find(const bvox_label_table *t
  * thread-safe on distinct outputs; inputs are only read. */
 
 /* An image: 8-bit (pixels) or 16-bit (pixels16, native byte order) samples,
- * 1 (gray) or 3 (RGB, interleaved) channels, row-major, top row first, rows
+ * 1 (gray), 3 (RGB, interleaved) or 4 (RGBA, straight alpha: bvox_render's
+ * transparent background) channels, row-major, top row first, rows
  * not padded. Made and released by the library (bvox_image_destroy); samples
  * may be written, the other fields must not be changed. */
 typedef struct bvox_image {
     int32_t width, height;
-    int32_t channels;   /* 1 or 3 */
+    int32_t channels;   /* 1, 3 or 4 */
     int32_t bits;       /* 8 or 16 */
     uint8_t *pixels;    /* bits 8: width*height*channels samples; else NULL */
     uint16_t *pixels16; /* bits 16: width*height*channels samples; else NULL */
@@ -753,14 +754,14 @@ typedef struct bvox_image {
 
 #define BVOX_IMAGE_MAX_DIM (1 << 20)
 
-/* A zero image. width, height in 1..BVOX_IMAGE_MAX_DIM, channels 1 or 3, bits
+/* A zero image. width, height in 1..BVOX_IMAGE_MAX_DIM, channels 1, 3 or 4, bits
  * 8 or 16 (else BVOX_EINVAL); BVOX_ETOOBIG/BVOX_ENOMEM over the budget. */
 BVOX_API bvox_status bvox_image_create(int32_t width, int32_t height, int32_t channels,
                                        int32_t bits,
                                        bvox_image **out);
 BVOX_API void bvox_image_destroy(bvox_image *img);
 BVOX_API bvox_status bvox_image_copy(const bvox_image *img, bvox_image **out);
-/* Write as PNG (8/16-bit gray or RGB) through a temporary file renamed on
+/* Write as PNG (8/16-bit gray, RGB or RGBA) through a temporary file renamed on
  * success: a failure leaves no partial file. */
 BVOX_API bvox_status bvox_image_write_png(const bvox_image *img, const char *path);
 /* Read a PNG: gray or RGB, 8 or 16 bits as stored (low bit depths expanded to
@@ -1231,6 +1232,22 @@ typedef struct bvox_render_opts {
                                  smooth normal: the direct light removed */
     int supersample;          /* 0 or 1: none; 2..4: cast N x N rays a pixel and average
                                  them (antialiased edges); makes an axis view a projection */
+    /* --- issue 18 item 2: colours, background and annotations (bvox_render,
+     * bvox_render_objects, bvox_render_labels; the sheet and turntable take
+     * the colours and background, not the annotations) --- */
+    int color_set;            /* 1: the object in `color`: each pixel's shade * color / 255,
+                                 and the cut face in a lighter tone of it (not cut_color) */
+    uint8_t color[3];
+    uint8_t background[3];    /* the background's colour (default black); any non-black
+                                 background, colour or annotation makes the image RGB */
+    int transparent;          /* 1: RGBA, the background fully transparent (alpha 0), the
+                                 object opaque, supersampled edges partly so */
+    int scale_bar;            /* 1: a scale bar, lower left: a round length (1, 2 or 5 x
+                                 10^k of the volume's unit) near 1/5 of the width, labelled */
+    int axes;                 /* 1: an x/y/z triad, lower right, turned as the view (red,
+                                 green, blue), labelled */
+    const char *title;        /* a line of text centred at the top (printable ASCII), or
+                                 NULL; borrowed for the call */
 } bvox_render_opts;
 /* +z axis view, binary+depth shading, BVOX_LIGHT_INIT, BVOX_DEPTH_SHADING_INIT,
  * zoom 1, no filter, no cut (keep above, tint 255, 176, 96), no stereo (3 degrees). */
@@ -1248,6 +1265,21 @@ BVOX_API bvox_status bvox_render_parse_view(const char *text, bvox_render_opts *
 BVOX_API bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts,
                                  bvox_image **out,
                                  bvox_preimage **pre);
+/* Several objects in one picture, composited by depth (issue 18): vols[0..n-1]
+ * (1..256) must share one grid (dimensions and voxel size: BVOX_EINVAL
+ * otherwise); their union is cast once, so the nearest object hides the
+ * others, and each pixel takes the colour colors[k] of the first volume k
+ * holding its hit voxel, shaded as bvox_render shades one object. opts as for
+ * bvox_render (its color is not used). *out owned by the caller. */
+BVOX_API bvox_status bvox_render_objects(const bvox_volume *const *vols, const uint8_t (*colors)[3],
+                                         int n, const bvox_render_opts *opts, bvox_image **out);
+/* A label volume in colours: every object of set, each in its colour from
+ * table (entries with has_color), else from a fixed palette of distinct hues
+ * (label k's hue is k times the golden angle: deterministic, neighbours
+ * differ). table may be NULL. BVOX_EINVAL for an empty set. */
+BVOX_API bvox_status bvox_render_labels(const bvox_labelset *set, const bvox_label_table *table,
+                                        const bvox_render_opts *opts, bvox_image **out);
+
 /* The depth map for files: 16-bit, 0 for background, else depth + 1 (depth
  * in steps from the entry face along the view: voxels for an axis view,
  * pixel units from the front of the fitting sphere for a projection),

@@ -203,6 +203,13 @@ typedef struct bvox_render_opts {
     int ao;
     int shadows;
     int supersample;
+    int color_set;
+    uint8_t color[3];
+    uint8_t background[3];
+    int transparent;
+    int scale_bar;
+    int axes;
+    const char *title;
 } bvox_render_opts;
 typedef struct bvox_csg_eval_opts {
     bvox_dims dims;

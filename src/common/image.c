@@ -18,7 +18,7 @@ bvox_status bvox__image_check(const bvox_image *img, const char *what)
 {
     if (!img) return bvox__fail(BVOX_EINVAL, "%s: no image", what);
     if (img->width < 1 || img->height < 1 || img->width > BVOX_IMAGE_MAX_DIM ||
-        img->height > BVOX_IMAGE_MAX_DIM || (img->channels != 1 && img->channels != 3) ||
+        img->height > BVOX_IMAGE_MAX_DIM || (img->channels != 1 && img->channels != 3 && img->channels != 4) ||
         (img->bits == 8 ? !img->pixels : img->bits == 16 ? !img->pixels16 : 1))
         return bvox__fail(BVOX_EINVAL, "%s: not a valid image", what);
     return BVOX_OK;
@@ -31,8 +31,8 @@ bvox_status bvox_image_create(int32_t width, int32_t height, int32_t channels, i
     if (width < 1 || height < 1 || width > BVOX_IMAGE_MAX_DIM || height > BVOX_IMAGE_MAX_DIM)
         return bvox__fail(BVOX_EINVAL, "image size %d x %d is outside 1..%d", (int)width,
                           (int)height, BVOX_IMAGE_MAX_DIM);
-    if (channels != 1 && channels != 3)
-        return bvox__fail(BVOX_EINVAL, "an image has 1 or 3 channels, not %d", (int)channels);
+    if (channels != 1 && channels != 3 && channels != 4) /* 4: RGBA (issue 18, transparent) */
+        return bvox__fail(BVOX_EINVAL, "an image has 1, 3 or 4 channels, not %d", (int)channels);
     if (bits != 8 && bits != 16)
         return bvox__fail(BVOX_EINVAL, "an image has 8 or 16 bits per sample, not %d",
                           (int)bits);

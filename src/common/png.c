@@ -134,7 +134,9 @@ static bvox_status encode_with(png_ctx *c, uint32_t w, uint32_t h, const void *p
         return bvox__fail(BVOX_EIO, "%s: %s", name, c->msg);
     }
     png_set_write_fn(png, c, write_cb, flush_cb);
-    const int color = o->channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY;
+    const int color = o->channels == 4   ? PNG_COLOR_TYPE_RGB_ALPHA
+                      : o->channels == 3 ? PNG_COLOR_TYPE_RGB
+                                         : PNG_COLOR_TYPE_GRAY;
     png_set_IHDR(png, pi, w, h, o->bits, color, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
     if (o->ppm[0]) png_set_pHYs(png, pi, o->ppm[0], o->ppm[1], PNG_RESOLUTION_METER);

@@ -47,7 +47,8 @@ const char *bvox__image_broken(const bvox_image *img)
     if (img->width < 1 || img->height < 1 || img->width > BVOX_IMAGE_MAX_DIM ||
         img->height > BVOX_IMAGE_MAX_DIM)
         return "image size out of range";
-    if (img->channels != 1 && img->channels != 3) return "image channels not 1 or 3";
+    if (img->channels != 1 && img->channels != 3 && img->channels != 4)
+        return "image channels not 1, 3 or 4";
     if (img->bits == 8) return img->pixels && !img->pixels16 ? NULL : "8-bit image samples wrong";
     if (img->bits == 16) return img->pixels16 && !img->pixels ? NULL : "16-bit image samples wrong";
     return "image bits not 8 or 16";

@@ -112,39 +112,94 @@ static int axis_cut_face(const bvox__scene *sc, bvox_view view, int32_t c, int32
     return bvox_volume_get(sc->orig, q[0], q[1], q[2]);
 }
 
-/* Turn the gray image into RGB with the cut face lit flat by the plane's
- * normal and tinted. */
+/* The voxel hit at pixel (c, r), depth d, of a cast of vol: exact for an
+ * axis view; for a projection (depth known to a pixel unit) the voxel whose
+ * centre is nearest a point half a step behind the entry point, else the
+ * first 1-voxel among its 26 neighbours. 0 if none is found. */
+static int hit_voxel(const bvox_volume *vol, const bvox_preimage *p, int axis_cast, bvox_view view,
+                     int32_t c, int32_t r, int32_t d, int32_t q[3])
+{
+    const int32_t n[3] = {vol->nx, vol->ny, vol->nz};
+    if (axis_cast) {
+        const int axis = (int)view / 2, dir = (int)view % 2 ? -1 : 1;
+        const int cu = axis == 0 ? 1 : 0, cv = axis == 2 ? 1 : 2;
+        q[cu] = c, q[cv] = r;
+        q[axis] = dir > 0 ? d : n[axis] - 1 - d;
+        return 1;
+    }
+    int32_t g[3];
+    for (int a = 0; a < 3; a++) {
+        double x = p->origin[a] + c * p->pixel_size[0] * p->eye[a] +
+                   r * p->pixel_size[1] * p->eye[3 + a] + (d + 0.5) * p->depth_step * p->eye[6 + a];
+        g[a] = (int32_t)floor(x / p->spacing[a] + 0.5);
+    }
+    for (int k = 0; k < 27; k++) { /* the guess first (k = 13 is the centre) */
+        int kk = k == 0 ? 13 : k == 13 ? 0 : k;
+        for (int a = 0; a < 3; a++) q[a] = g[a] + (a == 0 ? kk / 9 : a == 1 ? kk / 3 % 3 : kk % 3) - 1;
+        if (q[0] >= 0 && q[1] >= 0 && q[2] >= 0 && q[0] < n[0] && q[1] < n[1] && q[2] < n[2] &&
+            bvox_volume_get(vol, q[0], q[1], q[2]))
+            return 1;
+    }
+    return 0;
+}
+
+/* Turn the gray image into RGB (RGBA when transparent): the background in
+ * its colour, the object's shades times its colour (per object through
+ * colour_at), the cut face lit flat by the plane's normal and tinted: the
+ * fixed cut_color for a plain object, a lighter tone of the object's colour
+ * when colours were asked (so a cut organ stays recognisable). */
 static bvox_status mark_cut(const bvox__scene *sc, const bvox_preimage *p, const bvox_render_opts *o,
                             int axis_cast, bvox_image **img)
 {
     bvox_image *rgb;
-    bvox_status st = bvox_image_create(p->width, p->height, 3, 8, &rgb);
+    const int nch = o->transparent ? 4 : 3;
+    bvox_status st = bvox_image_create(p->width, p->height, nch, 8, &rgb);
     if (st) return st;
+    const int coloured = o->color_set || sc->colour_at;
     /* the cut face's normal in the eye frame, facing the viewer */
-    double nrm[3], l[3];
-    bvox__cut_normal_eye(p, sc->m, nrm);
+    double nrm[3] = {0, 0, -1}, l[3];
+    if (sc->cut) bvox__cut_normal_eye(p, sc->m, nrm);
     /* projections: the plane oriented so that the kept side is >= 0 */
     const double ks = sc->opts->keep_above ? 1.0 : -1.0;
     const double mk[3] = {ks * sc->m[0], ks * sc->m[1], ks * sc->m[2]};
     bvox__cut_test test;
-    bvox__cut_test_init(&test, mk, ks * sc->e, p);
+    memset(&test, 0, sizeof test);
+    if (sc->cut) bvox__cut_test_init(&test, mk, ks * sc->e, p);
     bvox_light light = o->light;
     double k = light.depth_cue > 0 ? light.depth_cue : 0.5;
     if (o->shade == BVOX_SHADE_BINARY_DEPTH) light.depth_cue = 0;
     bvox__light_dir(&light, l);
-    const uint8_t *tint = sc->opts->cut_color;
+    const uint8_t white[3] = {255, 255, 255};
     const uint8_t *gray = (*img)->pixels;
     for (int32_t r = 0; r < p->height; r++)
         for (int32_t c = 0; c < p->width; c++) {
             size_t i = (size_t)r * (size_t)p->width + (size_t)c;
-            uint8_t *dst = rgb->pixels + 3 * i;
+            uint8_t *dst = rgb->pixels + (size_t)nch * i;
             int32_t d = p->depth[i];
-            int cut = d >= 0 && (axis_cast ? axis_cut_face(sc, o->view, c, r, d)
-                                           : bvox__cut_test_at(&test, p, c, r, d));
-            if (!cut) {
-                dst[0] = dst[1] = dst[2] = gray[i];
+            if (d < 0) {
+                /* a black background keeps the shading's own (the light's) */
+                const int bg = o->background[0] | o->background[1] | o->background[2];
+                for (int ch = 0; ch < 3; ch++)
+                    dst[ch] = o->transparent ? 0 : bg ? o->background[ch] : gray[i];
+                if (nch == 4) dst[3] = 0;
                 continue;
             }
+            if (nch == 4) dst[3] = 255;
+            const uint8_t *col = o->color_set ? o->color : white;
+            uint8_t own[3];
+            int32_t q[3];
+            if (sc->colour_at && hit_voxel(sc->vol, p, axis_cast, o->view, c, r, d, q) &&
+                sc->colour_at(sc->colour_ctx, q[0], q[1], q[2], own))
+                col = own;
+            int cut = sc->cut && (axis_cast ? axis_cut_face(sc, o->view, c, r, d)
+                                            : bvox__cut_test_at(&test, p, c, r, d));
+            if (!cut) {
+                for (int ch = 0; ch < 3; ch++) dst[ch] = (uint8_t)((gray[i] * col[ch] + 127) / 255);
+                continue;
+            }
+            uint8_t tint[3];
+            for (int ch = 0; ch < 3; ch++)
+                tint[ch] = coloured ? (uint8_t)(col[ch] + (255 - col[ch]) * 2 / 5) : sc->opts->cut_color[ch];
             double v = gray[i];
             if (o->shade != BVOX_SHADE_DEPTH) {
                 v = bvox__phong(&light, l, nrm, BVOX_CODE_CUE(p->code[i]));
@@ -217,7 +272,8 @@ bvox_status bvox__scene_render_one(bvox__scene *sc, const bvox_render_opts *o, b
     st = shade(sc, p, o, &img);
     /* the enlarged pre-image's pixels are no voxel columns: the plane test */
     const int axis_face = axis_cast && o->shade != BVOX_SHADE_ENLARGED_GRADIENT;
-    if (!st && sc->cut) st = mark_cut(sc, p, o, axis_face, &img);
+    if (!st && (sc->cut || sc->colour_at || bvox__render_wants_colour(o)))
+        st = mark_cut(sc, p, o, axis_face, &img);
     if (!st && (o->ao || o->shadows))
         st = bvox__apply_depth_cues(sc->vol, p, &o->light, o->smooth_radius, o->ao, o->shadows, img);
     if (!st && ss > 1) {
@@ -306,20 +362,42 @@ bvox_status bvox__scene_render(bvox__scene *sc, const bvox_render_opts *o, bvox_
     return st;
 }
 
-bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts, bvox_image **out,
-                        bvox_preimage **pre)
+bvox_status bvox__render_coloured(const bvox_volume *vol, const bvox_render_opts *opts,
+                                  int (*colour_at)(const void *, int32_t, int32_t, int32_t,
+                                                   uint8_t[3]),
+                                  const void *ctx, bvox_image **out, bvox_preimage **pre)
 {
-    BVOX_CHECK_VOLUME(vol);
     *out = NULL;
     if (pre) *pre = NULL;
     bvox__scene sc;
     bvox_status st = bvox__scene_open(vol, opts, &sc);
     if (st) return st;
+    sc.colour_at = colour_at;
+    sc.colour_ctx = ctx;
     bvox__clear_error();
-    st = bvox__scene_render(&sc, opts, out, pre);
+    /* the annotations need the pre-image (its pixel size) */
+    const int note = opts->scale_bar || opts->axes || opts->title;
+    bvox_preimage *p = NULL;
+    st = bvox__scene_render(&sc, opts, out, pre || note ? &p : NULL);
     bvox__scene_close(&sc);
-    if (!st) BVOX_CHECK_IMAGE(*out);
-    return st;
+    if (!st && note) st = bvox__annotate(opts, p, vol->geom.unit, out);
+    if (st) {
+        bvox_image_destroy(*out);
+        *out = NULL;
+        bvox_preimage_destroy(p);
+        return st;
+    }
+    BVOX_CHECK_IMAGE(*out);
+    if (pre) *pre = p;
+    else bvox_preimage_destroy(p);
+    return BVOX_OK;
+}
+
+bvox_status bvox_render(const bvox_volume *vol, const bvox_render_opts *opts, bvox_image **out,
+                        bvox_preimage **pre)
+{
+    BVOX_CHECK_VOLUME(vol);
+    return bvox__render_coloured(vol, opts, NULL, NULL, out, pre);
 }
 
 bvox_status bvox_preimage_depth_map(const bvox_preimage *pre, bvox_image **out)

@@ -74,6 +74,10 @@ bvox_status bvox__render_opts_check(const bvox_render_opts *o)
         return bvox__fail(BVOX_EINVAL, "render: supersample %d is outside 1..4", o->supersample);
     if ((o->ao != 0 && o->ao != 1) || (o->shadows != 0 && o->shadows != 1))
         return bvox__fail(BVOX_EINVAL, "render: ao and shadows are 0 or 1");
+    if (o->transparent && o->stereo == BVOX_STEREO_ANAGLYPH)
+        return bvox__fail(BVOX_EINVAL, "render: an anaglyph cannot have a transparent background");
+    if (o->title && strlen(o->title) > 200)
+        return bvox__fail(BVOX_EINVAL, "render: a title of more than 200 characters");
     bvox_status st = bvox__light_check(&o->light);
     if (st) return st;
     if (o->cut) {

@@ -23,6 +23,11 @@ typedef struct bvox__scene {
     /* The cut plane in the casting frame p: f(p) = m . p + e, kept where
      * keep_sign * f >= 0 (above), or < 0 (below). */
     double m[3], e;
+    /* Per-object colours (bvox_render_objects, bvox_render_labels): the
+     * colour of voxel (x, y, z), 0 when no object holds it (then the
+     * default colour). NULL: one object. */
+    int (*colour_at)(const void *ctx, int32_t x, int32_t y, int32_t z, uint8_t rgb[3]);
+    const void *colour_ctx;
 } bvox__scene;
 
 /* Validate opts, make the cut copy if asked. On failure nothing is held. */
@@ -50,5 +55,21 @@ void bvox__frame_turn(double f[9], double deg);
 /* Checks of opts shared by the entry points (not the light or depth tables,
  * which the shading checks). */
 bvox_status bvox__render_opts_check(const bvox_render_opts *o);
+
+/* bvox_render with per-object colours (colour_at as in bvox__scene; NULL:
+ * one object) and the annotations. */
+bvox_status bvox__render_coloured(const bvox_volume *vol, const bvox_render_opts *opts,
+                                  int (*colour_at)(const void *, int32_t, int32_t, int32_t,
+                                                   uint8_t[3]),
+                                  const void *ctx, bvox_image **out, bvox_preimage **pre);
+
+/* ---- annotate.c ---- */
+/* Whether o asks for a colour image (colour, background, transparency or
+ * annotations). */
+int bvox__render_wants_colour(const bvox_render_opts *o);
+/* Draw o's scale bar, axes and title on img (made RGB first if gray). pre:
+ * the (left eye's) pre-image of the picture, for the pixel size. */
+bvox_status bvox__annotate(const bvox_render_opts *o, const bvox_preimage *pre,
+                           const char *unit, bvox_image **img);
 
 #endif

@@ -73,7 +73,7 @@ bvox_status bvox__apply_depth_cues(const bvox_volume *vol, const bvox_preimage *
     if (!st) {
         double l[3];
         bvox__light_dir(light, l);
-        const int ch = img->channels;
+        const int ch = img->channels, nc = ch == 4 ? 3 : ch; /* alpha is coverage, not light */
         for (int32_t y = 0; y < pre->height; y++)
             for (int32_t x = 0; x < pre->width; x++) {
                 size_t i = (size_t)y * (size_t)pre->width + (size_t)x;
@@ -86,7 +86,7 @@ bvox_status bvox__apply_depth_cues(const bvox_volume *vol, const bvox_preimage *
                     if (nl > 0 && light->ambient + light->diffuse * nl > 0)
                         k *= light->ambient / (light->ambient + light->diffuse * nl);
                 }
-                for (int c = 0; c < ch; c++) {
+                for (int c = 0; c < nc; c++) {
                     uint8_t *v = img->pixels + (size_t)ch * i + (size_t)c;
                     *v = (uint8_t)(*v * k + 0.5);
                 }

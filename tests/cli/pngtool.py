@@ -42,8 +42,8 @@ def read_png(path):
         elif kind == b"IDAT":
             idat += body
     w, h, depth, ctype, _, _, interlace = hdr
-    assert interlace == 0 and depth in (8, 16) and ctype in (0, 2), hdr
-    ch = 1 if ctype == 0 else 3
+    assert interlace == 0 and depth in (8, 16) and ctype in (0, 2, 6), hdr
+    ch = {0: 1, 2: 3, 6: 4}[ctype]  # 6: RGBA (render --background transparent)
     bpp = ch * depth // 8
     raw = zlib.decompress(idat)
     stride = w * bpp

@@ -163,7 +163,7 @@ usage "$t" -o "$tmp/x.png" --depth "$tmp/d2.tif"
 usage "$t" -o "$tmp/x.png" --sheet --stereo anaglyph
 usage "$t" -o "$tmp/x.png" --sheet --turntable 2
 usage "$t" -o "$tmp/x.png" --bogus
-usage "$t" "$t" -o "$tmp/x.png"
+usage "$t" stray -o "$tmp/x.png" # a word that is no file (several IN: render_annotate.sh)
 [ ! -e "$tmp/x.png" ] && [ ! -e "$tmp/d2.png" ] || fail "a usage error wrote output"
 
 # failures: exit 1, no output
