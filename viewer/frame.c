@@ -203,7 +203,12 @@ static void make_codes(vw_state *s)
     bvox_preimage p;
     pane_preimage(s, &p);
     bvox_shade_opts o = shade_opts(s);
+    s->fast_codes = o.mode == BVOX_SHADE_SMOOTH && s->view_drag && s->coarse_ms > 0 &&
+                    s->last_smooth_ms > s->coarse_ms;
+    if (s->fast_codes) o.mode = BVOX_SHADE_GRADIENT;
+    double t = vw_now();
     report_failure(s, bvox_shade_codes_volume(displayed(s), &p, &o, s->view3d.code), "shading");
+    if (o.mode == BVOX_SHADE_SMOOTH) s->last_smooth_ms = (vw_now() - t) * 1e3;
 }
 
 /* The colour of every code (the light, the depth curve, the tint). */

@@ -288,12 +288,14 @@ void vw_handle(vw_state *s, const vw_event *ev)
         switch (s->drag_mode) {
         case DRAG_ROTATE:
             if (s->coarse_ms > 0 && s->last_full_cast_ms > s->coarse_ms) s->coarse = 1;
+            s->view_drag = 1;
             vw_trackball(s->R, s->last_x - rects[0].x, s->last_y - rects[0].y, ev->x - rects[0].x,
                          ev->y - rects[0].y, rects[0].w, rects[0].h);
             s->need_cast = 1;
             break;
         case DRAG_PAN:
             if (s->coarse_ms > 0 && s->last_full_cast_ms > s->coarse_ms) s->coarse = 1;
+            s->view_drag = 1;
             s->pan[0] += dx;
             s->pan[1] += dy;
             s->need_cast = 1;
@@ -341,6 +343,8 @@ void vw_handle(vw_state *s, const vw_event *ev)
             s->coarse = 0;
             s->need_cast = 1;
         }
+        s->view_drag = 0;
+        if (s->fast_codes) s->need_code = 1; /* the smooth codes again */
         s->drag_mode = DRAG_NONE;
         s->drag_button = 0;
         break;

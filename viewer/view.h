@@ -146,6 +146,14 @@ typedef struct vw_state {
      * again on release */
     int coarse;
     double coarse_ms, last_full_cast_ms;
+    /* the same for the smooth mode's codes (a normal per hit voxel from its
+     * neighbourhood: slower than the cast on a large view): while the view
+     * is dragged they are made from the depth map (the gradient mode, the
+     * same 64 x 64 bins and table) when the last smooth codes took longer
+     * than coarse_ms, and the smooth ones again on release */
+    int view_drag;           /* a turn or pan drag is under way */
+    int fast_codes;          /* the pane shows those stand-in codes */
+    double last_smooth_ms;
     /* canvas */
     int width, height;
     uint8_t *rgb;            /* width*height*3 */
