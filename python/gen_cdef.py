@@ -61,6 +61,8 @@ bvox_reconstruct
 bvox_set_progress bvox_set_progress_interval""".split()
 # bvox.dask: measure sums part by part (bvox/parts.h)
 FUNCS += "bvox_measure_part bvox_measure_from_sums".split()
+# bvox.render_objects: several volumes in one picture
+FUNCS += ["bvox_render_objects"]
 
 
 def generate():

@@ -23,10 +23,10 @@ from ._lib import (Canceled, Error, FormatError, InvalidArgument, IOFailure, Not
                    TooBig, Unsupported, check, cstr, ffi, lib)
 from ._mesh import mesh_info, read_mesh, voxelize, write_mesh
 from ._recon import Contours, read_contours, reconstruct
-from ._render import render, write_png
+from ._render import render, render_objects, write_png
 from ._volume import Volume, _binarize
 
-__all__ = ["Canceled", "Volume", "Contours", "read_contours", "reconstruct", "read", "csg", "demo", "render", "write_png", "voxelize", "read_mesh",
+__all__ = ["Canceled", "Volume", "Contours", "read_contours", "reconstruct", "read", "csg", "demo", "render", "render_objects", "write_png", "voxelize", "read_mesh",
            "write_mesh", "mesh_info", "Error", "InvalidArgument", "OutOfMemory", "IOFailure",
            "FormatError", "TooBig", "NotFound", "Unsupported", "version", "memory_in_use",
            "memory_budget", "set_memory_budget", "threads", "set_threads", "library_path"]

@@ -248,6 +248,36 @@ def test_render_smooth_shading():
         v.render("iso", shade="smooth", supersample=9)
 
 
+def test_render_colours_background_and_objects():
+    v = bvox.Volume((32, 32, 32))
+    v.draw("sphere", radius=10)
+    gray = v.render("+z")[..., 0].astype(int)
+    red = v.render("+z", color="#ff0000")
+    # shading times the colour: red carries the gray, green and blue are 0
+    assert np.abs(red[..., 0].astype(int) - gray).max() <= 1
+    assert red[..., 1].max() == 0 and red[..., 2].max() == 0
+    clear = v.render("+z", background="transparent")
+    assert clear.shape == (32, 32, 4)
+    assert clear[0, 0, 3] == 0 and clear[16, 16, 3] == 255
+    white = v.render("+z", background=(255, 255, 255))
+    assert tuple(white[0, 0]) == (255, 255, 255)
+    # two objects of one grid: each pixel in the colour of the nearer one
+    ma, mb = np.zeros((32, 32, 32), bool), np.zeros((32, 32, 32), bool)
+    ma[2:14, 2:30, 2:30] = True  # [x, y, z]
+    mb[18:30, 2:30, 2:30] = True
+    a, b = bvox.Volume.from_numpy(ma), bvox.Volume.from_numpy(mb)
+    both = bvox.render_objects([a, b], ["#00ff00", (0, 0, 255)], "+z")
+    assert both[16, 8, 1] > 0 and both[16, 8, 2] == 0  # a: green (row y, column x)
+    assert both[16, 24, 2] > 0 and both[16, 24, 1] == 0  # b: blue
+    titled = v.render("iso", width=96, height=96, title="bvox", scale_bar=True, axes=True)
+    assert titled.shape == (96, 96, 3)
+    assert not np.array_equal(titled, v.render("iso", width=96, height=96))
+    with pytest.raises(ValueError, match="colour"):
+        v.render("+z", color="reddish")
+    with pytest.raises(ValueError, match="one colour per volume"):
+        bvox.render_objects([a, b], ["#fff"])
+
+
 def test_measure_components_match_each_alone(rng):
     a = random_mask(rng, (14, 12, 66), 0.2)
     v = bvox.Volume.from_numpy(a, spacing=(1, 1, 2), unit="um")
