@@ -85,6 +85,43 @@ int harness_golden_update(const bvox_image *img, const char *name)
     return 1;
 }
 
+int harness_golden_compare(bvox_image *img, const char *name, double max_mean, int max_worst)
+{
+    char path[160];
+    snprintf(path, sizeof path, "golden/%s.png", name);
+    if (harness_golden_update(img, path)) {
+        bvox_image_destroy(img);
+        return 1;
+    }
+    bvox_image *gold = NULL;
+    int rc = 1;
+    if (bvox_image_read_png(harness_golden_path(path), &gold)) {
+        fprintf(stderr, "golden %s: %s\n", path, bvox_errmsg());
+    } else if (gold->width != img->width || gold->height != img->height ||
+               gold->channels != img->channels || gold->bits != 8 || img->bits != 8) {
+        fprintf(stderr, "golden %s: %d x %d x %d, the picture %d x %d x %d\n", path,
+                gold->width, gold->height, gold->channels, img->width, img->height,
+                img->channels);
+    } else {
+        size_t n = (size_t)gold->width * gold->height * gold->channels;
+        double sum = 0;
+        int worst = 0;
+        for (size_t i = 0; i < n; i++) {
+            int d = abs((int)gold->pixels[i] - (int)img->pixels[i]);
+            sum += d;
+            worst = d > worst ? d : worst;
+        }
+        fprintf(stderr, "%s: mean absolute difference %.4f, largest %d\n", name,
+                sum / (double)n, worst);
+        rc = sum / (double)n <= max_mean && worst <= max_worst ? 0 : 1;
+        if (rc) fprintf(stderr, "golden %s: more than %g mean or %d largest\n", path, max_mean,
+                        max_worst);
+    }
+    bvox_image_destroy(gold);
+    bvox_image_destroy(img);
+    return rc;
+}
+
 static void remove_tree(const char *path)
 {
     char cmd[1200];

@@ -39,6 +39,11 @@ const char *harness_data_dir(void);
  * also returns 1. */
 const char *harness_golden_path(const char *name);
 int harness_golden_update(const bvox_image *img, const char *name);
+/* Compare img with golden NAME (golden/NAME.png) pixel by pixel: same size
+ * and channels, mean absolute difference at most max_mean and no sample off
+ * by more than max_worst (a moved edge or letter fails). Destroys img. 0 when
+ * it matches; 1 (said on stderr) when not, or in update mode (see above). */
+int harness_golden_compare(bvox_image *img, const char *name, double max_mean, int max_worst);
 
 #define TEST(name)                                                                     \
     static int test_##name(void);                                                      \

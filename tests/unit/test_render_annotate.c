@@ -279,31 +279,7 @@ TEST(cut_face_in_lighter_colour)
  * and fails (harness.h). */
 static int compare_golden(bvox_image *img, const char *name)
 {
-    char path[96];
-    snprintf(path, sizeof path, "golden/%s.png", name);
-    if (harness_golden_update(img, path)) {
-        bvox_image_destroy(img);
-        return 1;
-    }
-    bvox_image *gold;
-    CHECK_OK(bvox_image_read_png(harness_golden_path(path), &gold));
-    CHECK_EQ(gold->width, img->width);
-    CHECK_EQ(gold->height, img->height);
-    CHECK_EQ(gold->channels, img->channels);
-    size_t n = (size_t)gold->width * gold->height * gold->channels;
-    double sum = 0;
-    int worst = 0;
-    for (size_t i = 0; i < n; i++) {
-        int d = abs((int)gold->pixels[i] - (int)img->pixels[i]);
-        sum += d;
-        worst = d > worst ? d : worst;
-    }
-    fprintf(stderr, "%s: mean absolute difference %.4f, largest %d\n", name, sum / (double)n, worst);
-    CHECK(sum / (double)n <= 1.0);
-    CHECK(worst <= 24);
-    bvox_image_destroy(gold);
-    bvox_image_destroy(img);
-    return 0;
+    return harness_golden_compare(img, name, 1.0, 24);
 }
 
 static bvox_render_opts iso_opts(void)

@@ -325,31 +325,7 @@ static int golden_lit(const char *name, bvox_shade_mode mode, int ao, int shadow
     bvox_volume_destroy(v);
     CHECK_EQ(img->width, want_w);
     CHECK_EQ(img->channels, 1);
-    char path[96];
-    snprintf(path, sizeof path, "golden/%s.png", name);
-    if (harness_golden_update(img, path)) {
-        bvox_image_destroy(img);
-        return 1;
-    }
-    bvox_image *gold;
-    CHECK_OK(bvox_image_read_png(harness_golden_path(path), &gold));
-    CHECK_EQ(gold->width, img->width);
-    CHECK_EQ(gold->height, img->height);
-    CHECK_EQ(gold->channels, img->channels);
-    size_t n = (size_t)gold->width * gold->height * gold->channels;
-    double sum = 0;
-    int worst = 0;
-    for (size_t i = 0; i < n; i++) {
-        int d = abs((int)gold->pixels[i] - (int)img->pixels[i]);
-        sum += d;
-        worst = d > worst ? d : worst;
-    }
-    fprintf(stderr, "%s: mean absolute difference %.4f, largest %d\n", name, sum / (double)n, worst);
-    CHECK(sum / (double)n <= 1.0);
-    CHECK(worst <= 24);
-    bvox_image_destroy(gold);
-    bvox_image_destroy(img);
-    return 0;
+    return harness_golden_compare(img, name, 1.0, 24);
 }
 
 TEST(golden_smooth) { return golden("shade_smooth", BVOX_SHADE_SMOOTH, 0, 0, 0, 128); }
