@@ -11,10 +11,19 @@ line per step: seconds, voxels per second, voxels per second per worker.
         /usr/bin/python3 bench/bench_dask.py --size 512 --chunks 128 --workers 2
     ... --quick        # 96^3, and every answer checked against the in-memory one
     ... --no-mesh      # skip the mesh step
+    ... --zarr DIR.zarr --chunks 256 --steps count,components,measure
+                       # an existing OME-Zarr (bench_scale --keep writes one;
+                       # level 0 is read), its storage chunks grouped into
+                       # dask chunks of 256^3; only the steps named. Each
+                       # line then also gives the peak resident memory of
+                       # every process (client, workers), and a first step
+                       # "read" times reading and decompressing every chunk
+                       # with no compute (the other steps include it).
 """
 import argparse
 import json
 import os
+import resource
 import shutil
 import sys
 import tempfile
@@ -56,6 +65,10 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--no-mesh", action="store_true", help="skip the mesh (its weld runs on "
                     "the client and holds every triangle)")
+    ap.add_argument("--zarr", help="an existing OME-Zarr group or array to read instead of "
+                    "writing the specimen")
+    ap.add_argument("--steps", default="count,measure,components,dilate,csg,mesh",
+                    help="comma-separated steps to run (with --zarr: read is added first)")
     args = ap.parse_args()
     if args.quick:
         args.size, args.chunks = 96, 37
@@ -81,46 +94,80 @@ def main():
         client = distributed.Client(cluster)
         workers = args.workers
     n, c = args.size, args.chunks
-    vox = n ** 3
+    steps = set(args.steps.split(","))
     work = tempfile.mkdtemp(prefix="bench_dask.", dir=args.dir)
     path = os.path.join(work, "specimen.zarr")
+    if args.zarr:  # an existing group: its level 0, or an array
+        path = args.zarr
+        if os.path.exists(os.path.join(path, "0", ".zarray")):
+            path = os.path.join(path, "0")
+        n = zarr.open(path, mode="r").shape[0]
+    vox = n ** 3
+
+    def peaks():
+        """Peak resident memory (MiB) of the client and of each worker."""
+        def mib():
+            return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        w = client.run(mib)
+        return {"peak_rss_mib_client": round(mib(), 1),
+                "peak_rss_mib_workers": [round(v, 1) for v in w.values()]}
 
     def line(step, seconds, **extra):
         d = {"bench": "dask", "step": step, "size": n, "chunks": c, "workers": workers,
              "seconds": round(seconds, 3), "voxels_per_s": vox / seconds,
              "voxels_per_s_per_worker": vox / seconds / workers}
         d.update(extra)
+        if args.zarr:
+            d.update(peaks())
         print(json.dumps(d), flush=True)
 
-    try:
-        t = time.perf_counter()
-        spec = da.map_blocks(specimen_block, chunks=((c,) * (n // c) + ((n % c,) if n % c else ()),) * 3,
-                             dtype=np.uint8)
-        z = zarr.open(path, mode="w", shape=(n, n, n), chunks=(c, c, c), dtype="u1")
-        da.store(spec, z, lock=False)
-        line("write (generate + zarr)", time.perf_counter() - t)
-        a = da.from_zarr(path)
+    def read_only(block):
+        return np.full((1, 1, 1), block.dtype.itemsize, dtype=np.int64)
 
-        t = time.perf_counter()
-        count = bd.count(a)
-        line("count", time.perf_counter() - t, count=count)
-        t = time.perf_counter()
-        m = bd.measure(a)
-        line("measure", time.perf_counter() - t, euler=m["euler"],
-             components=m["components"], cavities=m["cavities"])
-        t = time.perf_counter()
-        labels, ncomp = bd.components(a, conn=26)
-        t1 = time.perf_counter()
-        line("components (26): n", t1 - t, n=ncomp)
-        largest = int((labels == 1).sum().compute())
-        line("components (26): labels", time.perf_counter() - t1, largest=largest)
-        t = time.perf_counter()
-        dil = int(bd.dilate(a, 26).sum().compute())
-        line("dilate (26)", time.perf_counter() - t, count=dil)
-        t = time.perf_counter()
-        diff = int(bd.csg(a, bd.erode(a, 6), "-").sum().compute())
-        line("csg a - erode(a)", time.perf_counter() - t, count=diff)
-        if not args.no_mesh:
+    try:
+        if args.zarr:
+            a = da.from_zarr(path, chunks=(c, c, c))
+            t = time.perf_counter()
+            per = a.map_blocks(read_only, chunks=tuple((1,) * len(k) for k in a.chunks),
+                               dtype=np.int64)
+            per.sum().compute()
+            line("read (chunk files + decompress, no compute)", time.perf_counter() - t)
+        else:
+            t = time.perf_counter()
+            spec = da.map_blocks(specimen_block,
+                                 chunks=((c,) * (n // c) + ((n % c,) if n % c else ()),) * 3,
+                                 dtype=np.uint8)
+            z = zarr.open(path, mode="w", shape=(n, n, n), chunks=(c, c, c), dtype="u1")
+            da.store(spec, z, lock=False)
+            line("write (generate + zarr)", time.perf_counter() - t)
+            a = da.from_zarr(path)
+
+        if "count" in steps:
+            t = time.perf_counter()
+            count = bd.count(a)
+            line("count", time.perf_counter() - t, count=count)
+        if "components" in steps:
+            t = time.perf_counter()
+            labels, ncomp = bd.components(a, conn=26)
+            t1 = time.perf_counter()
+            line("components (26): n", t1 - t, n=ncomp)
+            largest = int((labels == 1).sum().compute())
+            line("components (26): labels", time.perf_counter() - t1, largest=largest)
+            del labels
+        if "measure" in steps:
+            t = time.perf_counter()
+            m = bd.measure(a)
+            line("measure", time.perf_counter() - t, euler=m["euler"],
+                 components=m["components"], cavities=m["cavities"])
+        if "dilate" in steps:
+            t = time.perf_counter()
+            dil = int(bd.dilate(a, 26).sum().compute())
+            line("dilate (26)", time.perf_counter() - t, count=dil)
+        if "csg" in steps:
+            t = time.perf_counter()
+            diff = int(bd.csg(a, bd.erode(a, 6), "-").sum().compute())
+            line("csg a - erode(a)", time.perf_counter() - t, count=diff)
+        if not args.no_mesh and "mesh" in steps:
             t = time.perf_counter()
             v, f = bd.mesh(a)
             line("mesh", time.perf_counter() - t, vertices=len(v), triangles=len(f))

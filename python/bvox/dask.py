@@ -125,131 +125,225 @@ def _shifts(conn):
     return [(du, dv) for du in (-1, 0, 1) for dv in (-1, 0, 1) if abs(du) + abs(dv) <= reach]
 
 
-def _pairs(p, q, conn):
-    """Label pairs (p[u, v], q[u + du, v + dv]) that touch across a plane."""
-    out = []
+# A chunk label's key before the chunks' label counts are known: the chunk's
+# flat index in the high 32 bits, the local label (uint32) in the low ones.
+# The equivalences are found and reduced in these keys, so no task waits for
+# a global count; only the final task turns them into global labels.
+_KEYBITS = 32
+
+
+def _keys_of(local, flat):
+    return (np.int64(flat) << _KEYBITS) | local.astype(np.int64)
+
+
+def _label_summary(info, flat, border):
+    """The small part of a chunk's labelling, for the final merge: the
+    label count, sizes, first-voxel keys and (for cavities) the keys of the
+    labels on the array's border (border: per axis, (low, high) flags)."""
+    n, sizes, keys, faces = info
+    on = []
+    for a in range(3):
+        for side in (0, 1):
+            if border[a][side]:
+                f = faces[a][side]
+                on.append(np.unique(f[f > 0]))
+    b = np.unique(np.concatenate(on)) if on else np.zeros(0, dtype=np.uint32)
+    return n, sizes, keys, _keys_of(b, flat)
+
+
+def _rims(info):
+    """The four edges of each low face (the rims a diagonal neighbour across
+    the plane touches): per axis, (first row, last row, first column, last
+    column)."""
+    faces = info[3]
+    return [(f[0].copy(), f[-1].copy(), f[:, 0].copy(), f[:, -1].copy())
+            for f in (faces[a][0] for a in range(3))]
+
+
+def _face_pairs(lo, hi, a, rims, flat_lo, flat_hi, flats, conn):
+    """The equivalences (pairs of label keys, unique) between the high face
+    along axis a of chunk lo and the plane of low faces across it: the low
+    face of chunk hi and, where conn reaches diagonally, the rims of hi's
+    in-plane neighbours (rims[(du, dv)], their flat indices flats[(du, dv)])."""
+    p = lo[3][a][1]
+    q = hi[3][a][0]
     nu, nv = p.shape
+    # the plane across, widened by one voxel on each side, in keys
+    qk = np.zeros((nu + 2, nv + 2), dtype=np.int64)
+    qk[1:-1, 1:-1] = np.where(q > 0, _keys_of(q, flat_hi), 0)
+    for (du, dv), r in rims.items():
+        row0, row1, col0, col1 = r[a]
+        if du and dv:
+            e = (row1 if du < 0 else row0)[-1 if dv < 0 else 0]
+            e = np.array([e])
+        elif du:
+            e = row1 if du < 0 else row0
+        else:
+            e = col1 if dv < 0 else col0
+        ek = np.where(e > 0, _keys_of(e, flats[(du, dv)]), 0)
+        u = slice(0, 1) if du < 0 else slice(nu + 1, nu + 2) if du > 0 else slice(1, nu + 1)
+        v = slice(0, 1) if dv < 0 else slice(nv + 1, nv + 2) if dv > 0 else slice(1, nv + 1)
+        qk[u, v] = ek.reshape(qk[u, v].shape)
+    pk = np.where(p > 0, _keys_of(p, flat_lo), 0)
+    out = []
     for du, dv in _shifts(conn):
-        a = p[max(0, -du):nu - max(0, du), max(0, -dv):nv - max(0, dv)]
-        b = q[max(0, du):nu - max(0, -du), max(0, dv):nv - max(0, -dv)]
-        m = (a > 0) & (b > 0)
+        b = qk[1 + du:1 + du + nu, 1 + dv:1 + dv + nv]
+        m = (pk > 0) & (b > 0)
         if m.any():
-            out.append(np.stack([a[m], b[m]], axis=1))
-    return out
+            out.append(np.stack([pk[m], b[m]], axis=1))
+    if not out:
+        return np.zeros((0, 2), dtype=np.int64)
+    return np.unique(np.concatenate(out), axis=0)
 
 
-def _plane(info, base, grid, a, k, side):
-    """The whole plane of global labels on one side of chunk row k along
-    axis a (side 0: the row's low faces, 1: its high faces)."""
-    o = [i for i in range(3) if i != a]
-    rows = []
-    for i in range(grid[o[0]]):
-        row = []
-        for j in range(grid[o[1]]):
-            idx = [0, 0, 0]
-            idx[a], idx[o[0]], idx[o[1]] = k, i, j
-            f = info[tuple(idx)][3][a][side].astype(np.int64)
-            row.append(np.where(f > 0, f + base[tuple(idx)], 0))
-        rows.append(np.concatenate(row, axis=1))
-    return np.concatenate(rows, axis=0)
-
-
-def _merge(info, grid, conn, exclude_border):
-    """Union-find over the chunks' labels: the lookup from global chunk
-    labels (chunk base + local label) to final labels in the in-memory order,
-    the per-chunk bases and the number of components."""
+def _forest(*parts):
+    """Union-find of equivalence pairs (or of forests: (key, root) pairs):
+    the forest of every key met, each with the smallest key of its set as
+    root. A tree reduction of these keeps only the keys on chunk faces."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    order = sorted(info)
-    base, total = {}, 0
-    for idx in order:
-        base[idx] = total
-        total += info[idx][0]
+    e = np.concatenate(parts) if parts else np.zeros((0, 2), dtype=np.int64)
+    if not len(e):
+        return np.zeros((0, 2), dtype=np.int64)
+    ids, inv = np.unique(e, return_inverse=True)
+    inv = inv.reshape(-1, 2)
+    g = coo_matrix((np.ones(len(inv), dtype=np.int8), (inv[:, 0], inv[:, 1])),
+                   shape=(len(ids), len(ids)))
+    _, comp = connected_components(g, directed=False)
+    root = np.full(comp.max() + 1, np.iinfo(np.int64).max, dtype=np.int64)
+    np.minimum.at(root, comp, ids)  # ids ascend: the first of each set
+    return np.stack([ids, root[comp]], axis=1)
+
+
+def _tree(tasks, fanin=8):
+    """Tree reduction of forests by delayed _forest, fanin at a time."""
+    level = list(tasks)
+    if not level:
+        return dask.delayed(_forest)()
+    while len(level) > 1:
+        level = [dask.delayed(_forest, pure=True)(*level[i:i + fanin])
+                 for i in range(0, len(level), fanin)]
+    return dask.delayed(_forest, pure=True)(level[0]) if len(tasks) == 1 else level[0]
+
+
+def _finish(summaries, forest, exclude_border):
+    """The final merge (one task, label-sized inputs only): global labels
+    (chunk base + local label, chunks in flat order) joined by the forest,
+    ranked in the in-memory order: a _Merged."""
+    counts = np.array([s[0] for s in summaries], dtype=np.int64)
+    bases = np.concatenate([[0], np.cumsum(counts)])
+    total = int(bases[-1])
     sizes = np.zeros(total + 1, dtype=np.int64)
     keys = np.full(total + 1, np.iinfo(np.int64).max, dtype=np.int64)
-    for idx in order:
-        n = info[idx][0]
-        sizes[base[idx] + 1:base[idx] + n + 1] = info[idx][1]
-        keys[base[idx] + 1:base[idx] + n + 1] = info[idx][2]
-    pairs, border = [], []
-    for a in range(3):
-        for k in range(grid[a] - 1):
-            pairs += _pairs(_plane(info, base, grid, a, k, 1),
-                            _plane(info, base, grid, a, k + 1, 0), conn)
-        if exclude_border:
-            border.append(_plane(info, base, grid, a, 0, 0).ravel())
-            border.append(_plane(info, base, grid, a, grid[a] - 1, 1).ravel())
-    e = np.concatenate(pairs) if pairs else np.zeros((0, 2), dtype=np.int64)
-    g = coo_matrix((np.ones(len(e), dtype=np.int8), (e[:, 0], e[:, 1])),
-                   shape=(total + 1, total + 1))
-    ncomp, root = connected_components(g, directed=False)
-    # root of the background (index 0) is its own: drop it
+    for s, b in zip(summaries, bases):
+        sizes[b + 1:b + s[0] + 1] = s[1]
+        keys[b + 1:b + s[0] + 1] = s[2]
+
+    def glob(k):
+        return bases[k >> _KEYBITS] + (k & ((1 << _KEYBITS) - 1))
+
+    root = np.arange(total + 1, dtype=np.int64)
+    if len(forest):
+        root[glob(forest[:, 0])] = glob(forest[:, 1])
+    ncomp = total + 1  # components indexed by their root label
     csize = np.bincount(root[1:], weights=sizes[1:], minlength=ncomp).astype(np.int64)
     ckey = np.full(ncomp, np.iinfo(np.int64).max, dtype=np.int64)
     np.minimum.at(ckey, root[1:], keys[1:])
     keep = np.zeros(ncomp, dtype=bool)
-    keep[np.unique(root[1:])] = True
+    keep[root[1:]] = True
     if exclude_border:
-        b = np.concatenate(border) if border else np.zeros(0, dtype=np.int64)
-        keep[root[b[b > 0]]] = False
+        b = np.concatenate([s[3] for s in summaries])
+        keep[root[glob(b)]] = False
+    keep[0] = False
     kept = np.flatnonzero(keep)
     rank = kept[np.lexsort((ckey[kept], -csize[kept]))]
     final = np.zeros(ncomp, dtype=np.uint32)
     final[rank] = np.arange(1, len(rank) + 1, dtype=np.uint32)
     lut = final[root]
     lut[0] = 0
-    return lut, base, len(rank), csize[rank]
+    return _Merged(lut, bases, len(rank), csize[rank])
 
 
-def _label_infos(arr, conn, background, order=True):
-    """Delayed _label_block of every chunk, keyed by chunk index."""
+def _merge_graph(arr, conn, background, order=True):
+    """The delayed global labelling of arr: each chunk labelled once (its
+    faces stay on the workers), per pair of neighbouring chunks a task of
+    label equivalences, a tree reduction of union-find forests and one
+    final task: a delayed _Merged."""
     starts = _starts(arr.chunks)
     blocks = arr.to_delayed()
-    out = {}
-    for idx in np.ndindex(*blocks.shape):
+    grid = blocks.shape
+    flat = {idx: i for i, idx in enumerate(np.ndindex(*grid))}
+    label, summ, rims = {}, [], {}
+    for idx in np.ndindex(*grid):
         off = [int(starts[a][idx[a]]) for a in range(3)]
-        out[idx] = dask.delayed(_label_block, pure=True)(blocks[idx], conn, background, off,
-                                                         arr.shape, order)
-    return out
+        label[idx] = dask.delayed(_label_block, pure=True)(blocks[idx], conn, background, off,
+                                                           arr.shape, order)
+        border = [(background and idx[a] == 0, background and idx[a] == grid[a] - 1)
+                  for a in range(3)]
+        summ.append(dask.delayed(_label_summary, pure=True)(label[idx], flat[idx], border))
+        rims[idx] = dask.delayed(_rims, pure=True)(label[idx])
+    pairs = []
+    for idx in np.ndindex(*grid):
+        for a in range(3):
+            if idx[a] + 1 >= grid[a]:
+                continue
+            hi = list(idx)
+            hi[a] += 1
+            o = [i for i in range(3) if i != a]
+            nb, nf = {}, {}
+            for du, dv in _shifts(conn):
+                if not du and not dv:
+                    continue
+                j = list(hi)
+                j[o[0]] += du
+                j[o[1]] += dv
+                if 0 <= j[o[0]] < grid[o[0]] and 0 <= j[o[1]] < grid[o[1]]:
+                    nb[(du, dv)], nf[(du, dv)] = rims[tuple(j)], flat[tuple(j)]
+            pairs.append(dask.delayed(_face_pairs, pure=True)(
+                label[idx], label[tuple(hi)], a, nb, flat[idx], flat[tuple(hi)], nf, conn))
+    forest = _tree(pairs)
+    return dask.delayed(_finish, pure=True)(summ, forest, background)
 
 
-def _relabel_block(block, lut, conn, background):
+class _Merged:
+    """The final merge's result, kept on the cluster (persisted) and
+    broadcast to the relabel tasks: lut maps global labels (chunk base +
+    local label) to final ones; bases per chunk in flat order; n
+    components with their sizes."""
+
+    def __init__(self, lut, bases, n, sizes):
+        self.lut, self.bases, self.n, self.sizes = lut, bases, n, sizes
+
+
+def _relabel_block(block, merged, conn, background, block_info=None):
     b = np.asarray(block)
     if background:
         b = b == 0
-    labels, _ = _vol(b).components(conn)
-    return lut[labels]
-
-
-def _labels_array(arr, lut, base, info, conn, background):
-    blocks = arr.to_delayed()
-    grid = blocks.shape
-    out = np.empty(grid, dtype=object)
-    for idx in np.ndindex(*grid):
-        n = info[idx][0]
-        part = lut[base[idx]:base[idx] + n + 1].copy()
-        part[0] = 0
-        shape = tuple(arr.chunks[a][idx[a]] for a in range(3))
-        out[idx] = da.from_delayed(dask.delayed(_relabel_block, pure=True)(
-            blocks[idx], part, conn, background), shape=shape, dtype=np.uint32)
-    return da.block(out.tolist())
+    labels, comps = _vol(b).components(conn)
+    info = block_info[0]
+    f = int(np.ravel_multi_index(info["chunk-location"], info["num-chunks"]))
+    b0 = int(merged.bases[f])
+    part = merged.lut[b0:b0 + len(comps) + 1].copy()
+    part[0] = 0
+    return part[labels]
 
 
 def components(arr, conn=26):
     """(labels, n): labels a lazy uint32 Dask array with the chunks of arr
     (0 background, i + 1 for component i, largest first, ties by the first
     voxel in column order: exactly Volume.components()'s labels) and n the
-    number of conn-components. Computing the labels labels each chunk
-    again (the first pass keeps only the chunks' faces and sizes)."""
+    number of conn-components. The merge runs on the workers: only n comes
+    back here; the label lookup stays on the cluster (persisted, one array
+    of one entry per chunk label) for the lazy labels. Computing the labels
+    labels each chunk again: keeping the first labelling would hold 4 bytes
+    per voxel in the workers' memory."""
     arr = _check3(arr)
     conn = _conn(conn)
-    info = _label_infos(arr, conn, False)
-    keys = list(info)
-    vals = dask.compute(*[info[k] for k in keys])
-    info = dict(zip(keys, vals))
-    lut, base, n, _ = _merge(info, _grid(arr), conn, False)
-    return _labels_array(arr, lut, base, info, conn, False), n
+    merged, = dask.persist(_merge_graph(arr, conn, False))
+    n = int(dask.compute(dask.delayed(getattr)(merged, "n"))[0])
+    labels = arr.map_blocks(_relabel_block, merged, conn, False, dtype=np.uint32)
+    return labels, n
 
 
 # ------------------------------------------------------------------ measure
@@ -301,10 +395,9 @@ def measure(arr, spacing=None, unit=None, origin=None):
         core = [int(arr.chunks[a][idx[a]]) for a in range(3)]
         parts.append(dask.delayed(_measure_block, pure=True)(blk, core, off))
     # only the counts are needed: no first voxels
-    infos = [_label_infos(arr, 26, False, False), _label_infos(arr, 6, True, False),
-             _label_infos(arr, 26, True, False)]
-    keys = list(infos[0])
-    res = dask.compute(parts, *[[inf[k] for k in keys] for inf in infos])
+    ns = [dask.delayed(getattr)(_merge_graph(arr, conn, bg, False), "n")
+          for conn, bg in ((26, False), (6, True), (26, True))]
+    res = dask.compute(parts, *ns)
     total = [0, [0] * 3, [0] * 6, None, 0, [0] * 7]
     for c, s, ss, bb, eu, tr in res[0]:
         total[0] += c
@@ -331,8 +424,7 @@ def measure(arr, spacing=None, unit=None, origin=None):
         # as bvox_measure's topology: 26-components, 6-connected cavities
         # (background components off the border), cavities_26 only when
         # there are 6-connected ones
-        n = [_merge(dict(zip(keys, r)), grid, conn, bg)[2]
-             for r, conn, bg in zip(res[1:], (26, 6, 26), (False, True, True))]
+        n = res[1:]
         m.components, m.cavities = n[0], n[1]
         m.cavities_26 = n[2] if n[1] > 0 else 0
     m.tunnels = m.components + m.cavities - m.euler
