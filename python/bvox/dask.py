@@ -15,12 +15,16 @@ joined here:
   the surface areas); the sums add up and bvox_measure_from_sums turns them
   into the dict of Volume.measure(). Components and cavities come from the
   global labelling below;
-- components: chunk labels, then a union-find (scipy's connected
-  components of a sparse graph) of the labels that touch across each plane
-  between chunks (which covers faces, edges and corners: the plane spans
-  the whole array), then a relabel per chunk to the in-memory order
-  (largest first, ties by the first voxel in column order), so the labels
-  equal Volume.components()'s;
+- components: chunk labels (each chunk labelled once per pass; its faces
+  stay on the workers), then per pair of neighbouring chunks a task that
+  finds the label equivalences across their shared plane (the low face of
+  the upper chunk widened by the rims of its in-plane neighbours: edges and
+  corners), a tree reduction of union-find forests of those pairs, and one
+  final task that ranks the components in the in-memory order (largest
+  first, ties by the first voxel in column order) into a lookup of one
+  entry per chunk label. Only n comes back to the client; the lookup stays
+  on the cluster and the lazy labels relabel each chunk with it
+  (map_blocks), so they equal Volume.components()'s;
 - dilate, erode, dilate_ball, erode_ball: map_overlap with the reach of the
   structuring element (outside the array counts as 0, as in memory);
 - csg: chunk by chunk;

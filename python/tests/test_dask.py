@@ -203,3 +203,45 @@ def test_bad_input():
         bd.count(da.zeros((4, 4), chunks=2))
     with pytest.raises(ValueError):
         bd.measure(da.zeros((4, 4, 4), chunks=2), spacing=(1, -1, 1))
+
+
+@pytest.mark.parametrize("conn", [6, 26])
+def test_components_many_small_chunks(client, conn):
+    # chunks of 5..9 voxels: most components cross several chunk faces,
+    # edges and corners, so the merge's rims and tree reduction all matter
+    m = random_vol(8, shape=(31, 26, 29), p=0.3 if conn == 26 else 0.5)
+    want, comps = bvox.Volume.from_numpy(m).components(conn)
+    labels, n = bd.components(da.from_array(m, chunks=(7, 5, 9)), conn=conn)
+    assert n == len(comps) and n > 1
+    np.testing.assert_array_equal(labels.compute(), want)
+
+
+def test_components_without_cluster():
+    # Dask's default threads (no Client): the persisted merge is a value
+    s = structured()
+    want, comps = bvox.Volume.from_numpy(s).components(18)
+    with dask.config.set(scheduler="threads"):
+        labels, n = bd.components(da.from_array(s, chunks=CHUNKS), conn=18)
+        assert n == len(comps)
+        np.testing.assert_array_equal(labels.compute(), want)
+
+
+def test_forest_tree_reduction():
+    # the tree of union-find forests joins the same sets as one union-find
+    # over every pair (scipy's connected components as the reference)
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    rng = np.random.default_rng(9)
+    ids = rng.choice(10 ** 12, size=300, replace=False).astype(np.int64)
+    parts = [ids[rng.integers(0, 300, size=(rng.integers(0, 12), 2))] for _ in range(40)]
+    forest = bd._tree([dask.delayed(p) for p in parts], fanin=3).compute(scheduler="sync")
+    every = np.concatenate(parts)
+    u, inv = np.unique(every, return_inverse=True)
+    inv = inv.reshape(-1, 2)
+    _, comp = connected_components(coo_matrix((np.ones(len(inv)), (inv[:, 0], inv[:, 1])),
+                                              shape=(len(u), len(u))), directed=False)
+    assert np.array_equal(forest[:, 0], u)  # every key met, once, ascending
+    for c in np.unique(comp):
+        members = u[comp == c]
+        assert set(forest[comp == c, 1]) == {members.min()}  # one root: the smallest key
