@@ -77,11 +77,15 @@ bvox_status bvox__zarr_meta_parse(const char *text, size_t size, const char *nam
 /* From a group's .zattrs: the path of the first (finest) multiscales dataset
  * (path_cap bytes; "" if none), its scale (z, y, x order in the file, stored
  * here as x, y, z) and the unit of the space axes ("" if none). have_scale is
- * false when there is no scale transform. */
+ * false when there is no scale transform. The dataset's translation (the
+ * physical position of its voxel 0: a coarse level's is shifted to the
+ * centre of the fine voxels it covers) is the origin, 0 when none. */
 typedef struct bvox__zarr_attrs {
     char path[256];
     double spacing[3]; /* x, y, z */
     bool have_scale;
+    double origin[3];  /* x, y, z */
+    bool have_translation;
     char unit[16];
     int32_t nlevels;   /* datasets in the multiscales (0 when none) */
 } bvox__zarr_attrs;
@@ -106,7 +110,8 @@ bvox_status bvox__zarr_open(const char *path, bvox__zarr **out);
 bvox_status bvox__zarr_open_level(const char *path, int32_t level, bvox__zarr **out);
 void bvox__zarr_close(bvox__zarr *z);
 bvox_dims bvox__zarr_dims(const bvox__zarr *z);
-/* spacing (the level's scale) and unit; the rest default */
+/* spacing (the level's scale), origin (its translation) and unit; the rest
+ * default */
 const bvox_geometry *bvox__zarr_geometry(const bvox__zarr *z);
 void bvox__zarr_chunk_shape(const bvox__zarr *z, int32_t chunks[3]); /* x, y, z */
 bvox_dtype bvox__zarr_dtype(const bvox__zarr *z);
@@ -115,11 +120,14 @@ int32_t bvox__zarr_levels(const bvox__zarr *z); /* datasets of the group (1 for 
  * fastest, the CPU's byte order). */
 bvox_status bvox__zarr_read_box_samples(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z0,
                                         int32_t nx, int32_t ny, int32_t nz, void *dst);
-/* The box as bits into out, whose dims must be exactly nx, ny, nz: a voxel
- * is set when its sample is nonzero (the default read options' rule).
- * out's geometry is left as it is. */
+/* The box as bits into out, whose dims must be exactly nx, ny, nz, by the
+ * read options' rule how (threshold, label, range...; NULL: a voxel is set
+ * when its sample is nonzero), as a whole-volume read binarises. Otsu's
+ * threshold needs every sample of the volume: refused. out's geometry is
+ * left as it is. */
 bvox_status bvox__zarr_read_box(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z0, int32_t nx,
-                                int32_t ny, int32_t nz, bvox_volume *out);
+                                int32_t ny, int32_t nz, const bvox_binarize *how,
+                                bvox_volume *out);
 
 /* A new OME-Zarr group written chunk by chunk into a temporary folder:
  * uint8 0/1, fill_value 0 (a chunk never written reads as zeros).

@@ -222,6 +222,23 @@ bvox_status bvox__zarr_attrs_parse_level(const char *text, size_t size, const ch
     for (int32_t k = 0; ct && k < ct->count; k++) {
         const bvox__jnode *t = bvox__jtree_at(&j, ct, k);
         const bvox__jnode *type = bvox__jtree_get(&j, t, "type");
+        if (type && type->type == BVOX__JT_STRING && !strcmp(type->str, "translation")) {
+            const bvox__jnode *tr = bvox__jtree_get(&j, t, "translation");
+            if (!tr || tr->type != BVOX__JT_ARRAY || tr->count != 3) {
+                st = bad(name, "translation transform must have 3 entries (z, y, x)");
+                goto done;
+            }
+            for (int a = 0; a < 3; a++) {
+                const bvox__jnode *e = bvox__jtree_at(&j, tr, a);
+                if (e->type != BVOX__JT_NUMBER || !isfinite(e->num)) {
+                    st = bad(name, "translation entries must be finite numbers");
+                    goto done;
+                }
+                out->origin[2 - a] = e->num;
+            }
+            out->have_translation = true;
+            continue;
+        }
         if (!type || type->type != BVOX__JT_STRING || strcmp(type->str, "scale")) continue;
         const bvox__jnode *sc = bvox__jtree_get(&j, t, "scale");
         if (!sc || sc->type != BVOX__JT_ARRAY || sc->count != 3) {

@@ -245,7 +245,10 @@ bvox_status bvox__zarr_open_level(const char *path, int32_t level, bvox__zarr **
         z->has_fill = true;
     }
     z->geom = bvox_geometry_default();
-    for (int a = 0; a < 3; a++) z->geom.spacing[a] = attrs.spacing[a];
+    for (int a = 0; a < 3; a++) {
+        z->geom.spacing[a] = attrs.spacing[a];
+        z->geom.origin[a] = attrs.origin[a];
+    }
     snprintf(z->geom.unit, sizeof z->geom.unit, "%s", attrs.unit);
     z->levels = attrs.nlevels;
     *out = z;
@@ -397,11 +400,16 @@ bvox_status bvox__zarr_read_box_samples(bvox__zarr *z, int32_t x0, int32_t y0, i
 }
 
 bvox_status bvox__zarr_read_box(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z0, int32_t nx,
-                                int32_t ny, int32_t nz, bvox_volume *out)
+                                int32_t ny, int32_t nz, const bvox_binarize *how,
+                                bvox_volume *out)
 {
     if (out->nx != nx || out->ny != ny || out->nz != nz)
         return bvox__fail(BVOX_EINVAL, "%s: the box is %d x %d x %d, the volume %d x %d x %d",
                           z->name, nx, ny, nz, out->nx, out->ny, out->nz);
+    /* a box's own Otsu threshold would differ from the volume's */
+    if (!bvox__bin_stream_ok(how))
+        return bvox__fail(BVOX_EUNSUPPORTED, "%s: Otsu's threshold needs the whole volume; a "
+                          "box is read with a given threshold", z->name);
     size_t bytes;
     if (!bvox__mul_size((size_t)nx * (size_t)ny, (size_t)nz, &bytes) ||
         !bvox__mul_size(bytes, z->elem, &bytes))
@@ -420,7 +428,7 @@ bvox_status bvox__zarr_read_box(bvox__zarr *z, int32_t x0, int32_t y0, int32_t z
         g.dims = (bvox_dims){nx, ny, nz};
         g.dtype = z->m.dtype;
         g.data = samples;
-        st = bvox__binarize(&g, NULL, z->name, &v);
+        st = bvox__binarize(&g, how, z->name, &v);
     }
     bvox__free(samples, bytes);
     if (!st) memcpy(out->words, v->words, out->nwords * sizeof *out->words);

@@ -70,9 +70,12 @@ static bvox_status write_group_meta(bvox__zarr_writer *w, const bvox_geometry *g
     const char *unit = geom ? ngff_unit(geom->unit) : NULL;
     char ufield[64] = "";
     if (unit) snprintf(ufield, sizeof ufield, ", \"unit\": \"%s\"", unit);
-    double sp[3] = {1, 1, 1};
+    double sp[3] = {1, 1, 1}, org[3] = {0, 0, 0};
     if (geom)
-        for (int a = 0; a < 3; a++) sp[a] = geom->spacing[a];
+        for (int a = 0; a < 3; a++) sp[a] = geom->spacing[a], org[a] = geom->origin[a];
+    /* level 0 says its origin only when it has one: a plain volume's
+     * metadata stays as before */
+    bool moved = org[0] != 0 || org[1] != 0 || org[2] != 0;
     char buf[8192];
     size_t n = (size_t)snprintf(buf, sizeof buf,
                                 "{\n    \"multiscales\": [\n        {\n"
@@ -90,11 +93,13 @@ static bvox_status write_group_meta(bvox__zarr_writer *w, const bvox_geometry *g
         n += (size_t)snprintf(buf + n, sizeof buf - n,
                               "                {\"path\": \"%d\", \"coordinateTransformations\": "
                               "[{\"type\": \"scale\", \"scale\": [%.17g, %.17g, %.17g]}%s",
-                              (int)l, sp[2] * f, sp[1] * f, sp[0] * f, l ? ", " : "]}");
-        if (l)
+                              (int)l, sp[2] * f, sp[1] * f, sp[0] * f,
+                              l || moved ? ", " : "]}");
+        if (l || moved)
             n += (size_t)snprintf(buf + n, sizeof buf - n,
                                   "{\"type\": \"translation\", \"translation\": "
-                                  "[%.17g, %.17g, %.17g]}]}", sp[2] * t, sp[1] * t, sp[0] * t);
+                                  "[%.17g, %.17g, %.17g]}]}", org[2] + sp[2] * t,
+                                  org[1] + sp[1] * t, org[0] + sp[0] * t);
         n += (size_t)snprintf(buf + n, sizeof buf - n, "%s\n", l + 1 < w->nlevels ? "," : "");
     }
     n += (size_t)snprintf(buf + n, sizeof buf - n, "            ]\n        }\n    ]\n}\n");
@@ -366,7 +371,7 @@ static bvox_status build_level(bvox__zarr_writer *w, int32_t l)
                 st = bvox_volume_create(fd, &fv);
                 if (!st) st = bvox_volume_create(cd, &cv);
                 if (!st) st = bvox__zarr_read_box(fine, (int32_t)(2 * x0), (int32_t)(2 * y0),
-                                                  (int32_t)(2 * z0), fd.nx, fd.ny, fd.nz, fv);
+                                                  (int32_t)(2 * z0), fd.nx, fd.ny, fd.nz, NULL, fv);
                 if (!st) {
                     bvox__downsample_or(fv, cv);
                     st = write_level_box(w, l, (int32_t)x0, (int32_t)y0, (int32_t)z0, cv);

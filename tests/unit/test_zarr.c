@@ -201,6 +201,47 @@ TEST(dtypes_and_read_options)
     return 0;
 }
 
+/* A box read binarises by the read options as a whole-volume read does
+ * (values 0..23, x fastest, as in dtypes_and_read_options). */
+TEST(box_reads_use_the_read_options)
+{
+    const char *a = make_array("box16.zarr", ">i2", "{\"id\": \"gzip\", \"level\": 5}", "0");
+    uint8_t be[48];
+    for (int i = 0; i < 24; i++) be[2 * i] = 0, be[2 * i + 1] = (uint8_t)i;
+    put_chunk(a, "0.0.0", be, 24, 1);
+    put_chunk(a, "1.0.0", be + 24, 24, 1);
+    bvox__zarr *z;
+    CHECK_OK(bvox__zarr_open(a, &z));
+    bvox_volume *v;
+    CHECK_OK(bvox_volume_create((bvox_dims){2, 3, 2}, &v)); /* x 1..2, every y and z */
+    /* nonzero (no options): all but value 0 (x = 0) -> the box holds 12 set */
+    CHECK_OK(bvox__zarr_read_box(z, 1, 0, 0, 2, 3, 2, NULL, v));
+    CHECK_EQ(bvox_volume_count(v), 12);
+    /* threshold 12: z = 1 only (values 12..23) -> 6 */
+    bvox_read_opts ro = BVOX_READ_OPTS_INIT;
+    bvox_binarize how = ro.binarize;
+    how.mode = BVOX_BIN_THRESHOLD;
+    how.threshold = 12;
+    CHECK_OK(bvox__zarr_read_box(z, 1, 0, 0, 2, 3, 2, &how, v));
+    CHECK_EQ(bvox_volume_count(v), 6);
+    CHECK_EQ(bvox_volume_get(v, 0, 0, 1), 1); /* value 13 */
+    CHECK_EQ(bvox_volume_get(v, 1, 2, 0), 0); /* value 10 */
+    /* label 6: x = 2, y = 1, z = 0 -> box (1, 1, 0) */
+    how.mode = BVOX_BIN_LABEL;
+    how.label = 6;
+    CHECK_OK(bvox__zarr_read_box(z, 1, 0, 0, 2, 3, 2, &how, v));
+    CHECK_EQ(bvox_volume_count(v), 1);
+    CHECK_EQ(bvox_volume_get(v, 1, 1, 0), 1);
+    /* Otsu on a box would not be the volume's threshold: refused */
+    how.mode = BVOX_BIN_OTSU;
+    CHECK_STATUS(bvox__zarr_read_box(z, 1, 0, 0, 2, 3, 2, &how, v), BVOX_EUNSUPPORTED);
+    CHECK(strstr(bvox_errmsg(), "Otsu") != NULL);
+    bvox_volume_destroy(v);
+    bvox__zarr_close(z);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
 static int read_fails(const char *path, bvox_status want, const char *needle)
 {
     bvox_volume *v = (bvox_volume *)1;

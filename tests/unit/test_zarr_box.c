@@ -86,7 +86,8 @@ TEST(box_reads_match_reference)
         voxref *want = voxref_crop(r, b);
         bvox_volume *out;
         CHECK_OK(bvox_volume_create((bvox_dims){want->nx, want->ny, want->nz}, &out));
-        CHECK_OK(bvox__zarr_read_box(z, b.x0, b.y0, b.z0, want->nx, want->ny, want->nz, out));
+        CHECK_OK(bvox__zarr_read_box(z, b.x0, b.y0, b.z0, want->nx, want->ny, want->nz, NULL,
+                                     out));
         CHECK_OK(bvox_volume_check(out));
         CHECK(voxref_matches(want, out));
         bvox_volume_destroy(out);
@@ -95,13 +96,13 @@ TEST(box_reads_match_reference)
     /* a box outside, or a volume of the wrong size */
     bvox_volume *out;
     CHECK_OK(bvox_volume_create((bvox_dims){5, 5, 5}, &out));
-    CHECK_STATUS(bvox__zarr_read_box(z, 66, 0, 0, 5, 5, 5, out), BVOX_EINVAL);
-    CHECK_STATUS(bvox__zarr_read_box(z, 0, 0, 0, 5, 5, 4, out), BVOX_EINVAL);
+    CHECK_STATUS(bvox__zarr_read_box(z, 66, 0, 0, 5, 5, 5, NULL, out), BVOX_EINVAL);
+    CHECK_STATUS(bvox__zarr_read_box(z, 0, 0, 0, 5, 5, 4, NULL, out), BVOX_EINVAL);
     /* a box that touches one chunk decodes only it: the others may be gone */
     char chunk[4300];
     snprintf(chunk, sizeof chunk, "%s/0/1.1.1", p);
     CHECK(unlink(chunk) == 0 || !exists(chunk));
-    CHECK_OK(bvox__zarr_read_box(z, 0, 0, 0, 5, 5, 5, out));
+    CHECK_OK(bvox__zarr_read_box(z, 0, 0, 0, 5, 5, 5, NULL, out));
     bvox_volume_destroy(out);
     bvox__zarr_close(z);
     bvox_volume_destroy(v);
@@ -212,6 +213,40 @@ TEST(pyramid_levels)
     return 0;
 }
 
+/* The volume's origin is level 0's translation; a coarse level's voxel 0
+ * is centred on the 2^l fine voxels it covers: origin + spacing (2^l - 1)/2,
+ * and a read of that level keeps it as the volume's origin. */
+TEST(pyramid_levels_keep_the_origin)
+{
+    voxref *r = voxref_create(40, 36, 50);
+    voxref_random(r, 1, 30, harness_rand);
+    bvox_volume *v = voxref_to_volume(r);
+    bvox_geometry g = *bvox_volume_geometry(v);
+    g.spacing[0] = 0.5, g.spacing[1] = 0.25, g.spacing[2] = 2;
+    g.origin[0] = 10, g.origin[1] = -3, g.origin[2] = 0.75;
+    CHECK_OK(bvox_volume_set_geometry(v, &g));
+    bvox_write_opts wo = BVOX_WRITE_OPTS_INIT;
+    wo.chunks[0] = wo.chunks[1] = wo.chunks[2] = 8;
+    wo.zarr_levels = 3;
+    const char *p = harness_path("origin.zarr");
+    CHECK_OK(bvox_write(p, v, &wo));
+    const double want[3][3] = {{10, -3, 0.75}, {10.25, -2.875, 1.75}, {10.75, -2.625, 3.75}};
+    for (int32_t l = 0; l < 3; l++) {
+        bvox_read_opts ro = BVOX_READ_OPTS_INIT;
+        ro.zarr_level = l;
+        bvox_volume *got;
+        CHECK_OK(bvox_read(p, &ro, &got));
+        const bvox_geometry *gg = bvox_volume_geometry(got);
+        for (int a = 0; a < 3; a++) CHECK_EQ(gg->origin[a], want[l][a]);
+        CHECK_EQ(gg->spacing[2], 2.0 * (1 << l));
+        bvox_volume_destroy(got);
+    }
+    bvox_volume_destroy(v);
+    voxref_destroy(r);
+    CHECK_EQ(bvox_memory_in_use(), 0);
+    return 0;
+}
+
 /* A rewrite of bvox's own .zarr needs force; a folder holding anything of
  * the user's is refused even then and keeps its files; an empty folder is
  * taken. */
@@ -288,7 +323,7 @@ TEST(beyond_the_memory_budget)
     CHECK_EQ(bvox__zarr_levels(z), 6);
     bvox_volume *out;
     CHECK_OK(bvox_volume_create((bvox_dims){40, 100, 68}, &out));
-    CHECK_OK(bvox__zarr_read_box(z, 2944, 1024, 2400, 40, 100, 68, out));
+    CHECK_OK(bvox__zarr_read_box(z, 2944, 1024, 2400, 40, 100, 68, NULL, out));
     /* the box's voxels x 10..29 (of 56 in the array), y 70..99, z 32..67 */
     CHECK_EQ(bvox_volume_count(out), 20 * 30 * 36);
     CHECK(bvox_volume_get(out, 10, 70, 32) && !bvox_volume_get(out, 9, 70, 32));
@@ -298,7 +333,7 @@ TEST(beyond_the_memory_budget)
     CHECK_OK(bvox__zarr_open_level(p, 5, &z));
     CHECK_EQ(bvox__zarr_dims(z).ny, 63);
     CHECK_OK(bvox_volume_create((bvox_dims){94, 63, 79}, &out));
-    CHECK_OK(bvox__zarr_read_box(z, 0, 0, 0, 94, 63, 79, out));
+    CHECK_OK(bvox__zarr_read_box(z, 0, 0, 0, 94, 63, 79, NULL, out));
     /* x 2954..2973 -> 92..92, y 1094..1151 -> 34..35, z 2432..2495 -> 76..77 */
     CHECK_EQ(bvox_volume_count(out), 1 * 2 * 2);
     CHECK(bvox_volume_get(out, 92, 34, 76) && bvox_volume_get(out, 92, 35, 77));
@@ -331,14 +366,14 @@ TEST(huge_shape_refused_before_allocation)
     CHECK_OK(bvox__zarr_open(p, &z));
     bvox_volume *one;
     CHECK_OK(bvox_volume_create((bvox_dims){1, 1, 1}, &one));
-    CHECK_OK(bvox__zarr_read_box(z, 5, 5, 5, 1, 1, 1, one));
+    CHECK_OK(bvox__zarr_read_box(z, 5, 5, 5, 1, 1, 1, NULL, one));
     CHECK_EQ(bvox_volume_count(one), 0);
     snprintf(f, sizeof f, "%s/0.0.0", p);
     fp = fopen(f, "w");
     CHECK(fp != NULL);
     fputs("not 2 PB", fp);
     fclose(fp);
-    CHECK_STATUS(bvox__zarr_read_box(z, 5, 5, 5, 1, 1, 1, one), BVOX_ETOOBIG);
+    CHECK_STATUS(bvox__zarr_read_box(z, 5, 5, 5, 1, 1, 1, NULL, one), BVOX_ETOOBIG);
     CHECK(strstr(bvox_errmsg(), "memory budget"));
     bvox_volume_destroy(one);
     bvox__zarr_close(z);
