@@ -263,7 +263,7 @@ static bvox_status no_samples(const bvox__format *f, const char *name)
 {
     return bvox__fail(BVOX_EUNSUPPORTED,
                       "%s: %s files hold binary voxels, not labels (label volumes are read "
-                      "from nifti, tiff, raw, nrrd or metaimage)",
+                      "from nifti, tiff, raw, nrrd, metaimage or zarr)",
                       name, f->name);
 }
 
@@ -293,7 +293,9 @@ bvox_status bvox__read_gray(const char *path, const bvox_read_opts *opts, bvox__
     if (st) return st;
     struct stat sb;
     if (stat(path, &sb) != 0) return bvox__fail(BVOX_ENOTFOUND, "%s: no such file", path);
-    if (S_ISDIR(sb.st_mode) && !f) f = &bvox__format_png;
+    if (S_ISDIR(sb.st_mode) && !f)
+        f = bvox__zarr_is_dir(path) ? &bvox__format_zarr : &bvox__format_png;
+    if (f == &bvox__format_zarr) return bvox__zarr_read_gray(path, opts, g); /* a folder */
     if (f && !f->gray_memory) return no_samples(f, path);
     st = bvox__read_file(path, file);
     if (st) return st;

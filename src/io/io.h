@@ -229,6 +229,9 @@ extern const bvox__format bvox__format_nrrd; /* nrrd.c, nrrd_write.c */
 extern const bvox__format bvox__format_zarr;
 /* A folder holding .zarray or .zgroup (zarr.c). */
 bool bvox__zarr_is_dir(const char *path);
+/* A .zarr's level (opts->zarr_level) as typed samples, unbinarised, with its
+ * geometry (label volumes: labels_read.c); g->data points into g->owned. */
+bvox_status bvox__zarr_read_gray(const char *path, const bvox_read_opts *opts, bvox__gray *g);
 extern const bvox__format bvox__format_metaimage; /* metaimage.c */
 
 /* Headers with a separate data file (detached.c): read `file` (relative to

@@ -6,7 +6,8 @@
  * Read: the path is an array (has .zarray) or a group whose .zattrs names
  * the multiscales datasets (level 0, the finest, unless the read options
  * ask for another; else the array "0"); the read options binarise
- * (binarize.c). Written: a group with a resolution pyramid (opts->levels),
+ * (binarize.c); label volumes (bvox_labels_read) take the level's typed
+ * samples unbinarised. Written: a group with a resolution pyramid (opts->levels),
  * uint8 0/1, chunk shape and compressor from the options.
  */
 #include "zarr.h"
@@ -14,9 +15,11 @@
 #include <stdio.h>
 #include <string.h>
 
-static bvox_status zarr_read_path(const char *path, const bvox_read_opts *opts, bvox_volume **out)
+/* The level's samples, whole, as typed gray samples (the CPU's byte order)
+ * with the level's geometry: label volumes read these (labels_read.c). */
+bvox_status bvox__zarr_read_gray(const char *path, const bvox_read_opts *opts, bvox__gray *g)
 {
-    *out = NULL;
+    bvox__gray_init(g);
     bvox__zarr *z;
     bvox_status st = bvox__zarr_open_level(path, opts ? opts->zarr_level : 0, &z);
     if (st) return st;
@@ -44,15 +47,22 @@ static bvox_status zarr_read_path(const char *path, const bvox_read_opts *opts, 
         bvox__zarr_close(z);
         return st;
     }
-    bvox__gray g;
-    bvox__gray_init(&g);
-    g.dims = d;
-    g.dtype = bvox__zarr_dtype(z);
-    g.data = samples;
-    g.owned = samples;
-    g.owned_bytes = total;
-    g.geom = *bvox__zarr_geometry(z);
+    g->dims = d;
+    g->dtype = bvox__zarr_dtype(z);
+    g->data = samples;
+    g->owned = samples;
+    g->owned_bytes = total;
+    g->geom = *bvox__zarr_geometry(z);
     bvox__zarr_close(z);
+    return BVOX_OK;
+}
+
+static bvox_status zarr_read_path(const char *path, const bvox_read_opts *opts, bvox_volume **out)
+{
+    *out = NULL;
+    bvox__gray g;
+    bvox_status st = bvox__zarr_read_gray(path, opts, &g);
+    if (st) return st;
     st = bvox__binarize(&g, opts ? &opts->binarize : NULL, path, out);
     bvox__gray_release(&g);
     return st;
