@@ -19,7 +19,7 @@ int cli_ooc_open(const char *path, const cli_read_args *ra, bvox__slab_source *s
     memset(src, 0, sizeof *src);
     const char *f = ra->opts.format;
     if (f ? strcmp(f, "zarr") != 0 : !bvox__slab_source_is_zarr(path)) return 0;
-    if (bvox__slab_source_zarr(path, &ra->opts.binarize, src)) {
+    if (bvox__slab_source_zarr_level(path, ra->opts.zarr_level, &ra->opts.binarize, src)) {
         /* not streamable (Otsu, bad metadata): the in-memory reader says why,
          * or reads it when it fits */
         bvox__slab_source_close(src);

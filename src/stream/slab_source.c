@@ -103,6 +103,12 @@ bool bvox__slab_source_is_zarr(const char *path) { return bvox__zarr_is_dir(path
 bvox_status bvox__slab_source_zarr(const char *path, const bvox_binarize *how,
                                    bvox__slab_source *out)
 {
+    return bvox__slab_source_zarr_level(path, 0, how, out);
+}
+
+bvox_status bvox__slab_source_zarr_level(const char *path, int32_t level,
+                                         const bvox_binarize *how, bvox__slab_source *out)
+{
     memset(out, 0, sizeof *out);
     if (how && !bvox__bin_stream_ok(how))
         return bvox__fail(BVOX_EUNSUPPORTED, "%s: Otsu's threshold needs the whole volume in "
@@ -113,7 +119,7 @@ bvox_status bvox__slab_source_zarr(const char *path, const bvox_binarize *how,
         free(c);
         return bvox__fail(BVOX_ENOMEM, "out of memory");
     }
-    bvox_status st = bvox__zarr_open(path, &c->z);
+    bvox_status st = bvox__zarr_open_level(path, level, &c->z);
     if (st) {
         free(name);
         free(c);

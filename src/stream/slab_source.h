@@ -35,6 +35,9 @@ bool bvox__slab_source_is_zarr(const char *path);
 /* The array of a .zarr folder, binarised by how (NULL: nonzero; not Otsu). */
 bvox_status bvox__slab_source_zarr(const char *path, const bvox_binarize *how,
                                    bvox__slab_source *out);
+/* The same for a multiscales level (0 the finest; --level). */
+bvox_status bvox__slab_source_zarr_level(const char *path, int32_t level,
+                                         const bvox_binarize *how, bvox__slab_source *out);
 /* Accepts a source never opened (zeroed) or already closed. */
 void bvox__slab_source_close(bvox__slab_source *s);
 
