@@ -110,12 +110,14 @@ def _label_block(block, conn, background, off, shape, order=True):
     sizes = np.array([c["voxels"] for c in comps], dtype=np.int64)
     keys = np.zeros(n, dtype=np.int64)
     if n and order:
-        nx, ny, nz = labels.shape
-        flat = labels.transpose(1, 0, 2).ravel()  # y slowest, then x, z fastest: a copy
-        at = np.flatnonzero(flat)
-        u, first = np.unique(flat[at], return_index=True)
-        yy, xx, zz = np.unravel_index(at[first], (ny, nx, nz))
-        keys[u - 1] = ((yy + off[1]) * shape[0] + xx + off[0]) * shape[2] + zz + off[2]
+        # the first voxel in column order (y slowest, then x, z fastest) lies
+        # in the label's lowest y plane: search only that plane of its box
+        for i, c in enumerate(comps):
+            lo, hi = c["bbox"]["min"], c["bbox"]["max"]
+            plane = labels[lo[0]:hi[0] + 1, lo[1], lo[2]:hi[2] + 1] == i + 1
+            x, z = np.unravel_index(int(np.argmax(plane)), plane.shape)  # x-major, z fastest
+            keys[i] = ((lo[1] + off[1]) * shape[0] + lo[0] + x + off[0]) * shape[2] + \
+                lo[2] + z + off[2]
     # basic slices (views of the x-fastest label memory), copied small
     faces = [(labels[0].copy(), labels[-1].copy()), (labels[:, 0].copy(), labels[:, -1].copy()),
              (labels[:, :, 0].copy(), labels[:, :, -1].copy())]
