@@ -205,23 +205,22 @@ def test_bad_input():
         bd.measure(da.zeros((4, 4, 4), chunks=2), spacing=(1, -1, 1))
 
 
-@pytest.mark.parametrize("conn", [6, 26])
-def test_components_many_small_chunks(client, conn):
-    # chunks of 5..9 voxels: most components cross several chunk faces,
+def test_components_many_small_chunks(client):
+    # chunks of 6..8 voxels: most components cross several chunk faces,
     # edges and corners, so the merge's rims and tree reduction all matter
-    m = random_vol(8, shape=(31, 26, 29), p=0.3 if conn == 26 else 0.5)
-    want, comps = bvox.Volume.from_numpy(m).components(conn)
-    labels, n = bd.components(da.from_array(m, chunks=(7, 5, 9)), conn=conn)
+    m = random_vol(8, shape=(24, 20, 22), p=0.3)
+    want, comps = bvox.Volume.from_numpy(m).components(26)
+    labels, n = bd.components(da.from_array(m, chunks=(7, 6, 8)), conn=26)
     assert n == len(comps) and n > 1
     np.testing.assert_array_equal(labels.compute(), want)
 
 
 def test_components_without_cluster():
     # Dask's default threads (no Client): the persisted merge is a value
-    s = structured()
-    want, comps = bvox.Volume.from_numpy(s).components(18)
+    m = random_vol(10, shape=(30, 25, 28), p=0.35)
+    want, comps = bvox.Volume.from_numpy(m).components(18)
     with dask.config.set(scheduler="threads"):
-        labels, n = bd.components(da.from_array(s, chunks=CHUNKS), conn=18)
+        labels, n = bd.components(da.from_array(m, chunks=(11, 9, 10)), conn=18)
         assert n == len(comps)
         np.testing.assert_array_equal(labels.compute(), want)
 
