@@ -95,6 +95,7 @@ int bvox__preimage_ok(const bvox_preimage *pre);
 typedef struct bvox__moment_cache {
     uint64_t key[BVOX_MOMENT_CACHE]; /* 0: empty */
     int32_t m[BVOX_MOMENT_CACHE][3];
+    bvox_normal_cache *shared; /* behind it, kept across calls (NULL: none) */
 } bvox__moment_cache;
 static inline bvox__moment_cache *bvox__moment_cache_new(void)
 {
@@ -102,6 +103,11 @@ static inline bvox__moment_cache *bvox__moment_cache_new(void)
 }
 void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
                              int32_t c, int32_t r, double n[3], bvox__moment_cache *mc);
+/* Ask the memory for the shared cache's entries of pixel (c, r)'s voxels a
+ * few pixels before bvox__smooth_normal_eye needs them (their loads, not
+ * the arithmetic, are what a cached frame waits for). */
+void bvox__smooth_prefetch(const bvox_volume *vol, const bvox_preimage *p, int32_t c, int32_t r,
+                           const bvox__moment_cache *mc);
 void bvox__preimage_binary_normal(const bvox_preimage *p, int32_t x, int32_t y, double n[3]);
 void bvox__pixel_normal(const bvox_volume *vol, const bvox_preimage *p, bvox_shade_mode mode,
                         int radius, int32_t x, int32_t y, double n[3], bvox__moment_cache *mc);

@@ -12,13 +12,16 @@
  * shade_gradient.c's and the cut-face test render_pipeline.c's, so a still
  * picture (bvox render) and the window shade the same way.
  */
-#include "render.h"
+#include "normal_cache.h"
+#include "occupancy.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 enum { GRAD_BINS = 64, DEPTH_LEVELS = 256, CUE_LEVELS = 16 };
+/* smooth: the cached moments of the pixel this far ahead are fetched early */
+enum { PREFETCH_AHEAD = 8 };
 
 static bvox_status opts_check(const bvox_shade_opts *o)
 {
@@ -112,6 +115,7 @@ typedef struct codes_ctx {
     const bvox_shade_opts *opts;
     uint16_t *codes;
     bvox__cut_test cut;
+    bvox_normal_cache *cache;
 } codes_ctx;
 
 static void codes_rows(void *arg, int64_t y0, int64_t y1)
@@ -122,10 +126,13 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
     uint16_t *codes = g->codes;
     const int32_t range = pre->depth_range > 1 ? pre->depth_range : 2;
     bvox__moment_cache *mc = opts->mode == BVOX_SHADE_SMOOTH ? bvox__moment_cache_new() : NULL;
+    if (mc) mc->shared = g->cache;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
         for (int32_t x = 0; x < pre->width; x++) {
             size_t i = (size_t)y * (size_t)pre->width + (size_t)x;
             int32_t d = pre->depth[i];
+            if (mc && x + PREFETCH_AHEAD < pre->width)
+                bvox__smooth_prefetch(g->vol, pre, x + PREFETCH_AHEAD, y, mc);
             if (d < 0) {
                 codes[i] = BVOX_SCODE_BACKGROUND;
                 continue;
@@ -167,6 +174,13 @@ bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *op
 bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage *pre,
                                     const bvox_shade_opts *opts, uint16_t *codes)
 {
+    return bvox_shade_codes_cached(vol, pre, opts, NULL, codes);
+}
+
+bvox_status bvox_shade_codes_cached(const bvox_volume *vol, const bvox_preimage *pre,
+                                    const bvox_shade_opts *opts, bvox_normal_cache *cache,
+                                    uint16_t *codes)
+{
     if (!pre || !pre->depth || !pre->code || !codes)
         return bvox__fail(BVOX_EINVAL, "shade: missing pre-image or codes");
     bvox_status st = opts_check(opts);
@@ -175,7 +189,11 @@ bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage 
         return bvox__fail(BVOX_EINVAL, "shade: smooth shading needs the volume "
                                        "(bvox_shade_codes_volume)");
     BVOX_ASSERT(bvox__preimage_ok(pre));
-    codes_ctx g = {vol, pre, opts, codes, {{0, 0, 0}, 0, 0}};
+    codes_ctx g = {vol, pre, opts, codes, {{0, 0, 0}, 0, 0}, NULL};
+    if (cache && opts->mode == BVOX_SHADE_SMOOTH) {
+        bvox__normal_cache_bind(cache, vol, bvox__smooth_radius(opts->smooth_radius));
+        g.cache = cache;
+    }
     if (opts->cut) bvox__cut_test_init(&g.cut, opts->plane, opts->plane[3], pre);
     /* rows over the threads: smooth normals cost a few microseconds a pixel */
     bvox__parallel_for(pre->height, 16, codes_rows, &g);
