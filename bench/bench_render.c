@@ -324,14 +324,20 @@ static void bench_reshade(const options *o)
  * then, per thread count, the median of: the binary table shading (lut +
  * remap, the baseline), smooth normals for every pixel
  * (bvox_preimage_normals), the smooth shading codes the viewer uses
- * (bvox_shade_codes_volume), ambient occlusion and shadows. */
+ * (bvox_shade_codes_volume), the same through a bvox_normal_cache warmed by
+ * the view 6 degrees before (bvox_shade_codes_cached: a turning viewer's
+ * frame), ambient occlusion and shadows. */
 static void bench_shading(const options *o, const bvox_volume *vol, const bvox_surface *s,
                           const char *pattern, int side)
 {
     bvox_projection proj = BVOX_PROJECTION_INIT;
     proj.azimuth = 30, proj.elevation = 20, proj.width = proj.height = side;
-    bvox_preimage *p;
+    bvox_preimage *p, *before;
     if (bvox_surface_cast(s, &proj, &p)) die("cast");
+    proj.azimuth = 24;
+    if (bvox_surface_cast(s, &proj, &before)) die("cast");
+    bvox_normal_cache *cache;
+    if (bvox_normal_cache_create(0, &cache)) die("normal cache");
     const size_t n = (size_t)side * (size_t)side;
     float *nrm = malloc(3 * n * sizeof *nrm);
     uint16_t *codes = malloc(n * sizeof *codes);
@@ -341,9 +347,9 @@ static void bench_shading(const options *o, const bvox_volume *vol, const bvox_s
     bvox_light l = BVOX_LIGHT_INIT;
     bvox_shade_opts so = BVOX_SHADE_OPTS_INIT;
     so.mode = BVOX_SHADE_SMOOTH;
-    enum { BIN, SMOOTH, CODES, AO, SHADOWS, NK };
+    enum { BIN, SMOOTH, CODES, AO, SHADOWS, CACHED, NK };
     static const char *const key[NK] = {"binary_ms", "smooth_ms", "smooth_codes_ms", "ao_ms",
-                                        "shadows_ms"};
+                                        "shadows_ms", "smooth_codes_cached_ms"};
     double t[16][NK][100];
     long long hits = 0;
     for (size_t i = 0; i < n; i++) hits += p->depth[i] >= 0;
@@ -362,7 +368,13 @@ static void bench_shading(const options *o, const bvox_volume *vol, const bvox_s
             double t4 = now_ms();
             if (bvox_preimage_shadows(vol, p, &l, 0, f)) die("shadows");
             double t5 = now_ms();
+            bvox_normal_cache_clear(cache);
+            if (bvox_shade_codes_cached(vol, before, &so, cache, codes)) die("codes");
+            double t6 = now_ms();
+            if (bvox_shade_codes_cached(vol, p, &so, cache, codes)) die("codes");
+            double t7 = now_ms();
             if (r < 0) continue;
+            t[k][CACHED][r] = t7 - t6;
             t[k][BIN][r] = t1 - t0, t[k][SMOOTH][r] = t2 - t1, t[k][CODES][r] = t3 - t2;
             t[k][AO][r] = t4 - t3, t[k][SHADOWS][r] = t5 - t4;
         }
@@ -378,6 +390,8 @@ static void bench_shading(const options *o, const bvox_volume *vol, const bvox_s
     free(f);
     free(codes);
     free(nrm);
+    bvox_normal_cache_destroy(cache);
+    bvox_preimage_destroy(before);
     bvox_preimage_destroy(p);
 }
 

@@ -1337,7 +1337,12 @@ BVOX_API bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_re
 BVOX_API bvox_status bvox_demo_picture(const bvox_volume *vol, int k, bvox_image **out);
 /* Write picture1.png .. picture4.png into the existing folder dir, and
  * pictures 1 and 3 smooth-shaded (BVOX_SHADE_SMOOTH, 512 x 512) as
- * picture1_smooth.png and picture3_smooth.png. */
+ * picture1_smooth.png and picture3_smooth.png, and the paper's pre-image
+ * methods where it used them (512 x 512): picture 1 by the binary gradient
+ * operator over the pre-image (BVOX_SHADE_PREIMAGE_BINARY) as
+ * picture1_preimage.png, pictures 2 and 3 as the gradient over the pre-image
+ * enlarged x2 (BVOX_SHADE_ENLARGED_GRADIENT) as picture2_enlarged.png and
+ * picture3_enlarged.png. */
 BVOX_API bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir);
 
 /* ------------------------------------------------------------ editing, cut */

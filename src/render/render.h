@@ -176,5 +176,11 @@ static inline uint64_t bvox__surface_nb_bits(const uint64_t nb[6], unsigned k)
  * view (and for 3 the cut) of bvox_demo_picture k; bvox_demo_pictures
  * writes them as picture1_smooth.png and picture3_smooth.png. */
 bvox_status bvox__demo_picture_smooth(const bvox_volume *vol, int k, bvox_image **out);
+/* pictures.c: the demo's picture k (1..3) by the paper's pre-image methods:
+ * 1 the binary gradient operator over the pre-image (with the depth cue),
+ * 2 and 3 the gradient over the pre-image enlarged x2 (Figure 5), 512 x 512;
+ * written as picture1_preimage.png, picture2_enlarged.png and
+ * picture3_enlarged.png. */
+bvox_status bvox__demo_picture_paper(const bvox_volume *vol, int k, bvox_image **out);
 
 #endif
