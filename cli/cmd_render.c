@@ -357,9 +357,6 @@ static int render_main(render_args *a)
                 return cli_usage_error(cmd, "--title: only printable ASCII can be drawn");
     if (o.title && strlen(o.title) > 200)
         return cli_usage_error(cmd, "--title: at most 200 characters");
-    if ((o.scale_bar || o.axes || o.title) && (turntable || sheet))
-        return cli_usage_error(cmd, "--scale-bar, --axes and --title need a single picture (no "
-                                    "--turntable, --sheet)");
     if (o.transparent && turntable)
         return cli_usage_error(cmd, "--background transparent: a turntable has no alpha");
     if (o.transparent && o.stereo == BVOX_STEREO_ANAGLYPH)
