@@ -103,11 +103,22 @@ static inline bvox__moment_cache *bvox__moment_cache_new(void)
 }
 void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
                              int32_t c, int32_t r, double n[3], bvox__moment_cache *mc);
-/* Ask the memory for the shared cache's entries of pixel (c, r)'s voxels a
- * few pixels before bvox__smooth_normal_eye needs them (their loads, not
- * the arithmetic, are what a cached frame waits for). */
-void bvox__smooth_prefetch(const bvox_volume *vol, const bvox_preimage *p, int32_t c, int32_t r,
-                           const bvox__moment_cache *mc);
+/* A pixel's voxels for its smooth normal: count 8 (the cell around its
+ * entry point, fractions f towards base + 1) or 1 (the nearest voxel, when
+ * pixels are as large as voxels), 0 for the background. */
+typedef struct bvox__smooth_cell {
+    int32_t base[3];
+    int count;
+    double f[3];
+} bvox__smooth_cell;
+/* The cells of row r (p->width of them), the shared cache's entries of
+ * their voxels asked of the memory on the way (a row later they are there). */
+void bvox__smooth_cells_row(const bvox_volume *vol, const bvox_preimage *p, int32_t r,
+                            bvox__smooth_cell *cells, const bvox__moment_cache *mc);
+/* bvox__smooth_normal_eye of a foreground pixel with its cell made. */
+void bvox__smooth_normal_cell(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                              int32_t c, int32_t r, const bvox__smooth_cell *cell, double n[3],
+                              bvox__moment_cache *mc);
 void bvox__preimage_binary_normal(const bvox_preimage *p, int32_t x, int32_t y, double n[3]);
 void bvox__pixel_normal(const bvox_volume *vol, const bvox_preimage *p, bvox_shade_mode mode,
                         int radius, int32_t x, int32_t y, double n[3], bvox__moment_cache *mc);

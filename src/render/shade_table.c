@@ -20,8 +20,6 @@
 #include <string.h>
 
 enum { GRAD_BINS = 64, DEPTH_LEVELS = 256, CUE_LEVELS = 16 };
-/* smooth: the cached moments of the pixel this far ahead are fetched early */
-enum { PREFETCH_AHEAD = 8 };
 
 static bvox_status opts_check(const bvox_shade_opts *o)
 {
@@ -127,12 +125,17 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
     const int32_t range = pre->depth_range > 1 ? pre->depth_range : 2;
     bvox__moment_cache *mc = opts->mode == BVOX_SHADE_SMOOTH ? bvox__moment_cache_new() : NULL;
     if (mc) mc->shared = g->cache;
-    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
+    /* smooth: each row's cells are made a row ahead, their cached moments
+     * asked of the memory then (without the scratch: per pixel, slower) */
+    bvox__smooth_cell *cells = mc ? bvox__mem_alloc(2 * (size_t)pre->width * sizeof *cells) : NULL;
+    if (cells) bvox__smooth_cells_row(g->vol, pre, (int32_t)y0, cells + (y0 & 1) * pre->width, mc);
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
+        const bvox__smooth_cell *row = cells ? cells + (size_t)(y & 1) * (size_t)pre->width : NULL;
+        if (cells && y + 1 < y1)
+            bvox__smooth_cells_row(g->vol, pre, y + 1, cells + (size_t)((y + 1) & 1) * (size_t)pre->width, mc);
         for (int32_t x = 0; x < pre->width; x++) {
             size_t i = (size_t)y * (size_t)pre->width + (size_t)x;
             int32_t d = pre->depth[i];
-            if (mc && x + PREFETCH_AHEAD < pre->width)
-                bvox__smooth_prefetch(g->vol, pre, x + PREFETCH_AHEAD, y, mc);
             if (d < 0) {
                 codes[i] = BVOX_SCODE_BACKGROUND;
                 continue;
@@ -150,7 +153,8 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
             case BVOX_SHADE_PREIMAGE_BINARY:
             case BVOX_SHADE_ENLARGED_GRADIENT: {
                 double n[3];
-                bvox__pixel_normal(g->vol, pre, opts->mode, opts->smooth_radius, x, y, n, mc);
+                if (row) bvox__smooth_normal_cell(g->vol, pre, opts->smooth_radius, x, y, &row[x], n, mc);
+                else bvox__pixel_normal(g->vol, pre, opts->mode, opts->smooth_radius, x, y, n, mc);
                 c = gradient_bin(n);
                 break;
             }
@@ -163,6 +167,8 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
             BVOX_ASSERT(c < BVOX_SCODE_CUT);
             codes[i] = (uint16_t)c;
         }
+    }
+    free(cells);
     free(mc);
 }
 

@@ -223,34 +223,49 @@ static int hit_cell(const bvox_volume *vol, const bvox_preimage *p, int32_t c, i
     return 1;
 }
 
-void bvox__smooth_prefetch(const bvox_volume *vol, const bvox_preimage *p, int32_t c, int32_t r,
-                           const bvox__moment_cache *mc)
+void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                             int32_t c, int32_t r, double n[3], bvox__moment_cache *mc)
 {
-    if (!mc || !mc->shared || !mc->shared->usable) return;
-    if (p->depth[(size_t)r * (size_t)p->width + (size_t)c] < 0) return;
-    int32_t base[3];
-    double f[3];
-    const int n = hit_cell(vol, p, c, r, base, f);
-    for (int k = 0; k < n; k++) {
-        const int32_t q[3] = {base[0] + (k & 1), base[1] + (k >> 1 & 1), base[2] + (k >> 2 & 1)};
-        size_t slot;
-        (void)bvox__nc_key(mc->shared, q, &slot);
-        __builtin_prefetch((const void *)&mc->shared->slot[slot]);
+    bvox__smooth_cell cell;
+    cell.count = hit_cell(vol, p, c, r, cell.base, cell.f);
+    bvox__smooth_normal_cell(vol, p, radius, c, r, &cell, n, mc);
+}
+
+void bvox__smooth_cells_row(const bvox_volume *vol, const bvox_preimage *p, int32_t r,
+                            bvox__smooth_cell *cells, const bvox__moment_cache *mc)
+{
+    const int share = mc && mc->shared && mc->shared->usable;
+    for (int32_t c = 0; c < p->width; c++) {
+        bvox__smooth_cell *e = &cells[c];
+        if (p->depth[(size_t)r * (size_t)p->width + (size_t)c] < 0) {
+            e->count = 0;
+            continue;
+        }
+        e->count = hit_cell(vol, p, c, r, e->base, e->f);
+        if (!share) continue;
+        for (int k = 0; k < e->count; k++) { /* their loads, not the arithmetic, are the cost */
+            const int32_t q[3] = {e->base[0] + (k & 1), e->base[1] + (k >> 1 & 1), e->base[2] + (k >> 2 & 1)};
+            size_t slot;
+            (void)bvox__nc_key(mc->shared, q, &slot);
+            __builtin_prefetch((const void *)&mc->shared->slot[slot]);
+        }
     }
 }
 
-void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
-                             int32_t c, int32_t r, double n[3], bvox__moment_cache *mc)
+void bvox__smooth_normal_cell(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                              int32_t c, int32_t r, const bvox__smooth_cell *cell, double n[3],
+                              bvox__moment_cache *mc)
 {
     /* The moments of the 8 voxels around the ray's entry point, trilinearly
      * interpolated: the normal then turns smoothly across a voxel instead
      * of jumping at its border (pixels smaller than voxels; else the
      * nearest voxel's, see hit_cell). */
     const size_t i = (size_t)r * (size_t)p->width + (size_t)c;
-    int32_t base[3];
-    double f[3], v[3] = {0, 0, 0};
+    const int32_t *base = cell->base;
+    const double *f = cell->f;
+    double v[3] = {0, 0, 0};
     radius = bvox__smooth_radius(radius);
-    const int nearest = hit_cell(vol, p, c, r, base, f) == 1;
+    const int nearest = cell->count == 1;
     for (int k = 0; k < (nearest ? 1 : 8); k++) {
         const int32_t q[3] = {base[0] + (k & 1), base[1] + (k >> 1 & 1), base[2] + (k >> 2 & 1)};
         const double w = (k & 1 ? f[0] : 1 - f[0]) * (k >> 1 & 1 ? f[1] : 1 - f[1]) *

@@ -3,7 +3,8 @@
  * of a sphere with the cache warm, zoomed in (8 voxels a pixel) and out (the
  * nearest voxel), at every smooth radius, after the volume's voxels change
  * and the caller clears it, for a volume of other dimensions (it rebinds by
- * itself) and for a long one (keys of many bits in the smallest cache). */
+ * itself) and for a long one (keys of many bits in the smallest cache); and
+ * both are the bins of the per-pixel normals (bvox_preimage_normals). */
 #include "harness.h"
 
 #include <math.h>
@@ -39,13 +40,28 @@ static long compare_view(const bvox_volume *v, bvox_normal_cache *c, double az, 
     o.mode = BVOX_SHADE_SMOOTH;
     o.smooth_radius = radius;
     long diff = -1;
-    if (a && b && !bvox_shade_codes_volume(v, pre, &o, a) && !bvox_shade_codes_cached(v, pre, &o, c, b)) {
+    float *nrm = calloc(3 * n, sizeof *nrm);
+    if (a && b && nrm && !bvox_shade_codes_volume(v, pre, &o, a) &&
+        !bvox_shade_codes_cached(v, pre, &o, c, b) &&
+        !bvox_preimage_normals(v, pre, BVOX_SHADE_SMOOTH, radius, nrm)) {
         diff = 0;
         for (size_t i = 0; i < n; i++) {
             diff += a[i] != b[i];
             *hits += a[i] != BVOX_SCODE_BACKGROUND;
+            if (a[i] == BVOX_SCODE_BACKGROUND) continue;
+            /* and the codes are the bins (64 x 64 of right, up) of the
+             * per-pixel normals (floats: a hair from a bin's edge may round
+             * across it) */
+            for (int k = 0; k < 2; k++) {
+                double u = (nrm[3 * i + (size_t)k] + 1) * 32;
+                int bin = (int)floor(u);
+                bin = bin < 0 ? 0 : bin > 63 ? 63 : bin;
+                int got = k ? a[i] >> 6 : a[i] & 63;
+                if (got != bin && fabs(u - floor(u + 0.5)) > 1e-4) diff++;
+            }
         }
     }
+    free(nrm);
     free(a), free(b);
     bvox_preimage_destroy(pre);
     return diff;
