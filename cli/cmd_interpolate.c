@@ -4,8 +4,10 @@
  * slices between them by shape-based interpolation
  * (bvox_interpolate_slices). With --labels, MASK is a label volume: each
  * label is interpolated on its own crop (bvox_labels_read) and the labels
- * are written back as one NIfTI label volume (a voxel two labels both claim
- * keeps the lower label).
+ * are written back as one label volume (bvox_write_labels: NIfTI, NRRD,
+ * .seg.nrrd, MetaImage by OUT's suffix, in the input's integer type, with
+ * the names and colours of --lut or of the input's own segments; a voxel
+ * two labels both claim keeps the lower label).
  */
 #include "args.h"
 #include "cli.h"
@@ -15,7 +17,7 @@
 #include <string.h>
 
 typedef struct interpolate_args {
-    const char *in, *out, *axis;
+    const char *in, *out, *axis, *lut;
     int labels;
     cli_read_args ra;
 } interpolate_args;
@@ -26,9 +28,16 @@ static const char *const axes[] = {"z", NULL};
 static const cli_opt interpolate_opts[] = {
     {"--axis", 0, CLI_STR, "z", "the slicing axis (only z for now)", A(axis), .choices = axes},
     {"--output", 'o', CLI_PATH, "OUT",
-     "write the filled volume (with --labels: a NIfTI label volume, .nii or .nii.gz)", A(out)},
+     "write the filled volume (with --labels: a label volume, .nii, .nii.gz, .nrrd, .nhdr, "
+     ".seg.nrrd, .mha or .mhd)",
+     A(out)},
     {"--labels", 0, CLI_FLAG, NULL, "MASK is a label volume: every label on its own",
      A(labels)},
+    /* labelio: names and colours of the segments of a .seg.nrrd output */
+    {"--lut", 0, CLI_PATH, "FILE",
+     "with --labels: label names and colours for a .seg.nrrd output (FreeSurfer, ITK-SNAP, "
+     "Slicer or AAL table; default: the input's own segments)",
+     A(lut)},
     {NULL},
 };
 static const cli_group interpolate_group = {"Options", interpolate_opts, NULL};
@@ -48,14 +57,16 @@ const cli_spec cli_spec_interpolate = {
     .pos = interpolate_pos,
     .uses = {{&interpolate_group, 0}, CLI_USE_READ(interpolate_args, ra), CLI_USE_PROCESS},
     .examples = "  bvox interpolate traced.nii.gz --axis z -o filled.nii.gz\n"
-                "  bvox interpolate seg_every5.nii.gz --axis z --labels -o seg.nii.gz\n",
+                "  bvox interpolate seg_every5.nii.gz --axis z --labels -o seg.nii.gz\n"
+                "  bvox interpolate atlas5.nii.gz --labels --lut atlas.txt -o atlas.seg.nrrd\n",
 };
 
-static int interpolate_labels(const char *in, const cli_read_args *ra, const char *out)
+static int interpolate_labels(const char *in, const cli_read_args *ra, const char *lut,
+                              const char *out)
 {
     bvox_labelset *set;
     bvox_label_table *table;
-    if (cli_labels_load(in, ra, NULL, BVOX_LABELS_MAX_DEFAULT, &set, &table)) return cli_fail();
+    if (cli_labels_load(in, ra, lut, BVOX_LABELS_MAX_DEFAULT, &set, &table)) return cli_fail();
     bvox_dims d = set->dims;
     size_t n = (size_t)d.nx * d.ny * d.nz;
     uint32_t *lab = calloc(n, sizeof *lab);
@@ -69,7 +80,7 @@ static int interpolate_labels(const char *in, const cli_read_args *ra, const cha
     for (int64_t i = set->n - 1; i >= 0; i--) { /* lower labels written last: they win */
         const bvox_label_object *o = &set->objects[i];
         if (o->label < 0 || o->label > UINT32_MAX) {
-            fprintf(stderr, "bvox: %s: label %lld does not fit a NIfTI label volume\n", in,
+            fprintf(stderr, "bvox: %s: label %lld does not fit a written label volume\n", in,
                     (long long)o->label);
             rc = CLI_FAIL;
             goto done;
@@ -90,7 +101,10 @@ static int interpolate_labels(const char *in, const cli_read_args *ra, const cha
                             (size_t)(x + o->crop.x0)] = (uint32_t)o->label;
         bvox_volume_destroy(f);
     }
-    if (out && bvox_write_labels_nifti(out, like, lab)) {
+    /* the input's integer type (an int16 atlas stays int16); floats holding
+       integers get the smallest unsigned type */
+    int dtype = set->dtype < BVOX_DT_F32 ? (int)set->dtype : -1;
+    if (out && bvox_write_labels(out, like, lab, dtype, table)) {
         rc = cli_fail();
         goto done;
     }
@@ -117,10 +131,17 @@ int cmd_interpolate(int argc, char **argv)
     if (!in) return cli_usage_error(cmd, "missing the MASK to fill");
     if (axis && strcmp(axis, "z"))
         return cli_usage_error(cmd, "--axis: only z is supported, not '%s'", axis);
+    if (a.lut && !labels) return cli_usage_error(cmd, "--lut goes with --labels");
     if (labels) {
         if (ra.binarize_given)
             return cli_usage_error(cmd, "--labels interpolates every label: no --label/--threshold");
-        return interpolate_labels(in, &ra, out);
+        const char *of = out ? bvox_format_for_path(out) : NULL;
+        if (out && (!of || (strcmp(of, "nifti") && strcmp(of, "nrrd") && strcmp(of, "metaimage"))))
+            return cli_usage_error(cmd,
+                                   "-o: '%s': label volumes are written as .nii, .nii.gz, .nrrd, "
+                                   ".nhdr, .seg.nrrd, .mha or .mhd",
+                                   out);
+        return interpolate_labels(in, &ra, a.lut, out);
     }
     bvox_volume *vol = NULL, *f = NULL;
     if (cli_read_volume(in, &ra, &vol)) return cli_fail();
