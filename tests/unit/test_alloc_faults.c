@@ -303,6 +303,37 @@ TEST(labels_nifti)
     return 0;
 }
 
+/* labelio: bvox_write_labels into a .seg.nrrd (header built in memory) and
+ * a .mhd (two files: both or neither). */
+static const char *labels_name;
+static int labels_files;
+
+static bvox_status op_write_labels_any(void)
+{
+    bvox_status st = bvox_write_labels(in_out(wdir, labels_name), fixture, labels, -1, NULL);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == labels_files);
+    return st;
+}
+
+static int labels_any_case(const char *name, int files)
+{
+    CHECK(make_fixture() == 0);
+    size_t n = (size_t)21 * 18 * 70;
+    labels = (uint32_t *)bvox__mem_zalloc(n, sizeof *labels);
+    CHECK(labels != NULL);
+    for (size_t i = 0; i < n; i += 7) labels[i] = (uint32_t)(i % 5);
+    labels_name = name;
+    labels_files = files;
+    wdir = outdir("out");
+    SWEEP(op_write_labels_any, wdir);
+    free(labels);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+
+TEST(labels_seg_nrrd) { return labels_any_case("l.seg.nrrd", 1); }
+TEST(labels_mhd) { return labels_any_case("l.mhd", 2); }
+
 /* ----------------------------------------------------------- operations */
 
 static bvox_volume *result;     /* the answer without faults */
