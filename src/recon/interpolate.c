@@ -97,65 +97,11 @@ static const float *map_of(maps *m, int32_t z, const int32_t need[4])
  * slopes the differences over the neighbouring annotated slices (zp before
  * za, zn after zb; one-sided where there is none: with two slices only it is
  * the linear blend). A 1-voxel where the curve is <= 0. */
-static float sample(const float *f, int32_t nx, int32_t ny, float x, float y, float cap)
-{
-    if (x < 0) x = 0;
-    if (y < 0) y = 0;
-    if (x > nx - 1) x = (float)(nx - 1);
-    if (y > ny - 1) y = (float)(ny - 1);
-    int32_t x0 = (int32_t)x, y0 = (int32_t)y;
-    int32_t x1 = x0 + 1 < nx ? x0 + 1 : x0, y1 = y0 + 1 < ny ? y0 + 1 : y0;
-    float fx = x - x0, fy = y - y0;
-    (void)cap;
-    float a = f[(size_t)y0 * nx + x0] * (1 - fx) + f[(size_t)y0 * nx + x1] * fx;
-    float b = f[(size_t)y1 * nx + x0] * (1 - fx) + f[(size_t)y1 * nx + x1] * fx;
-    return a * (1 - fy) + b * fy;
-}
-
-static void centroid(const float *f, int32_t nx, int32_t ny, double c[2])
-{
-    double sx = 0, sy = 0, n = 0;
-    for (int32_t y = 0; y < ny; y++)
-        for (int32_t x = 0; x < nx; x++)
-            if (f[(size_t)y * nx + x] < 0) sx += x, sy += y, n++;
-    c[0] = n ? sx / n : 0;
-    c[1] = n ? sy / n : 0;
-}
-
 static void fill_between(bvox_volume *o, const float *fp, const float *fa, const float *fb,
                          const float *fn, int32_t zp, int32_t za, int32_t zb, int32_t zn,
                          int32_t nx, int32_t ny)
 {
     float len = (float)(zb - za);
-    static int mode = -1;
-    static float level = 0;
-    if (mode < 0) {
-        const char *e = getenv("IMODE");
-        mode = e ? atoi(e) : 0;
-        e = getenv("ILEVEL");
-        level = e ? (float)atof(e) : 0;
-    }
-    if (mode == 1 || mode == 2) {
-        double ca[2], cb[2];
-        centroid(fa, nx, ny, ca);
-        centroid(fb, nx, ny, cb);
-        float cx = (float)(cb[0] - ca[0]), cy = (float)(cb[1] - ca[1]);
-        for (int32_t z = za + 1; z < zb; z++) {
-            float t = (float)(z - za) / len;
-            size_t w = (size_t)z >> 6;
-            uint64_t bit = 1ull << (z & 63);
-            for (int32_t y = 0; y < ny; y++)
-                for (int32_t x = 0; x < nx; x++) {
-                    float va = sample(fa, nx, ny, x - t * cx, y - t * cy, 0);
-                    float vb = sample(fb, nx, ny, x + (1 - t) * cx, y + (1 - t) * cy, 0);
-                    float v = (1 - t) * va + t * vb;
-                    uint64_t *c = bvox__column(o, x, y);
-                    if (v <= level) c[w] |= bit;
-                    else c[w] &= ~bit;
-                }
-        }
-        return;
-    }
     for (int32_t z = za + 1; z < zb; z++) {
         float t = (float)(z - za) / len, t2 = t * t, t3 = t2 * t;
         float h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
@@ -170,10 +116,8 @@ static void fill_between(bvox_volume *o, const float *fp, const float *fa, const
                 float ma = fp ? (fb[i] - fp[i]) * len / (float)(zb - zp) : chord;
                 float mb = fn ? (fn[i] - fa[i]) * len / (float)(zn - za) : chord;
                 float v = h00 * fa[i] + h10 * ma + h01 * fb[i] + h11 * mb;
-                if (mode == 3 || mode == 5) v = (1 - t) * fa[i] + t * fb[i];
-                float lv = (mode >= 4) ? level * 4 * t * (1 - t) : level;
                 uint64_t *c = bvox__column(o, x, y);
-                if (v <= lv) c[w] |= bit;
+                if (v <= 0.0f) c[w] |= bit;
                 else c[w] &= ~bit;
             }
     }

@@ -110,15 +110,17 @@ bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels, const uint
     for (uint32_t l = 0; l <= max; l++) cap += slot[l];
     size_t vals_bytes = cap * sizeof *vals;
     vals = bvox__alloc(vals_bytes, false, "label values", &st);
-    size_t box_bytes = 2 * cap * sizeof(lbox);
+    size_t box_bytes = 4 * cap * sizeof(lbox);
     lbox *box = vals ? bvox__alloc(box_bytes, false, "label boxes", &st) : NULL;
     size_t wpr_full = ((size_t)nx + 63) / 64;
     size_t bits_bytes = (size_t)ny * wpr_full * sizeof(uint64_t);
     uint64_t *bits = box ? bvox__alloc(bits_bytes, false, "slice bitmap", &st) : NULL;
     size_t scratch = bvox__edt_scratch_doubles(nx, ny);
     double *tmp = bits ? bvox__alloc(scratch * sizeof *tmp, false, "distance scratch", &st) : NULL;
-    float *fa = tmp ? bvox__alloc(2 * plane * sizeof *fa, false, "distance maps", &st) : NULL;
-    float *fb = fa ? fa + plane : NULL;
+    /* the maps of one label on the slices before a, a, b, after b */
+    float *fa = tmp ? bvox__alloc(4 * plane * sizeof *fa, false, "distance maps", &st) : NULL;
+    float *fb = fa ? fa + plane : NULL, *fp = fa ? fa + 2 * plane : NULL,
+          *fn = fa ? fa + 3 * plane : NULL;
     /* the lowest blended distance so far and its label, per filled slice */
     size_t best_bytes = 0;
     float *best = NULL;
@@ -128,13 +130,17 @@ bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels, const uint
             slot[l] = (uint32_t)nvals;
             vals[nvals++] = l;
         }
-    int32_t za = -1;
+    int32_t zp = -1, za = -1;
     for (int32_t zb = 0; zb < nz; zb++) {
         if (!ann[zb]) continue;
         if (za < 0 || zb - za < 2) {
+            zp = za;
             za = zb;
             continue;
         }
+        int32_t zn = -1;
+        for (int32_t z = zb + 1; z < nz && zn < 0; z++)
+            if (ann[z]) zn = z;
         int32_t gap = zb - za, inner = gap - 1;
         size_t need = (size_t)inner * plane * sizeof *best;
         if (need > best_bytes) {
@@ -144,19 +150,25 @@ bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels, const uint
             if (!best) goto done;
         }
         for (size_t i = 0; i < (size_t)inner * plane; i++) best[i] = 3.0e38f;
-        for (size_t k = 0; k < 2 * nvals; k++) box[k] = (lbox){0, 0, 0, 0};
+        for (size_t k = 0; k < 4 * nvals; k++) box[k] = (lbox){0, 0, 0, 0};
         slice_boxes(labels, nx, ny, za, slot, box);
         slice_boxes(labels, nx, ny, zb, slot, box + nvals);
+        if (zp >= 0) slice_boxes(labels, nx, ny, zp, slot, box + 2 * nvals);
+        if (zn >= 0) slice_boxes(labels, nx, ny, zn, slot, box + 3 * nvals);
         for (size_t k = 0; k < nvals; k++) {
-            lbox A = box[k], B = box[nvals + k];
+            lbox A = box[k], B = box[nvals + k], P = box[2 * nvals + k], N = box[3 * nvals + k];
             bool ina = A.x0 < A.x1, inb = B.x0 < B.x1;
+            bool inp = ina && inb && P.x0 < P.x1, inn = ina && inb && N.x0 < N.x1;
             if (!ina && !inb) continue;
             /* the crop: both boxes grown by the gap (a label moves or grows
                by about a voxel per slice at most), clipped to the slice */
             lbox c = ina ? A : B;
-            if (ina && inb) {
-                c.x0 = A.x0 < B.x0 ? A.x0 : B.x0, c.y0 = A.y0 < B.y0 ? A.y0 : B.y0;
-                c.x1 = A.x1 > B.x1 ? A.x1 : B.x1, c.y1 = A.y1 > B.y1 ? A.y1 : B.y1;
+            const lbox *more[3] = {inb ? &B : NULL, inp ? &P : NULL, inn ? &N : NULL};
+            for (int m = 0; m < 3; m++) {
+                const lbox *o = more[m];
+                if (!o) continue;
+                c.x0 = o->x0 < c.x0 ? o->x0 : c.x0, c.y0 = o->y0 < c.y0 ? o->y0 : c.y0;
+                c.x1 = o->x1 > c.x1 ? o->x1 : c.x1, c.y1 = o->y1 > c.y1 ? o->y1 : c.y1;
             }
             c.x0 = c.x0 - gap > 0 ? c.x0 - gap : 0, c.y0 = c.y0 - gap > 0 ? c.y0 - gap : 0;
             c.x1 = c.x1 + gap < nx ? c.x1 + gap : nx, c.y1 = c.y1 + gap < ny ? c.y1 + gap : ny;
@@ -172,6 +184,14 @@ bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels, const uint
                 crop_bits(labels, nx, ny, zb, vals[k], c, wpr, bits);
                 bvox__signed_edt(bits, wpr, cw, ch, capd, tmp, fb);
             }
+            if (inp) {
+                crop_bits(labels, nx, ny, zp, vals[k], c, wpr, bits);
+                bvox__signed_edt(bits, wpr, cw, ch, capd, tmp, fp);
+            }
+            if (inn) {
+                crop_bits(labels, nx, ny, zn, vals[k], c, wpr, bits);
+                bvox__signed_edt(bits, wpr, cw, ch, capd, tmp, fn);
+            }
             /* absent on one side: close gradually (the present map shifted
                by its inner depth vanishes exactly at the other slice) */
             if (!ina || !inb) {
@@ -179,14 +199,24 @@ bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels, const uint
                 float d = inner_depth(have, cn);
                 for (size_t i = 0; i < cn; i++) miss[i] = have[i] + d;
             }
+            /* a cubic Hermite curve per pixel as in interpolate.c: slopes
+               over the annotated slices around (one-sided where the label
+               is not on them; with neither, the linear blend) */
+            float len = (float)gap, sp = inp ? len / (float)(zb - zp) : 0,
+                  sn = inn ? len / (float)(zn - za) : 0;
             for (int32_t z = za + 1; z < zb; z++) {
-                float t = (float)(z - za) / (float)gap;
+                float t = (float)(z - za) / len, t2 = t * t, t3 = t2 * t;
+                float h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + t, h01 = -2 * t3 + 3 * t2,
+                      h11 = t3 - t2;
                 float *bz = best + (size_t)(z - za - 1) * plane;
                 uint32_t *lz = labels + (size_t)z * plane;
                 for (int32_t y = 0; y < ch; y++)
                     for (int32_t x = 0; x < cw; x++) {
                         size_t i = (size_t)y * cw + x, o = (size_t)(y + c.y0) * nx + x + c.x0;
-                        float v = (1 - t) * fa[i] + t * fb[i];
+                        float chord = fb[i] - fa[i];
+                        float ma = inp ? (fb[i] - fp[i]) * sp : chord;
+                        float mb = inn ? (fn[i] - fa[i]) * sn : chord;
+                        float v = h00 * fa[i] + h10 * ma + h01 * fb[i] + h11 * mb;
                         if (v < bz[o]) {
                             bz[o] = v;
                             lz[o] = vals[k];
@@ -194,11 +224,12 @@ bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels, const uint
                     }
             }
         }
+        zp = za;
         za = zb;
     }
 done:
     if (best) bvox__free(best, best_bytes);
-    if (fa) bvox__free(fa, 2 * plane * sizeof *fa);
+    if (fa) bvox__free(fa, 4 * plane * sizeof *fa);
     if (tmp) bvox__free(tmp, scratch * sizeof *tmp);
     if (bits) bvox__free(bits, bits_bytes);
     if (box) bvox__free(box, box_bytes);
