@@ -282,7 +282,7 @@ BVOX_API bvox_status bvox_interpolate_slices(const bvox_volume *in, const uint8_
  * flags (NULL: a slice is annotated when it holds a non-zero label).
  * Annotated slices and those outside the first..last annotated one are kept
  * as they are. BVOX_EINVAL, BVOX_EUNSUPPORTED (a label of 2^24 or more),
- * BVOX_ENOMEM. */
+ * BVOX_ENOMEM (then some unannotated slices may already be filled). */
 BVOX_API bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels,
                                              const uint8_t *annotated);
 
