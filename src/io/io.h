@@ -254,7 +254,7 @@ bvox_status bvox__nrrd_write(const char *path, const bvox_volume *vol,
  * zlib-compressed little-endian data in data_file ("LOCAL": after it);
  * returns snprintf's count. */
 struct bvox__strbuf;
-/* labels_write.c: the n labels as samples of integer type dtype into s, a
+/* label_samples.c: the n labels as samples of integer type dtype into s, a
  * chunk at a time (little-endian, or this CPU's order when host_order). */
 bvox_status bvox__write_label_samples(bvox__sink *s, const uint32_t *labels, size_t n,
                                       bvox_dtype dtype, bool host_order);
