@@ -63,6 +63,7 @@ typedef struct cub {
     double *verts;
     int32_t *tris;
     int mirrored;
+    int reference; /* every face through face_polygon (tests) */
 } cub;
 
 static inline const uint64_t *col(const cub *c, int32_t X, int32_t Y)
@@ -426,6 +427,154 @@ static void pass_count(void *ctx, int64_t begin, int64_t end)
     }
 }
 
+/* Diagonal edges of direction k in the slots of row Y before column X
+ * (X up to nx + 1, Y up to ny + 1), counted from the start of the grid. */
+static inline int64_t diag_before(const cub *c, int k, int32_t X, int32_t Y)
+{
+    const bvox__grid *g = &c->g;
+    if (Y > g->ny) return c->rows[g->ny + 1].diag[k];
+    if (X > g->nx) return c->rows[Y + 1].diag[k];
+    return c->rows[Y].diag[k] +
+           c->dpre[k][((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->wpc];
+}
+
+/* Whether cell row Y's emission has no diagonal voxel edge in slot rows Y
+ * and Y + 1 (the slots of every face side its cells emit). */
+static inline int row_without_diagonals(const cub *c, int32_t Y)
+{
+    int32_t Y2 = Y + 2 > c->g.ny + 1 ? c->g.ny + 1 : Y + 2;
+    for (int k = 0; k < 3; k++)
+        if (c->rows[Y2].diag[k] != c->rows[Y].diag[k]) return 0;
+    return 1;
+}
+
+/* Whether the faces of cell column (X, Y) are all plain quads: no
+ * diagonal voxel edge in slot columns X..X+1 of rows Y..Y+1 (the sides of
+ * its faces) and no multi-sheet cell among cell columns X..X+1 of rows
+ * Y..Y+1 (its faces' ring cells). cur[i] is row Y + i's cursor into the
+ * sorted multi-sheet cells, moved forward as X grows. */
+static inline int column_plain(const cub *c, int32_t X, int32_t Y, int diag_free, int64_t cur[2])
+{
+    const bvox__grid *g = &c->g;
+    int32_t X2 = X + 2 > g->nx + 1 ? g->nx + 1 : X + 2;
+    if (!diag_free)
+        for (int i = 0; i < 2; i++)
+            for (int k = 0; k < 3; k++)
+                if (diag_before(c, k, X2, Y + i) != diag_before(c, k, X, Y + i)) return 0;
+    for (int i = 0; i < 2 && c->nmulti; i++) {
+        if (Y + i > g->ny) break;
+        uint64_t k0 = cell_key(c, X, Y + i, 0), k1 = cell_key(c, X2, Y + i, 0);
+        while (cur[i] < c->nmulti && c->multis[cur[i]].key < k0) cur[i]++;
+        if (cur[i] < c->nmulti && c->multis[cur[i]].key < k1) return 0;
+    }
+    return 1;
+}
+
+/* The first multi-sheet cell of row Y or later (a cursor for column_plain). */
+static int64_t multi_row_start(const cub *c, int32_t Y)
+{
+    uint64_t key = cell_key(c, 0, Y, 0);
+    int64_t lo = 0, hi = c->nmulti;
+    while (lo < hi) {
+        int64_t mid = (lo + hi) / 2;
+        if (c->multis[mid].key < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* One face as two triangles, q counter-clockwise seen from +axis; flipped
+ * (q[0] kept) when its outside is toward -axis, or in a mirrored frame:
+ * face_polygon and the fan of emit_row for a 4-corner polygon. */
+static inline int32_t *quad(int32_t *t, int32_t q0, int32_t q1, int32_t q2, int32_t q3, int flip)
+{
+    if (flip) {
+        int32_t s = q1;
+        q1 = q3;
+        q3 = s;
+    }
+    t[0] = q0;
+    t[1] = q1;
+    t[2] = q2;
+    t[3] = q0;
+    t[4] = q2;
+    t[5] = q3;
+    return t + 6;
+}
+
+/* Cell word (X, Y, w) of a plain column (column_plain): every ring cell's
+ * vertex is its first sheet, the rank of the cell among the mixed cells of
+ * its column (first[j] + popcount below, j = dx | dy << 1), and a ring cell
+ * one up (dz = 1) is the next mixed cell of its column, since both hold the
+ * face's edge. The vertex positions and triangles, in emit_row's order,
+ * without building polygons. base: the world position of (X - 0.5, Y -
+ * 0.5, 0) as bvox__grid_world sums it, so a cell adds only its z term (the
+ * same operations in the same order: bitwise-equal positions). */
+static inline int32_t *emit_plain_word(cub *c, int32_t X, int32_t Y, size_t w,
+                                       const uint64_t cw[8], uint64_t mixed_word,
+                                       const double base[3], int64_t *vi, int32_t *t)
+{
+    const bvox__grid *g = &c->g;
+    const size_t wpc = g->wpc;
+    uint64_t hi[3][3], lo[3][3];
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 3; i++) {
+            const uint64_t *p = col(c, X + i, Y + j);
+            uint64_t pm = w >= 1 && w - 1 < wpc ? p[w - 1] : 0;
+            uint64_t h = w < wpc ? p[w] : 0;
+            hi[j][i] = h;
+            lo[j][i] = h << 1 | pm >> 63;
+        }
+    uint64_t mx[4];
+    int64_t first[4];
+    for (int j = 1; j < 4; j++) {
+        int xi = j & 1, yj = j >> 1;
+        uint64_t o = lo[yj][xi] | lo[yj][xi + 1] | lo[yj + 1][xi] | lo[yj + 1][xi + 1] |
+                     hi[yj][xi] | hi[yj][xi + 1] | hi[yj + 1][xi] | hi[yj + 1][xi + 1];
+        uint64_t a = lo[yj][xi] & lo[yj][xi + 1] & lo[yj + 1][xi] & lo[yj + 1][xi + 1] &
+                     hi[yj][xi] & hi[yj][xi + 1] & hi[yj + 1][xi] & hi[yj + 1][xi + 1];
+        mx[j] = o & ~a;
+        int32_t CX = X + xi, CY = Y + yj;
+        first[j] = CX <= g->nx && CY <= g->ny
+                       ? c->rows[CY].cells +
+                             c->pre[((size_t)CY * (size_t)(g->nx + 1) + (size_t)CX) * g->cw + w]
+                       : 0;
+    }
+    const double *d = c->geo->direction, s2 = c->geo->spacing[2];
+    const uint64_t f0 = cw[6] ^ cw[7], f1 = cw[5] ^ cw[7], f2 = cw[3] ^ cw[7];
+    /* flip where the upper voxel is the 1 (outward toward -axis), unless
+     * the frame is mirrored */
+    const uint64_t fl = c->mirrored ? ~0ull : 0;
+    const uint64_t flip0 = ~(cw[6] ^ fl), flip1 = ~(cw[5] ^ fl), flip2 = ~(cw[3] ^ fl);
+    int64_t v = *vi;
+    for (uint64_t m = mixed_word; m; m &= m - 1) {
+        unsigned bit = (unsigned)__builtin_ctzll(m);
+        uint64_t below = (1ull << bit) - 1;
+        double cz = ((double)(int32_t)(w * 64 + bit) - 0.5) * s2;
+        double *pv = c->verts + 3 * v;
+        pv[0] = base[0] + d[2] * cz;
+        pv[1] = base[1] + d[5] * cz;
+        pv[2] = base[2] + d[8] * cz;
+        int32_t v0 = (int32_t)v++;
+        if ((f0 >> bit) & 1) {
+            int32_t v2 = (int32_t)(first[2] + POPCOUNT(mx[2] & below));
+            t = quad(t, v0, v2, v2 + 1, v0 + 1, (int)((flip0 >> bit) & 1));
+        }
+        if ((f1 >> bit) & 1) {
+            int32_t v1 = (int32_t)(first[1] + POPCOUNT(mx[1] & below));
+            t = quad(t, v0, v0 + 1, v1 + 1, v1, (int)((flip1 >> bit) & 1));
+        }
+        if ((f2 >> bit) & 1) {
+            int32_t v1 = (int32_t)(first[1] + POPCOUNT(mx[1] & below));
+            int32_t v2 = (int32_t)(first[2] + POPCOUNT(mx[2] & below));
+            int32_t v3 = (int32_t)(first[3] + POPCOUNT(mx[3] & below));
+            t = quad(t, v0, v1, v3, v2, (int)((flip2 >> bit) & 1));
+        }
+    }
+    *vi = v;
+    return t;
+}
+
 HOT static void emit_row(cub *c, int32_t Y)
 {
     const bvox__grid *g = &c->g;
@@ -433,11 +582,20 @@ HOT static void emit_row(cub *c, int32_t Y)
         int64_t vi = c->rows[Y].cells;
         int32_t *t = c->tris + 3 * c->rows[Y].tris;
         const int64_t row_cells = c->rows[Y + 1].cells - c->rows[Y].cells;
+        const int diag_free = row_without_diagonals(c, Y);
+        int64_t cur[2] = {c->nmulti ? multi_row_start(c, Y) : 0, 0};
+        cur[1] = cur[0];
+        const double *d = c->geo->direction, *o = c->geo->origin, *sp = c->geo->spacing;
         for (int32_t X = 0; X <= g->nx; X++) {
             /* skip columns without mixed cells (their faces are none either) */
             const uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
             const int64_t col_end = X < g->nx ? (int64_t)pre[g->cw] : row_cells;
             if (col_end == (int64_t)pre[0]) continue;
+            const int plain = !c->reference && column_plain(c, X, Y, diag_free, cur);
+            /* bvox__grid_world's x and y terms, summed in its order */
+            const double a = (X - 0.5) * sp[0], b = (Y - 0.5) * sp[1];
+            const double base[3] = {o[0] + d[0] * a + d[1] * b, o[1] + d[3] * a + d[4] * b,
+                                    o[2] + d[6] * a + d[7] * b};
             for (size_t w = 0; w < g->cw; w++) {
                 /* the prefixes say which words hold mixed cells */
                 if ((w + 1 < g->cw ? (int64_t)pre[w + 1] : col_end) == (int64_t)pre[w]) continue;
@@ -446,6 +604,10 @@ HOT static void emit_row(cub *c, int32_t Y)
                 corners(c, X, Y, w, cw);
                 const uint64_t mixed_word = bvox__grid_mixed(cw);
                 if (!mixed_word) continue;
+                if (plain) {
+                    t = emit_plain_word(c, X, Y, w, cw, mixed_word, base, &vi, t);
+                    continue;
+                }
                 wordcells_init(c, X, Y, w, &wc);
                 for (uint64_t mixed = mixed_word; mixed; mixed &= mixed - 1) {
                     unsigned bit = (unsigned)__builtin_ctzll(mixed);
@@ -515,10 +677,11 @@ static void cub_release(cub *c)
     free((void *)c->zero);
 }
 
-bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
+static bvox_status cuberille(const bvox_volume *vol, bvox_mesh *m, int reference)
 {
     cub c;
     memset(&c, 0, sizeof c);
+    c.reference = reference;
     bvox__grid_init(&c.g, vol);
     c.geo = &vol->geom;
     c.mirrored = bvox__geometry_mirrored(c.geo);
@@ -621,4 +784,14 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
     m->ntriangles = tris;
     cub_release(&c);
     return BVOX_OK;
+}
+
+bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
+{
+    return cuberille(vol, m, 0);
+}
+
+bvox_status bvox__mesh_cuberille_reference(const bvox_volume *vol, bvox_mesh *m)
+{
+    return cuberille(vol, m, 1);
 }

@@ -154,6 +154,9 @@ bvox_status bvox__mesh_edge_stats(const bvox_mesh *m, int64_t *edges, int64_t *b
 /* ---- volume -> mesh (mc.c, cuberille.c; dispatched by mesh_from_volume.c) ---- */
 bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m);
 bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m);
+/* The same mesh with every face built as a general polygon (no plain-quad
+ * path): what the tests compare bvox__mesh_cuberille with. */
+bvox_status bvox__mesh_cuberille_reference(const bvox_volume *vol, bvox_mesh *m);
 
 /* ---- readers (read_*.c), on a buffer; name for messages ---- */
 bvox_status bvox__mesh_read_stl(const uint8_t *d, size_t n, const char *name, bvox_mesh *m);
