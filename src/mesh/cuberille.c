@@ -52,7 +52,7 @@ typedef struct cub {
     const bvox__mc_case *tab;
     const uint64_t *zero;
     uint32_t *pre;      /* per cell word: mixed cells before it in its row */
-    uint32_t *dpre[3];  /* per column word: diagonal edges before it in its row */
+    uint32_t *dpre[3];  /* per slot column: diagonal edges (x2) before it in its row */
     size_t pre_bytes, dpre_bytes;
     rowinfo *rows;      /* then bases */
     cchunk *chunks;
@@ -125,10 +125,14 @@ static void diag_slot(int k, int32_t X, int32_t Y, int32_t Z, int32_t *dx, int32
 static inline int32_t diag_vertex(const cub *c, int k, int32_t X, int32_t Y, int32_t z, int side)
 {
     size_t w = (size_t)z >> 6;
+    /* the column's prefix, then its words below (diagonal edges are rare:
+     * a prefix per word cost 25 MB of page faults at 512^3) */
+    int64_t below = 0;
+    for (size_t i = 0; i < w; i++) below += POPCOUNT(diag_word(c, k, X, Y, i));
     uint64_t m = diag_word(c, k, X, Y, w) & ((1ull << (z & 63)) - 1);
-    size_t i = ((size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X) * c->g.wpc + w;
+    size_t i = (size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X;
     return (int32_t)(c->dbase[k] + c->rows[Y].diag[k] + c->dpre[k][i] +
-                     2 * POPCOUNT(m) + side);
+                     2 * (below + POPCOUNT(m)) + side);
 }
 
 static inline uint64_t cell_key(const cub *c, int32_t X, int32_t Y, int32_t Z)
@@ -316,70 +320,62 @@ static void add_multis(const cub *c, cchunk *ch, int32_t X, int32_t Y, size_t w,
     }
 }
 
-/* Pass 1 for cell row Y, from whole words, each word of the 3 x 3 voxel
- * columns around cell column X read once: the mixed-cell prefixes (pre),
- * the diagonal-edge prefixes of each direction (dpre, as diag_word), the
- * multi-sheet cells, and the row's triangles. Triangles: each exposed face
+/* Pass 1 for cell row Y, from whole words, each word of the 2 x 2 voxel
+ * columns of cell column X read once: the mixed-cell prefixes (pre), the
+ * diagonal edges of each direction (dpre per slot column, as diag_word),
+ * the multi-sheet cells, and the row's faces. Triangles: each exposed face
  * is a polygon of its 4 corners plus one midpoint per diagonal voxel edge
  * among its sides, fanned into (that many - 2) triangles; so 2 per face
- * plus 1 per (face, diagonal side) pair, popcounts of XORs of neighbour
- * words. Row Y emits the x and z faces of voxel row y = Y and the y faces
- * between voxel rows Y - 1 and Y (cube edges 3, 11 and 7 of its cells). A
- * diagonal side implies its face is exposed, so sides need no face mask.
- * V(x, y) is voxel column (x, y) (0 outside) = padded column (x+1, y+1):
- * cell column X = x has corners in V(x-1..x, Y-1..Y). */
+ * plus 1 per (face, diagonal side) pair. The faces are popcounts of XORs
+ * of neighbour words; the diagonal sides are added per row afterwards from
+ * the diagonal-edge counts (diag_sides). Row Y emits the x and z faces of
+ * voxel row y = Y and the y faces between voxel rows Y - 1 and Y (cube
+ * edges 3, 11 and 7 of its cells). V(x, y) is voxel column (x, y) (0
+ * outside) = padded column (x+1, y+1): cell column X = x has corners in
+ * V(x-1..x, Y-1..Y). */
 HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
 {
     const bvox__grid *g = &c->g;
-    int64_t run = 0, tris = 0;
+    int64_t run = 0, faces = 0;
     uint64_t drun[3] = {0, 0, 0}; /* see mc.c: the total check bounds them */
 #define V(x, y) col(c, (x) + 1, (y) + 1)
     for (int32_t x = 0; x <= g->nx; x++) {
-        const uint64_t *a0 = V(x - 1, Y - 1), *b0 = V(x, Y - 1), *c0 = V(x + 1, Y - 1);
-        const uint64_t *a1 = V(x - 1, Y), *b1 = V(x, Y), *c1 = V(x + 1, Y);
-        const uint64_t *a2 = V(x - 1, Y + 1), *b2 = V(x, Y + 1);
+        const uint64_t *a0 = V(x - 1, Y - 1), *b0 = V(x, Y - 1);
+        const uint64_t *a1 = V(x - 1, Y), *b1 = V(x, Y);
         size_t at = (size_t)Y * (size_t)(g->nx + 1) + (size_t)x;
         uint32_t *pre = c->pre + at * g->cw;
-        uint32_t *dp0 = c->dpre[0] + at * g->wpc, *dp1 = c->dpre[1] + at * g->wpc,
-                 *dp2 = c->dpre[2] + at * g->wpc;
-        /* the 8 columns' words below (pv), at (cu) and above (nx) word w */
-        const uint64_t *cols[8] = {a0, b0, c0, a1, b1, c1, a2, b2};
-        uint64_t pv[8], cu[8], nx[8];
-        for (int i = 0; i < 8; i++) {
+        for (int k = 0; k < 3; k++) c->dpre[k][at] = (uint32_t)drun[k];
+        /* the 4 columns' words below (pv), at (cu) and above (nx) word w */
+        const uint64_t *cols[4] = {a0, b0, a1, b1};
+        uint64_t pv[4], cu[4], nx[4];
+        for (int i = 0; i < 4; i++) {
             pv[i] = 0;
             cu[i] = cwd(c, cols[i], 0);
             nx[i] = cwd(c, cols[i], 1);
         }
         for (size_t w = 0; w < g->cw; w++) {
             uint64_t o = 0, a = ~0ull, ends_o = 0, ends_a = ~0ull;
-            for (int i = 0; i < 8; i++) {
+            for (int i = 0; i < 4; i++) {
                 o |= cu[i];
                 a &= cu[i];
                 uint64_t ends = (pv[i] >> 63) | (nx[i] << 63);
                 ends_o |= ends;
                 ends_a &= ends | ~(1ull | 1ull << 63);
             }
-            const uint64_t A0 = cu[0], B0 = cu[1], C0 = cu[2], A1 = cu[3], B1 = cu[4], C1 = cu[5],
-                           A2 = cu[6], B2 = cu[7];
+            const uint64_t A0 = cu[0], B0 = cu[1], A1 = cu[2], B1 = cu[3];
             const uint64_t lA0 = A0 << 1 | pv[0] >> 63, lB0 = B0 << 1 | pv[1] >> 63;
-            const uint64_t lA1 = A1 << 1 | pv[3] >> 63, lB1 = B1 << 1 | pv[4] >> 63;
+            const uint64_t lA1 = A1 << 1 | pv[2] >> 63, lB1 = B1 << 1 | pv[3] >> 63;
             const uint64_t hA0 = A0 >> 1 | nx[0] << 63, hB0 = B0 >> 1 | nx[1] << 63;
-            const uint64_t hA1 = A1 >> 1 | nx[3] << 63, hB1 = B1 >> 1 | nx[4] << 63;
-            const uint64_t lC1 = C1 << 1 | pv[5] >> 63, lB2 = B2 << 1 | pv[7] >> 63;
-            for (int i = 0; i < 8; i++) {
+            const uint64_t hA1 = A1 >> 1 | nx[2] << 63;
+            for (int i = 0; i < 4; i++) {
                 pv[i] = cu[i];
                 cu[i] = nx[i];
                 nx[i] = cwd(c, cols[i], w + 2);
             }
-            /* all 3 x 3 x 3 voxels around every cell of the word equal: no
+            /* all 2 x 2 x 3 voxels around every cell of the word equal: no
              * mixed cell, face or diagonal edge (most words) */
             if ((o | ends_o) == 0 || (a == ~0ull && ends_a == ~0ull)) {
                 pre[w] = (uint32_t)run;
-                if (w < g->wpc) {
-                    dp0[w] = (uint32_t)drun[0];
-                    dp1[w] = (uint32_t)drun[1];
-                    dp2[w] = (uint32_t)drun[2];
-                }
                 continue;
             }
             /* cells: corners as corners() */
@@ -391,31 +387,39 @@ HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
                 add_multis(c, ch, x, Y, w, cw, mixed);
             }
             if (w < g->wpc) { /* diagonal edges, diag_word's three directions */
-                dp0[w] = (uint32_t)drun[0];
-                dp1[w] = (uint32_t)drun[1];
-                dp2[w] = (uint32_t)drun[2];
                 drun[0] += 2 * (uint64_t)POPCOUNT(alt(A0, A1, hA0, hA1));
                 drun[1] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, hA0, hB0));
                 drun[2] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, A1, B1));
             }
-            /* x faces between V(x-1, Y) and V(x, Y) */
-            uint64_t zdiag = alt(A0, B0, A1, B1); /* z edge at corner (x, Y) */
-            tris += 2 * POPCOUNT(A1 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(A1, B1, A2, B2)) +
-                    POPCOUNT(alt(lA1, lB1, A1, B1)) + POPCOUNT(alt(A1, B1, hA1, hB1));
-            if (x == g->nx) continue; /* y and z faces: voxel columns x < nx */
-            /* y faces between V(x, Y-1) and V(x, Y) */
-            tris += 2 * POPCOUNT(B0 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(B0, C0, B1, C1)) +
-                    POPCOUNT(alt(lB0, lB1, B0, B1)) + POPCOUNT(alt(B0, B1, hB0, hB1));
-            /* z faces of V(x, Y), between voxels z - 1 and z */
-            tris += 2 * POPCOUNT(B1 ^ lB1) + POPCOUNT(alt(lB0, lB1, B0, B1)) +
-                    POPCOUNT(alt(lB1, lB2, B1, B2)) + POPCOUNT(alt(lA1, lB1, A1, B1)) +
-                    POPCOUNT(alt(lB1, lC1, B1, C1));
+            /* the faces: x faces between V(x-1, Y) and V(x, Y); y faces
+             * between V(x, Y-1) and V(x, Y), z faces of V(x, Y) between
+             * voxels z - 1 and z (voxel columns x < nx) */
+            faces += POPCOUNT(A1 ^ B1);
+            if (x == g->nx) continue;
+            faces += POPCOUNT(B0 ^ B1) + POPCOUNT(B1 ^ lB1);
         }
     }
 #undef V
     c->rows[Y].cells = run;
-    c->rows[Y].tris = tris;
+    c->rows[Y].tris = 2 * faces; /* + the diagonal sides: see diag_sides */
     for (int k = 0; k < 3; k++) c->rows[Y].diag[k] = (int64_t)drun[k];
+}
+
+/* The triangles that diagonal edges add to the rows' faces (before the
+ * rows' counts become prefixes). The four voxels around a diagonal edge
+ * alternate, so its four faces are all exposed and each gets one more
+ * triangle, from the row that emits it. Slot row Y (count_row's) holds the
+ * x edges between voxel rows Y - 1 and Y (their 2 y faces and the z face
+ * of row Y: 3 to row Y, the z face of row Y - 1: 1 to row Y - 1), the y
+ * edges of voxel row Y - 1 (4 faces, all to row Y - 1) and the z edges
+ * between rows Y - 1 and Y (as the x edges: 3 to row Y, 1 to row Y - 1).
+ * rows[].diag counts 2 per edge (its two midpoints). */
+static void diag_sides(rowinfo *rows, int32_t ny)
+{
+    for (int32_t Y = 0; Y <= ny; Y++) {
+        const int64_t *d = rows[Y].diag, *n = rows[Y + 1].diag; /* row ny + 1: none */
+        rows[Y].tris += (3 * (d[0] + d[2]) + n[0] + 4 * n[1] + n[2]) / 2;
+    }
 }
 
 static void pass_count(void *ctx, int64_t begin, int64_t end)
@@ -435,7 +439,7 @@ static inline int64_t diag_before(const cub *c, int k, int32_t X, int32_t Y)
     if (Y > g->ny) return c->rows[g->ny + 1].diag[k];
     if (X > g->nx) return c->rows[Y + 1].diag[k];
     return c->rows[Y].diag[k] +
-           c->dpre[k][((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->wpc];
+           c->dpre[k][(size_t)Y * (size_t)(g->nx + 1) + (size_t)X];
 }
 
 /* Whether cell row Y's emission has no diagonal voxel edge in slot rows Y
@@ -691,8 +695,7 @@ static bvox_status cuberille(const bvox_volume *vol, bvox_mesh *m, int reference
     size_t ncells, ncols;
     if (!bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), g->cw * sizeof(uint32_t),
                         &ncells) ||
-        !bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), g->wpc * sizeof(uint32_t),
-                        &ncols))
+        !bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), sizeof(uint32_t), &ncols))
         return bvox__fail(BVOX_ETOOBIG, "volume too large to mesh");
     c.zero = bvox__mem_zalloc(g->wpc + 1, sizeof(uint64_t));
     c.rows = bvox__mem_zalloc((size_t)g->ny + 2, sizeof(rowinfo));
@@ -721,6 +724,7 @@ static bvox_status cuberille(const bvox_volume *vol, bvox_mesh *m, int reference
         cub_release(&c);
         return st;
     }
+    diag_sides(c.rows, g->ny);
     int64_t cells = 0, tris = 0, diag[3] = {0, 0, 0};
     for (int32_t Y = 0; Y <= g->ny; Y++) {
         rowinfo r = c.rows[Y];
