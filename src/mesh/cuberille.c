@@ -303,7 +303,7 @@ static inline uint64_t cwd(const cub *c, const uint64_t *p, size_t w)
 static void add_multis(const cub *c, cchunk *ch, int32_t X, int32_t Y, size_t w,
                        const uint64_t cw[8], uint64_t mixed)
 {
-    for (; mixed && !ch->st; mixed &= mixed - 1) {
+    for (mixed &= bvox__grid_maybe_multi(cw); mixed && !ch->st; mixed &= mixed - 1) {
         unsigned bit = (unsigned)__builtin_ctzll(mixed);
         const bvox__mc_case *cs = &c->tab[bvox__grid_case(cw, bit)];
         if (cs->nloops <= 1) continue;
@@ -514,7 +514,9 @@ static inline int32_t *quad(int32_t *t, int32_t q0, int32_t q1, int32_t q2, int3
  * without building polygons. base: the world position of (X - 0.5, Y -
  * 0.5, 0) as bvox__grid_world sums it, so a cell adds only its z term (the
  * same operations in the same order: bitwise-equal positions). */
-static inline int32_t *emit_plain_word(cub *c, int32_t X, int32_t Y, size_t w,
+/* always inlined: a call of its own would leave it outside emit_row's POPCNT
+ * clone, with the portable popcount */
+static inline __attribute__((always_inline)) int32_t *emit_plain_word(cub *c, int32_t X, int32_t Y, size_t w,
                                        const uint64_t cw[8], uint64_t mixed_word,
                                        const double base[3], int64_t *vi, int32_t *t)
 {

@@ -126,3 +126,26 @@ TEST(plain_path_geometry)
     bvox_volume_destroy(v);
     return 0;
 }
+
+/* Pass 1 looks up the case only of the cells bvox__grid_maybe_multi keeps:
+ * it must keep every case with more than one sheet (and, to be worth it,
+ * not many more). Each case in every bit position of the word. */
+TEST(maybe_multi_covers_the_table)
+{
+    const bvox__mc_case *tab = bvox__mc_table();
+    int multi = 0, kept = 0;
+    for (unsigned k = 0; k < 256; k++) {
+        for (unsigned bit = 0; bit < 64; bit += 21) {
+            uint64_t c[8];
+            for (int b = 0; b < 8; b++) c[b] = ((k >> b) & 1) ? 1ull << bit : 0;
+            uint64_t m = bvox__grid_maybe_multi(c);
+            CHECK(!(m & ~(1ull << bit)));
+            if (tab[k].nloops > 1) CHECK(m);
+            if (bit == 0) kept += m != 0;
+        }
+        multi += tab[k].nloops > 1;
+    }
+    CHECK(multi > 0);
+    CHECK(kept < 2 * multi);
+    return 0;
+}
