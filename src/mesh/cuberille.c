@@ -122,17 +122,41 @@ static void diag_slot(int k, int32_t X, int32_t Y, int32_t Z, int32_t *dx, int32
     *dz = k == 2 ? Z : Z - 1;
 }
 
+/* Diagonal edges of direction k in slot column (X, Y) below bit z: the
+ * column's words are read up to z's (a prefix per word cost 25 MB of page
+ * faults at 512^3, and diagonal edges are rare on smooth objects). */
+static inline int64_t diag_below(const cub *c, int k, int32_t X, int32_t Y, int32_t z)
+{
+    const uint64_t *A = col(c, X, Y), *B, *C = NULL, *D = NULL;
+    if (k == 2) {
+        B = col(c, X + 1, Y);
+        C = col(c, X, Y + 1);
+        D = col(c, X + 1, Y + 1);
+    } else
+        B = k == 0 ? col(c, X, Y + 1) : col(c, X + 1, Y);
+    const size_t wz = (size_t)z >> 6;
+    int64_t n = 0;
+    for (size_t w = 0; w <= wz; w++) {
+        uint64_t a = A[w], b = B[w], cc, d;
+        if (k == 2) {
+            cc = C[w];
+            d = D[w];
+        } else {
+            cc = up(c, A, w);
+            d = up(c, B, w);
+        }
+        uint64_t m = (a & d & ~b & ~cc) | (b & cc & ~a & ~d);
+        if (w == wz) m &= (1ull << (z & 63)) - 1;
+        n += POPCOUNT(m);
+    }
+    return n;
+}
+
 static inline int32_t diag_vertex(const cub *c, int k, int32_t X, int32_t Y, int32_t z, int side)
 {
-    size_t w = (size_t)z >> 6;
-    /* the column's prefix, then its words below (diagonal edges are rare:
-     * a prefix per word cost 25 MB of page faults at 512^3) */
-    int64_t below = 0;
-    for (size_t i = 0; i < w; i++) below += POPCOUNT(diag_word(c, k, X, Y, i));
-    uint64_t m = diag_word(c, k, X, Y, w) & ((1ull << (z & 63)) - 1);
     size_t i = (size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X;
     return (int32_t)(c->dbase[k] + c->rows[Y].diag[k] + c->dpre[k][i] +
-                     2 * (below + POPCOUNT(m)) + side);
+                     2 * diag_below(c, k, X, Y, z) + side);
 }
 
 static inline uint64_t cell_key(const cub *c, int32_t X, int32_t Y, int32_t Z)
