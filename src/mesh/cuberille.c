@@ -21,8 +21,19 @@
  * Numbering: the first sheet of every mixed cell is numbered by popcount of
  * the mixed-cell masks (a prefix per word, as mc.c does for edges); the rare
  * further sheets follow, found by binary search in a sorted list of the
- * multi-sheet cells. Each face is emitted once, by the cell at its lower
- * corner (its cube edge 3, 7 or 11), with the other three cells looked up.
+ * multi-sheet cells; the diagonal edges' midpoints by a prefix per column
+ * plus the popcounts of the column's words below. Each face is emitted
+ * once, by the cell at its lower corner (its cube edge 3, 7 or 11), with the
+ * other three cells looked up.
+ *
+ * Plain columns: where no face a cell column emits has a diagonal side or a
+ * multi-sheet corner (checked per column from the diagonal-edge prefixes
+ * and the multi-sheet list: every column of a digital ball, most of an
+ * atlas), each face is a quad of first sheets, i.e. of ranks among the
+ * mixed cells of four columns, and is written directly (emit_plain_word);
+ * the other columns build each face's polygon (face_polygon). Both give the
+ * same vertices and triangles in the same order (test_cuberille compares
+ * them on every kind of volume through bvox__mesh_cuberille_reference).
  */
 #include "mesh_private.h"
 
