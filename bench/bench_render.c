@@ -226,7 +226,8 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
     static const double dirs[][2] = {{30, 20}, {-60, 35}, {135, -15}, {10, 70}, {200, 5}};
     enum { NDIRS = 5 };
     const int n = vol->nx, runs = o->runs;
-    double t[17][100], tc[17][100], per_dir[17][NDIRS], per_cast[17][NDIRS], ref_ms = 0;
+    double t[17][100], tc[17][100], tcpu[17][100], per_dir[17][NDIRS], per_cast[17][NDIRS],
+        per_cpu[17][NDIRS], ref_ms = 0;
     int32_t *vdepth = o->ref ? malloc((size_t)side * side * sizeof *vdepth) : NULL;
     int64_t mism = 0;
     int ref_dirs = 0;
@@ -242,16 +243,17 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
             for (int k = 0; k < NCOUNTS(o); k++) {
                 bvox_set_threads(count_at(o, k));
                 bvox_preimage_destroy(p);
-                double t0 = now_ms();
+                double t0 = now_ms(), c0 = cpu_ms();
                 if (bvox_surface_cast(s, &pr, &p)) die("projection");
-                double t1 = now_ms();
+                double t1 = now_ms(), c1 = cpu_ms();
                 if (bvox_lut_light(p, &l, &lut)) die("lut");
                 if (bvox_shade_into(p, &lut, img)) die("shade");
-                if (r >= 0) t[k][r] = now_ms() - t0, tc[k][r] = t1 - t0;
+                if (r >= 0) t[k][r] = now_ms() - t0, tc[k][r] = t1 - t0, tcpu[k][r] = c1 - c0;
             }
         for (int k = 0; k < NCOUNTS(o); k++) {
             per_dir[k][d] = median(t[k], runs);
             per_cast[k][d] = median(tc[k], runs);
+            per_cpu[k][d] = median(tcpu[k], runs);
         }
         if (vdepth && ref_ms <= REF_BUDGET_MS) {
             double t0 = now_ms();
@@ -267,8 +269,10 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
         double cast = median(per_cast[k], NDIRS), shaded = median(per_dir[k], NDIRS);
         printf("{\"case\": \"arbitrary_view\", \"pattern\": \"%s\", \"n\": %d, \"image\": %d, "
                "\"width\": %d, \"height\": %d, \"directions\": %d, \"threads\": %d, "
-               "\"runs\": %d, \"cast_ms\": %.3f, \"ms\": %.3f, \"ms_1thread\": %.3f",
-               pattern, n, side, side, side, NDIRS, o->tl.t[k], runs, cast, shaded, ms1);
+               "\"runs\": %d, \"cast_ms\": %.3f, \"ms\": %.3f, \"ms_1thread\": %.3f, "
+               "\"cast_cpu_ms\": %.3f",
+               pattern, n, side, side, side, NDIRS, o->tl.t[k], runs, cast, shaded, ms1,
+               median(per_cpu[k], NDIRS));
         if (ref_dirs) {
             /* The reference gives depth only: compare it with the cast alone. */
             printf(", \"ref_ms\": %.3f, \"ref_directions\": %d, \"speedup\": %.1f, "
@@ -455,21 +459,22 @@ int main(int argc, char **argv)
             if (!vol) die("aal resampling");
             if (wanted(&o, "axis_view")) bench_axis(&o, vol, pattern);
 
-            double t[16][100];
+            double t[16][100], tcpu[16][100];
             bvox_surface *s = NULL;
             for (int r = -1; r < o.runs; r++)
                 for (int k = 0; k < o.tl.n; k++) {
                     bvox_set_threads(o.tl.t[k]);
                     bvox_surface_destroy(s);
-                    double t0 = now_ms();
+                    double t0 = now_ms(), c0 = cpu_ms();
                     if (bvox_surface_build(vol, &s)) die("surface");
-                    if (r >= 0) t[k][r] = now_ms() - t0;
+                    if (r >= 0) t[k][r] = now_ms() - t0, tcpu[k][r] = cpu_ms() - c0;
                 }
             for (int k = 0; wanted(&o, "surface_build") && k < o.tl.n; k++)
                 printf("{\"case\": \"surface_build\", \"pattern\": \"%s\", \"n\": %d, "
-                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld}\n",
+                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, "
+                       "\"cpu_ms\": %.3f}\n",
                        pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),
-                       (long long)bvox_surface_count(s));
+                       (long long)bvox_surface_count(s), median(tcpu[k], o.runs));
             fflush(stdout);
             for (int k = 0; wanted(&o, "arbitrary_view") && k < 2; k++)
                 bench_arbitrary(&o, vol, s, pattern, o.images[k]);
