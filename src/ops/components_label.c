@@ -449,3 +449,33 @@ void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside
         if ((u[wpc - 1] >> last_bit) & 1) bvox__uf_unite(r->parent, r1 - 1, outside);
     }
 }
+
+void bvox__labelruns_join_mask(bvox__labelruns *r, const uint64_t *mask, uint32_t outside)
+{
+    size_t wpc = r->wpc, g = (size_t)r->g;
+    for (size_t grp = 0; grp < r->ngrp; grp++) {
+        uint32_t r0 = r->grp_start[grp];
+        if (r0 == r->grp_start[grp + 1]) continue;
+        const uint64_t *u = bvox__labelruns_group(r, grp), *cols[4];
+        int nc = 0;
+        for (size_t j = 0; j < g; j++)
+            for (size_t i = 0; i < g; i++) {
+                const uint64_t *col = bvox__labelruns_column(r, grp, i, j);
+                if (col) cols[nc++] = mask + (size_t)(col - r->words);
+            }
+        /* the first mask voxel of each run, as for the border above */
+        uint64_t carry = 0, u_hi = 0;
+        uint32_t run = r0;
+        for (size_t k = 0; k < wpc; k++) {
+            uint64_t e = 0;
+            for (int c = 0; c < nc; c++) e |= cols[c][k];
+            uint64_t s = bvox__run_starts(u[k], u_hi);
+            for (uint64_t f = first_in_segments(e, s, &carry); f; f &= f - 1) {
+                unsigned p = (unsigned)__builtin_ctzll(f);
+                bvox__uf_unite(r->parent, run + bvox__popcount64(s & upto(p)) - 1, outside);
+            }
+            run += bvox__popcount64(s);
+            u_hi = u[k] >> 63;
+        }
+    }
+}
