@@ -146,8 +146,9 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *b
         ncav += n;
     }
     /* cavities everywhere (a coin toss): one labelling of all the background
-     * costs less than copying K and finding its contacts */
-    if (ncav > r->nruns / 64 && (x1 - x0) * (y1 - y0) > lb.nx * lb.ny / 4)
+     * costs less than copying K and finding its contacts (small volumes take
+     * the K route whatever they hold: it is the one they test) */
+    if (ncav > 16384 && ncav > r->nruns / 64 && (x1 - x0) * (y1 - y0) > lb.nx * lb.ny / 4)
         return label_all_26(bg, lb, wpc, nz, out);
     /* never on the labelled box's border (joined to outside there) */
     colbox kb = {x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2};
