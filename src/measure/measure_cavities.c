@@ -131,8 +131,8 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *b
 {
     size_t wpc = r->wpc;
     uint32_t outside = r->parent[r->nruns];
-    /* the columns holding cavity runs, and how many runs */
-    size_t x0 = lb.nx, x1 = 0, y0 = lb.ny, y1 = 0, ncav = 0;
+    /* the columns holding cavity runs */
+    size_t x0 = lb.nx, x1 = 0, y0 = lb.ny, y1 = 0;
     for (size_t col = 0; col < lb.nx * lb.ny; col++) {
         size_t n = 0;
         for (uint32_t i = r->grp_start[col]; i < r->grp_start[col + 1]; i++)
@@ -143,13 +143,7 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *b
         if (x + 1 > x1) x1 = x + 1;
         if (y < y0) y0 = y;
         if (y + 1 > y1) y1 = y + 1;
-        ncav += n;
     }
-    /* cavities everywhere (a coin toss): one labelling of all the background
-     * costs less than copying K and finding its contacts (small volumes take
-     * the K route whatever they hold: it is the one they test) */
-    if (ncav > 16384 && ncav > r->nruns / 64 && (x1 - x0) * (y1 - y0) > lb.nx * lb.ny / 4)
-        return label_all_26(bg, lb, wpc, nz, out);
     /* never on the labelled box's border (joined to outside there) */
     colbox kb = {x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2};
     size_t nw = kb.nx * kb.ny * wpc;
@@ -220,12 +214,20 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6]
         parent[outside] = outside;
         bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
         *cav6 = count_inner(&r);
-        if (*cav6 > 0) {
+        st = bvox__progress(0.8);
+        if (st || *cav6 == 0) {
+            /* done */
+        } else if (*cav6 > 16384 && (size_t)*cav6 > r.nruns / 64) {
+            /* cavities everywhere (a coin toss): one labelling of all the
+             * background costs less than copying K and finding its contacts
+             * (small volumes take the K route whatever they hold: it is the
+             * one they test) */
+            st = label_all_26(bg, lb, wpc, vol->nz, cav26);
+        } else {
             /* roots are the smallest run of their component and parent[i]
              * <= i, so one pass in order makes every parent a root */
             for (size_t i = 0; i <= r.nruns; i++) parent[i] = parent[parent[i]];
-            st = bvox__progress(0.8);
-            if (!st) st = count_cavities_26(&r, bg, lb, vol->nz, cav26);
+            st = count_cavities_26(&r, bg, lb, vol->nz, cav26);
         }
         bvox__labelruns_free(&r);
     }
