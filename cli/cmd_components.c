@@ -38,7 +38,8 @@ static const cli_opt components_opts[] = {
     {"--output", 'o', CLI_PATH, "OUT", "the file for --keep-largest", A(out)},
     {"--labels", 0, CLI_PATH, "OUT.nii",
      "write a NIfTI label volume (.nii or .nii.gz): 0 for the background, i for the i-th "
-     "largest component; uint16 when there are at most 65535, else uint32",
+     "largest component; uint16 when there are at most 65535, else uint32 (also .nrrd, "
+     ".nhdr, .seg.nrrd, .mha, .mhd: the smallest of uint8, uint16, uint32)",
      A(labels)},
     {"--output-format", 0, CLI_STR, "NAME", "force the format of -o ({formats})", A(wo.format)},
     {"--force", 0, CLI_FLAG, NULL, CLI_FORCE_HELP, A(wo.force)},
@@ -161,8 +162,11 @@ int cmd_components(int argc, char **argv)
     /* Refuse output names of unknown format before reading a large input. */
     if (out && cli_check_output(cmd, out, &a.wo) != CLI_OK) return CLI_USAGE;
     const char *lf = labels ? bvox_format_for_path(labels) : NULL;
-    if (labels && (!lf || strcmp(lf, "nifti") != 0))
-        return cli_usage_error(cmd, "--labels: '%s' must end in .nii or .nii.gz", labels);
+    if (labels && (!lf || (strcmp(lf, "nifti") && strcmp(lf, "nrrd") && strcmp(lf, "metaimage"))))
+        return cli_usage_error(cmd,
+                               "--labels: '%s' must end in .nii or .nii.gz (or .nrrd, .nhdr, "
+                               ".seg.nrrd, .mha, .mhd)",
+                               labels);
 
     bvox__slab_source src;
     if (cli_ooc_open(in, &a.ra, &src) == 1) { /* a .zarr over --max-memory: by slabs */
@@ -198,7 +202,10 @@ int cmd_components(int argc, char **argv)
     }
     if (rc == CLI_OK && labels) {
         bvox_components_labels(c, lv);
-        if (bvox_write_labels_nifti(labels, vol, lv)) rc = cli_fail();
+        bool nifti = !strcmp(lf, "nifti"); /* NIfTI keeps its uint16/uint32 choice */
+        if (nifti ? bvox_write_labels_nifti(labels, vol, lv)
+                  : bvox_write_labels(labels, vol, lv, -1, NULL))
+            rc = cli_fail();
     }
     if (rc == CLI_OK) {
         int64_t n = bvox_components_count(c);

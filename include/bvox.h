@@ -673,6 +673,7 @@ typedef struct bvox_labelset {
     bvox_label_object *objects;
     int64_t ncontacts;       /* sorted by (a, b) */
     bvox_label_contact *contacts;
+    bvox_dtype dtype;        /* the file's sample type (a layered .seg.nrrd: u16) */
 } bvox_labelset;
 
 /* Read a label volume (NIfTI, TIFF or raw: integer samples, or floats that
@@ -729,6 +730,25 @@ BVOX_API bvox_status bvox_label_table_parse(const char *text, size_t size, const
 BVOX_API void bvox_label_table_destroy(bvox_label_table *table);
 /* The entry for label, or NULL. */
 BVOX_API const bvox_label_entry *bvox_label_table_find(const bvox_label_table *table, int64_t label);
+
+/* Write a label volume (labels and like as for bvox_write_labels_nifti) in
+ * the format the path's suffix names: NIfTI (.nii, .nii.gz), NRRD (.nrrd:
+ * gzip-encoded; .nhdr: the header, its data in BASE.raw written first), 3D
+ * Slicer's segmentation (.seg.nrrd: NRRD whose voxels hold each segment's
+ * label value, with Segment<N>_ID, _Name, _Color, _LabelValue, _Layer and
+ * _Extent for every label present, named and coloured by `table`, NULL or a
+ * label it lacks: "Segment_<label>" in a colour of its own), MetaImage
+ * (.mha; .mhd with BASE.zraw). Geometry as bvox_write writes it for the
+ * format (NRRD and MetaImage in LPS). dtype: the samples' integer
+ * bvox_dtype (e.g. the input's: bvox_labelset.dtype), which every label must
+ * fit; -1: the smallest of u8, u16, u32 that holds the largest label.
+ * Written like bvox_write (temporary file, renamed on success).
+ * BVOX_EUNSUPPORTED: another suffix, a NIfTI dimension over 32767, a
+ * .seg.nrrd label over 65535; BVOX_EINVAL: a float dtype or a label that
+ * does not fit it; BVOX_EIO, BVOX_ENOMEM. */
+BVOX_API bvox_status bvox_write_labels(const char *path, const bvox_volume *like,
+                                       const uint32_t *labels, int dtype,
+                                       const bvox_label_table *table);
 
 /* ------------------------------------------------------------------ render */
 

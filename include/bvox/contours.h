@@ -273,4 +273,17 @@ BVOX_API bvox_status bvox_volume_to_contours(const bvox_volume *vol, int axis,
 BVOX_API bvox_status bvox_interpolate_slices(const bvox_volume *in, const uint8_t *annotated,
                                     bvox_volume **out);
 
+/* Fill the z slices of a label volume that were not annotated, all labels
+ * at once, in place: labels holds dims.nx*ny*nz values (x fastest, then y,
+ * then z; 0 the background, each below 2^24). Between annotated slices each
+ * label's signed distance maps (the background's too) are blended along z
+ * and a voxel takes the label that is deepest inside (lowest blended
+ * distance), so regions stay tiled: no gaps, no overlaps. annotated: nz
+ * flags (NULL: a slice is annotated when it holds a non-zero label).
+ * Annotated slices and those outside the first..last annotated one are kept
+ * as they are. BVOX_EINVAL, BVOX_EUNSUPPORTED (a label of 2^24 or more),
+ * BVOX_ENOMEM (then some unannotated slices may already be filled). */
+BVOX_API bvox_status bvox_interpolate_labels(bvox_dims dims, uint32_t *labels,
+                                             const uint8_t *annotated);
+
 #endif /* BVOX_CONTOURS_H */

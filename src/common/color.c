@@ -1,11 +1,12 @@
 /*
  * color.c — colours from text: a short list of names (the CSS colours a
  * figure usually wants, with the CSS values, so "orange" is what a browser
- * shows) and hex #rrggbb or #rgb.
+ * shows) and hex #rrggbb or #rgb; and the default colour of a label.
  */
 #include "common/color.h"
 
 #include <ctype.h>
+#include <math.h>
 #include <string.h>
 #include <strings.h>
 
@@ -51,4 +52,25 @@ int bvox__color_parse(const char *text, uint8_t rgb[3])
             return 0;
         }
     return -1;
+}
+
+/* A distinct hue per label: hue = label x the golden angle (137.5 degrees),
+ * full saturation softened to 0.65, value 0.95; consecutive labels (often
+ * neighbours in an atlas) land far apart on the colour wheel. */
+void bvox__label_color(int64_t label, uint8_t rgb[3])
+{
+    double h = fmod((double)(label % 100000) * 137.50776405, 360.0) / 60.0;
+    const double s = 0.65, v = 0.95;
+    int i = (int)h;
+    double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+    double r, g, b;
+    switch (i % 6) {
+    case 0: r = v, g = t, b = p; break;
+    case 1: r = q, g = v, b = p; break;
+    case 2: r = p, g = v, b = t; break;
+    case 3: r = p, g = q, b = v; break;
+    case 4: r = t, g = p, b = v; break;
+    default: r = v, g = p, b = q; break;
+    }
+    rgb[0] = (uint8_t)(r * 255 + 0.5), rgb[1] = (uint8_t)(g * 255 + 0.5), rgb[2] = (uint8_t)(b * 255 + 0.5);
 }

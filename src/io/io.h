@@ -245,6 +245,39 @@ bvox_status bvox__write_detached(const char *path, const char *data_path, const 
 /* The NRRD writer (nrrd_write.c), for the format table in nrrd.c. */
 bvox_status bvox__nrrd_write(const char *path, const bvox_volume *vol,
                              const bvox_write_opts *opts);
+/* Label-volume writers (labels_write.c, seg_nrrd_write.c) share the headers
+ * of the binary writers. NRRD: the header lines of vol's dimensions and
+ * geometry with samples of NRRD `type` ("uint8", "int16", ...), "gzip" or
+ * "raw" encoding and "data file" when data_file is not NULL, appended to sb
+ * without the blank line that ends a header (key/value pairs may follow).
+ * MetaImage: the whole header, ElementType element_type ("MET_UCHAR", ...),
+ * zlib-compressed little-endian data in data_file ("LOCAL": after it);
+ * returns snprintf's count. */
+struct bvox__strbuf;
+/* label_samples.c: the n labels as samples of integer type dtype into s, a
+ * chunk at a time (little-endian, or this CPU's order when host_order). */
+bvox_status bvox__write_label_samples(bvox__sink *s, const uint32_t *labels, size_t n,
+                                      bvox_dtype dtype, bool host_order);
+/* The type labels are written with: dtype (an integer bvox_dtype every label
+ * fits, else BVOX_EINVAL naming path) or, dtype < 0, the smallest unsigned
+ * one; *max the largest label. */
+bvox_status bvox__label_dtype(const char *path, const uint32_t *labels, size_t n, int dtype,
+                              bvox_dtype *out, uint32_t *max);
+/* nifti_labels.c: NIfTI label volume of samples dtype, display range 0..max. */
+bvox_status bvox__write_labels_nifti(const char *path, const bvox_volume *like,
+                                     const uint32_t *labels, bvox_dtype dtype, uint32_t max);
+void bvox__nrrd_describe(const bvox_volume *vol, const char *type, bool gzip,
+                         const char *data_file, struct bvox__strbuf *sb);
+int bvox__mha_describe(const bvox_volume *vol, const char *element_type, const char *data_file,
+                       char *buf, size_t cap);
+/* The Segment<N>_ and Segmentation_ key/value lines of a 3D Slicer
+ * segmentation holding `labels` (nx*ny*nz, x fastest, each <= 65535) as one
+ * layer, one segment per label present, named and coloured by table (NULL
+ * or a label it lacks: "Segment_<label>" and bvox__label_color), appended
+ * to sb. BVOX_EUNSUPPORTED for a label over 65535; BVOX_ENOMEM. */
+bvox_status bvox__seg_nrrd_describe(const bvox_volume *like, const uint32_t *labels,
+                                    const bvox_label_table *table, struct bvox__strbuf *sb);
+
 /* LPS (ITK, 3D Slicer: NRRD, MetaImage) <-> RAS (bvox): negate the first two
  * world axes of origin and direction, in place. */
 void bvox__geometry_flip_lps(bvox_geometry *g);

@@ -357,6 +357,7 @@ static bvox_status make_set(splitter *s, uint32_t *remap, bvox_labelset **out)
     if (!set) return bvox__fail(BVOX_ENOMEM, "%s: out of memory", s->name);
     set->dims = g->dims;
     set->geometry = g->geom;
+    set->dtype = g->dtype;
     set->objects = bvox__mem_zalloc(s->nobj ? s->nobj : 1, sizeof *set->objects);
     set->contacts = bvox__mem_zalloc(s->ncts ? s->ncts : 1, sizeof *set->contacts);
     if (!set->objects || !set->contacts) {

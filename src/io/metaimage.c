@@ -18,6 +18,7 @@
  *
  * Written: one byte per voxel (MET_UCHAR 0/1), zlib-compressed, the geometry
  * in LPS (a unit other than mm is warned about: the format cannot hold it); `.mhd` gets its data in BASE.zraw, written before the header.
+ * Label volumes (labels_write.c) share the header with their own ElementType.
  */
 #include "io.h"
 #include "common/names.h"
@@ -347,8 +348,8 @@ static bvox_status mha_read_memory(const uint8_t *data, size_t size, const char 
 
 /* ---------------------------------------------------------------- writer */
 
-/* The header for vol; data_file is "LOCAL" or the data file's base name. */
-static int describe(const bvox_volume *vol, const char *data_file, char *buf, size_t cap)
+int bvox__mha_describe(const bvox_volume *vol, const char *element_type, const char *data_file,
+                       char *buf, size_t cap)
 {
     bvox_geometry g = *bvox_volume_geometry(vol);
     bvox__geometry_flip_lps(&g);
@@ -360,10 +361,10 @@ static int describe(const bvox_volume *vol, const char *data_file, char *buf, si
                     "TransformMatrix = %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n"
                     "Offset = %.17g %.17g %.17g\nCenterOfRotation = 0 0 0\n"
                     "ElementSpacing = %.17g %.17g %.17g\nDimSize = %ld %ld %ld\n"
-                    "ElementType = MET_UCHAR\nElementDataFile = %s\n",
+                    "ElementType = %s\nElementDataFile = %s\n",
                     m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8], g.origin[0],
                     g.origin[1], g.origin[2], g.spacing[0], g.spacing[1], g.spacing[2],
-                    (long)d.nx, (long)d.ny, (long)d.nz, data_file);
+                    (long)d.nx, (long)d.ny, (long)d.nz, element_type, data_file);
 }
 
 static bvox_status mha_write_path(const char *path, const bvox_volume *vol,
@@ -377,7 +378,7 @@ static bvox_status mha_write_path(const char *path, const bvox_volume *vol,
                    path, unit);
     char hdr[2048];
     if (!bvox__ends_with_ci(path, ".mhd")) {
-        int n = describe(vol, "LOCAL", hdr, sizeof hdr);
+        int n = bvox__mha_describe(vol, "MET_UCHAR", "LOCAL", hdr, sizeof hdr);
         return bvox__write_byte_slices(path, vol, BVOX__SINK_ZLIB | BVOX__SINK_PLAIN_HEADER, hdr,
                                        (size_t)n);
     }
@@ -385,7 +386,7 @@ static bvox_status mha_write_path(const char *path, const bvox_volume *vol,
     const char *base;
     bvox_status st = bvox__detached_name(path, 4, ".zraw", data_path, sizeof data_path, &base);
     if (st) return st;
-    int n = describe(vol, base, hdr, sizeof hdr);
+    int n = bvox__mha_describe(vol, "MET_UCHAR", base, hdr, sizeof hdr);
     return bvox__write_detached(path, data_path, vol, BVOX__SINK_ZLIB, hdr, (size_t)n);
 }
 

@@ -10,12 +10,13 @@
  */
 #include "io.h"
 #include "common/names.h"
+#include "common/strbuf.h"
 
 #include <stdio.h>
 #include <string.h>
 
-static int describe(const bvox_volume *vol, bool gzip, const char *data_file, char *buf,
-                    size_t cap)
+void bvox__nrrd_describe(const bvox_volume *vol, const char *type, bool gzip,
+                         const char *data_file, bvox__strbuf *sb)
 {
     bvox_geometry g = *bvox_volume_geometry(vol);
     bvox__geometry_flip_lps(&g);
@@ -25,40 +26,52 @@ static int describe(const bvox_volume *vol, bool gzip, const char *data_file, ch
         snprintf(dirs[a], sizeof dirs[a], "(%.17g,%.17g,%.17g)",
                  g.direction[0 * 3 + a] * g.spacing[a], g.direction[1 * 3 + a] * g.spacing[a],
                  g.direction[2 * 3 + a] * g.spacing[a]);
-    char units[80] = "";
-    /* a quote or newline in the unit would break the header: leave it out */
-    if (g.unit[0] && !strpbrk(g.unit, "\"\n\r\\"))
-        snprintf(units, sizeof units, "space units: \"%s\" \"%s\" \"%s\"\n", g.unit, g.unit,
-                 g.unit);
-    char file_line[600] = "";
-    if (data_file) snprintf(file_line, sizeof file_line, "data file: %s\n", data_file);
-    return snprintf(buf, cap,
+    bvox__sb_printf(sb,
                     "NRRD0004\n"
                     "# Complete NRRD file format specification at:\n"
                     "# http://teem.sourceforge.net/nrrd/format.html\n"
                     "# written by bvox\n"
-                    "type: uint8\ndimension: 3\nspace: left-posterior-superior\n"
+                    "type: %s\ndimension: 3\nspace: left-posterior-superior\n"
                     "sizes: %ld %ld %ld\nspace directions: %s %s %s\n"
                     "kinds: domain domain domain\nendian: little\nencoding: %s\n"
-                    "space origin: (%.17g,%.17g,%.17g)\n%s%s\n",
-                    (long)d.nx, (long)d.ny, (long)d.nz, dirs[0], dirs[1], dirs[2],
-                    gzip ? "gzip" : "raw", g.origin[0], g.origin[1], g.origin[2], units,
-                    file_line);
+                    "space origin: (%.17g,%.17g,%.17g)\n",
+                    type, (long)d.nx, (long)d.ny, (long)d.nz, dirs[0], dirs[1], dirs[2],
+                    gzip ? "gzip" : "raw", g.origin[0], g.origin[1], g.origin[2]);
+    /* a quote or newline in the unit would break the header: leave it out */
+    if (g.unit[0] && !strpbrk(g.unit, "\"\n\r\\"))
+        bvox__sb_printf(sb, "space units: \"%s\" \"%s\" \"%s\"\n", g.unit, g.unit, g.unit);
+    if (data_file) bvox__sb_printf(sb, "data file: %s\n", data_file);
+}
+
+/* The binary volume's header, ended by its blank line. */
+static bvox_status describe(const bvox_volume *vol, bool gzip, const char *data_file,
+                            bvox__strbuf *sb)
+{
+    bvox__nrrd_describe(vol, "uint8", gzip, data_file, sb);
+    bvox__sb_puts(sb, "\n");
+    if (!sb->failed) return BVOX_OK;
+    bvox__sb_free(sb);
+    return bvox__fail(BVOX_ENOMEM, "NRRD header: out of memory");
 }
 
 bvox_status bvox__nrrd_write(const char *path, const bvox_volume *vol,
                              const bvox_write_opts *opts)
 {
     (void)opts;
-    char hdr[2048];
+    bvox__strbuf hdr = {0};
+    bvox_status st;
     if (!bvox__ends_with_ci(path, ".nhdr")) {
-        int n = describe(vol, true, NULL, hdr, sizeof hdr);
-        return bvox__write_byte_slices(path, vol, 1 | BVOX__SINK_PLAIN_HEADER, hdr, (size_t)n);
+        if ((st = describe(vol, true, NULL, &hdr))) return st;
+        st = bvox__write_byte_slices(path, vol, 1 | BVOX__SINK_PLAIN_HEADER, hdr.data, hdr.len);
+        bvox__sb_free(&hdr);
+        return st;
     }
     char data_path[4096];
     const char *base;
-    bvox_status st = bvox__detached_name(path, 5, ".raw", data_path, sizeof data_path, &base);
+    st = bvox__detached_name(path, 5, ".raw", data_path, sizeof data_path, &base);
     if (st) return st;
-    int n = describe(vol, false, base, hdr, sizeof hdr);
-    return bvox__write_detached(path, data_path, vol, 0, hdr, (size_t)n);
+    if ((st = describe(vol, false, base, &hdr))) return st;
+    st = bvox__write_detached(path, data_path, vol, 0, hdr.data, hdr.len);
+    bvox__sb_free(&hdr);
+    return st;
 }

@@ -14,6 +14,7 @@
  * does.
  */
 #include "scene.h"
+#include "common/color.h"
 
 #include <math.h>
 #include <string.h>
@@ -90,27 +91,6 @@ static int labels_colour(const void *ctx, int32_t x, int32_t y, int32_t z, uint8
     return 0;
 }
 
-/* A distinct hue per label: hue = label x the golden angle (137.5 degrees),
- * full saturation softened to 0.65, value 0.95; consecutive labels (often
- * neighbours in an atlas) land far apart on the colour wheel. */
-static void palette(int64_t label, uint8_t rgb[3])
-{
-    double h = fmod((double)(label % 100000) * 137.50776405, 360.0) / 60.0;
-    const double s = 0.65, v = 0.95;
-    int i = (int)h;
-    double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-    double r, g, b;
-    switch (i % 6) {
-    case 0: r = v, g = t, b = p; break;
-    case 1: r = q, g = v, b = p; break;
-    case 2: r = p, g = v, b = t; break;
-    case 3: r = p, g = q, b = v; break;
-    case 4: r = t, g = p, b = v; break;
-    default: r = v, g = p, b = q; break;
-    }
-    rgb[0] = (uint8_t)(r * 255 + 0.5), rgb[1] = (uint8_t)(g * 255 + 0.5), rgb[2] = (uint8_t)(b * 255 + 0.5);
-}
-
 bvox_status bvox_render_labels(const bvox_labelset *set, const bvox_label_table *table,
                                const bvox_render_opts *opts, bvox_image **out)
 {
@@ -125,7 +105,7 @@ bvox_status bvox_render_labels(const bvox_labelset *set, const bvox_label_table 
     for (int64_t k = 0; k < set->n; k++) {
         const bvox_label_entry *e = table ? bvox_label_table_find(table, set->objects[k].label) : NULL;
         if (e && e->has_color) memcpy(rgb[k], e->rgba, 3);
-        else palette(set->objects[k].label, rgb[k]);
+        else bvox__label_color(set->objects[k].label, rgb[k]);
     }
     bvox_volume *u = NULL;
     st = bvox_volume_create(set->dims, &u);

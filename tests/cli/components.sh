@@ -103,6 +103,13 @@ PY
 "$BVOX" components "$tmp/set.nii" --labels "$tmp/l.nii.gz" --keep-largest 1 -o "$tmp/k.nii" \
     >/dev/null || fail "--labels .nii.gz"
 [ "$(count "$tmp/l.nii.gz" --label 2)" = 3 ] || fail ".nii.gz label 2"
+# labelio: --labels as NRRD and MetaImage hold the same labels as the NIfTI.
+for f in l.nrrd l.mha l.seg.nrrd; do
+    "$BVOX" components "$tmp/set.nii" --conn 26 --labels "$tmp/$f" >/dev/null || fail "--labels $f"
+    "$BVOX" labels "$tmp/$f" --csv | cut -d, -f1,3 >"$tmp/got.csv" || fail "labels $f"
+    "$BVOX" labels "$tmp/l26.nii" --csv | cut -d, -f1,3 | cmp -s - "$tmp/got.csv" ||
+        fail "--labels $f differs from the NIfTI"
+done
 
 # 65536 components (a 32 x 64 x 64 checkerboard, 6-connected): uint32 labels.
 python3 - "$tmp/cb.raw" <<'PY'

@@ -303,6 +303,71 @@ TEST(labels_nifti)
     return 0;
 }
 
+/* labelio: bvox_write_labels into a .seg.nrrd (header built in memory) and
+ * a .mhd (two files: both or neither). */
+static const char *labels_name;
+static int labels_files;
+
+static bvox_status op_write_labels_any(void)
+{
+    bvox_status st = bvox_write_labels(in_out(wdir, labels_name), fixture, labels, -1, NULL);
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == labels_files);
+    return st;
+}
+
+static int labels_any_case(const char *name, int files)
+{
+    CHECK(make_fixture() == 0);
+    size_t n = (size_t)21 * 18 * 70;
+    labels = (uint32_t *)bvox__mem_zalloc(n, sizeof *labels);
+    CHECK(labels != NULL);
+    for (size_t i = 0; i < n; i += 7) labels[i] = (uint32_t)(i % 5);
+    labels_name = name;
+    labels_files = files;
+    wdir = outdir("out");
+    SWEEP(op_write_labels_any, wdir);
+    free(labels);
+    bvox_volume_destroy(fixture);
+    return 0;
+}
+
+TEST(labels_seg_nrrd) { return labels_any_case("l.seg.nrrd", 1); }
+TEST(labels_mhd) { return labels_any_case("l.mhd", 2); }
+
+/* labelio: bvox_interpolate_labels on two labels annotated every 4th slice
+ * of 20 x 16 x 70: every failed allocation ENOMEM, nothing kept; success
+ * gives the answer without faults. */
+static uint32_t *ilab_in, *ilab_work, *ilab_want;
+#define ILAB_N ((size_t)20 * 16 * 70)
+
+static bvox_status op_interpolate_labels(void)
+{
+    memcpy(ilab_work, ilab_in, ILAB_N * sizeof *ilab_work);
+    bvox_status st = bvox_interpolate_labels((bvox_dims){20, 16, 70}, ilab_work, NULL);
+    if (st == BVOX_OK) OP_CHECK(!memcmp(ilab_work, ilab_want, ILAB_N * sizeof *ilab_work));
+    return st;
+}
+
+TEST(interpolate_labels)
+{
+    ilab_in = calloc(ILAB_N, sizeof *ilab_in);
+    ilab_work = calloc(ILAB_N, sizeof *ilab_work);
+    ilab_want = calloc(ILAB_N, sizeof *ilab_want);
+    CHECK(ilab_in && ilab_work && ilab_want);
+    for (int z = 2; z < 68; z += 4)
+        for (int y = 2; y < 14; y++)
+            for (int x = 2; x < 18; x++)
+                if ((x - 10) * (x - 10) + (y - 8) * (y - 8) < 30 + z % 7)
+                    ilab_in[((size_t)z * 16 + y) * 20 + x] = x < 9 + z % 3 ? 1 : 2;
+    memcpy(ilab_want, ilab_in, ILAB_N * sizeof *ilab_want);
+    CHECK_OK(bvox_interpolate_labels((bvox_dims){20, 16, 70}, ilab_want, NULL));
+    SWEEP(op_interpolate_labels, NULL);
+    free(ilab_in);
+    free(ilab_work);
+    free(ilab_want);
+    return 0;
+}
+
 /* ----------------------------------------------------------- operations */
 
 static bvox_volume *result;     /* the answer without faults */
