@@ -16,13 +16,6 @@
 
 #define AAL_PATH "/usr/share/mricron/templates/aal.nii.gz"
 
-static double cpu_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
-}
-
 static uint64_t rng = 0x9e3779b97f4a7c15ull;
 static bvox_volume *coin_toss(int n)
 {

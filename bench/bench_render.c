@@ -226,7 +226,8 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
     static const double dirs[][2] = {{30, 20}, {-60, 35}, {135, -15}, {10, 70}, {200, 5}};
     enum { NDIRS = 5 };
     const int n = vol->nx, runs = o->runs;
-    double t[17][100], tc[17][100], per_dir[17][NDIRS], per_cast[17][NDIRS], ref_ms = 0;
+    double t[17][100], tc[17][100], tcpu[17][100], per_dir[17][NDIRS], per_cast[17][NDIRS],
+        per_cpu[17][NDIRS], ref_ms = 0;
     int32_t *vdepth = o->ref ? malloc((size_t)side * side * sizeof *vdepth) : NULL;
     int64_t mism = 0;
     int ref_dirs = 0;
@@ -242,16 +243,17 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
             for (int k = 0; k < NCOUNTS(o); k++) {
                 bvox_set_threads(count_at(o, k));
                 bvox_preimage_destroy(p);
-                double t0 = now_ms();
+                double t0 = now_ms(), c0 = cpu_ms();
                 if (bvox_surface_cast(s, &pr, &p)) die("projection");
-                double t1 = now_ms();
+                double t1 = now_ms(), c1 = cpu_ms();
                 if (bvox_lut_light(p, &l, &lut)) die("lut");
                 if (bvox_shade_into(p, &lut, img)) die("shade");
-                if (r >= 0) t[k][r] = now_ms() - t0, tc[k][r] = t1 - t0;
+                if (r >= 0) t[k][r] = now_ms() - t0, tc[k][r] = t1 - t0, tcpu[k][r] = c1 - c0;
             }
         for (int k = 0; k < NCOUNTS(o); k++) {
             per_dir[k][d] = median(t[k], runs);
             per_cast[k][d] = median(tc[k], runs);
+            per_cpu[k][d] = median(tcpu[k], runs);
         }
         if (vdepth && ref_ms <= REF_BUDGET_MS) {
             double t0 = now_ms();
@@ -267,8 +269,10 @@ static void bench_arbitrary(const options *o, const bvox_volume *vol, const bvox
         double cast = median(per_cast[k], NDIRS), shaded = median(per_dir[k], NDIRS);
         printf("{\"case\": \"arbitrary_view\", \"pattern\": \"%s\", \"n\": %d, \"image\": %d, "
                "\"width\": %d, \"height\": %d, \"directions\": %d, \"threads\": %d, "
-               "\"runs\": %d, \"cast_ms\": %.3f, \"ms\": %.3f, \"ms_1thread\": %.3f",
-               pattern, n, side, side, side, NDIRS, o->tl.t[k], runs, cast, shaded, ms1);
+               "\"runs\": %d, \"cast_ms\": %.3f, \"ms\": %.3f, \"ms_1thread\": %.3f, "
+               "\"cast_cpu_ms\": %.3f",
+               pattern, n, side, side, side, NDIRS, o->tl.t[k], runs, cast, shaded, ms1,
+               median(per_cpu[k], NDIRS));
         if (ref_dirs) {
             /* The reference gives depth only: compare it with the cast alone. */
             printf(", \"ref_ms\": %.3f, \"ref_directions\": %d, \"speedup\": %.1f, "
@@ -324,14 +328,20 @@ static void bench_reshade(const options *o)
  * then, per thread count, the median of: the binary table shading (lut +
  * remap, the baseline), smooth normals for every pixel
  * (bvox_preimage_normals), the smooth shading codes the viewer uses
- * (bvox_shade_codes_volume), ambient occlusion and shadows. */
+ * (bvox_shade_codes_volume), the same through a bvox_normal_cache warmed by
+ * the view 6 degrees before (bvox_shade_codes_cached: a turning viewer's
+ * frame), ambient occlusion and shadows. */
 static void bench_shading(const options *o, const bvox_volume *vol, const bvox_surface *s,
                           const char *pattern, int side)
 {
     bvox_projection proj = BVOX_PROJECTION_INIT;
     proj.azimuth = 30, proj.elevation = 20, proj.width = proj.height = side;
-    bvox_preimage *p;
+    bvox_preimage *p, *before;
     if (bvox_surface_cast(s, &proj, &p)) die("cast");
+    proj.azimuth = 24;
+    if (bvox_surface_cast(s, &proj, &before)) die("cast");
+    bvox_normal_cache *cache;
+    if (bvox_normal_cache_create(0, &cache)) die("normal cache");
     const size_t n = (size_t)side * (size_t)side;
     float *nrm = malloc(3 * n * sizeof *nrm);
     uint16_t *codes = malloc(n * sizeof *codes);
@@ -341,9 +351,9 @@ static void bench_shading(const options *o, const bvox_volume *vol, const bvox_s
     bvox_light l = BVOX_LIGHT_INIT;
     bvox_shade_opts so = BVOX_SHADE_OPTS_INIT;
     so.mode = BVOX_SHADE_SMOOTH;
-    enum { BIN, SMOOTH, CODES, AO, SHADOWS, NK };
+    enum { BIN, SMOOTH, CODES, AO, SHADOWS, CACHED, NK };
     static const char *const key[NK] = {"binary_ms", "smooth_ms", "smooth_codes_ms", "ao_ms",
-                                        "shadows_ms"};
+                                        "shadows_ms", "smooth_codes_cached_ms"};
     double t[16][NK][100];
     long long hits = 0;
     for (size_t i = 0; i < n; i++) hits += p->depth[i] >= 0;
@@ -362,7 +372,13 @@ static void bench_shading(const options *o, const bvox_volume *vol, const bvox_s
             double t4 = now_ms();
             if (bvox_preimage_shadows(vol, p, &l, 0, f)) die("shadows");
             double t5 = now_ms();
+            bvox_normal_cache_clear(cache);
+            if (bvox_shade_codes_cached(vol, before, &so, cache, codes)) die("codes");
+            double t6 = now_ms();
+            if (bvox_shade_codes_cached(vol, p, &so, cache, codes)) die("codes");
+            double t7 = now_ms();
             if (r < 0) continue;
+            t[k][CACHED][r] = t7 - t6;
             t[k][BIN][r] = t1 - t0, t[k][SMOOTH][r] = t2 - t1, t[k][CODES][r] = t3 - t2;
             t[k][AO][r] = t4 - t3, t[k][SHADOWS][r] = t5 - t4;
         }
@@ -378,6 +394,8 @@ static void bench_shading(const options *o, const bvox_volume *vol, const bvox_s
     free(f);
     free(codes);
     free(nrm);
+    bvox_normal_cache_destroy(cache);
+    bvox_preimage_destroy(before);
     bvox_preimage_destroy(p);
 }
 
@@ -441,21 +459,22 @@ int main(int argc, char **argv)
             if (!vol) die("aal resampling");
             if (wanted(&o, "axis_view")) bench_axis(&o, vol, pattern);
 
-            double t[16][100];
+            double t[16][100], tcpu[16][100];
             bvox_surface *s = NULL;
             for (int r = -1; r < o.runs; r++)
                 for (int k = 0; k < o.tl.n; k++) {
                     bvox_set_threads(o.tl.t[k]);
                     bvox_surface_destroy(s);
-                    double t0 = now_ms();
+                    double t0 = now_ms(), c0 = cpu_ms();
                     if (bvox_surface_build(vol, &s)) die("surface");
-                    if (r >= 0) t[k][r] = now_ms() - t0;
+                    if (r >= 0) t[k][r] = now_ms() - t0, tcpu[k][r] = cpu_ms() - c0;
                 }
             for (int k = 0; wanted(&o, "surface_build") && k < o.tl.n; k++)
                 printf("{\"case\": \"surface_build\", \"pattern\": \"%s\", \"n\": %d, "
-                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld}\n",
+                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, "
+                       "\"cpu_ms\": %.3f}\n",
                        pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),
-                       (long long)bvox_surface_count(s));
+                       (long long)bvox_surface_count(s), median(tcpu[k], o.runs));
             fflush(stdout);
             for (int k = 0; wanted(&o, "arbitrary_view") && k < 2; k++)
                 bench_arbitrary(&o, vol, s, pattern, o.images[k]);

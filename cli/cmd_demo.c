@@ -34,7 +34,10 @@ static const cli_opt demo_opts[] = {
      "depth shaded, zoomed x2 and high-pass filtered, picture3.png the same resliced along a "
      "plane, picture4.png the data set as stored in a frame buffer; beside them "
      "picture1_smooth.png and picture3_smooth.png, pictures 1 and 3 smooth-shaded (normals "
-     "from the occupancy around each voxel); and turntable.gif (DIR "
+     "from the occupancy around each voxel); the paper's pre-image methods where it used "
+     "them: picture1_preimage.png (picture 1 by a binary gradient operator over the "
+     "pre-image), picture2_enlarged.png and picture3_enlarged.png (pictures 2 and 3 as a "
+     "gradient over the pre-image enlarged x2 with Figure 5's averaging); and turntable.gif (DIR "
      "and its missing parents are created; a folder holding other files is refused)",
      A(dir), .flags = CLI_DIR},
     CLI_OPT_FORCE(demo_args, force),
@@ -188,7 +191,8 @@ int cmd_demo(int argc, char **argv)
         fprintf(stderr,
                 "wrote into %s: specimen.nii.gz, specimen.tif, section_0000.png .. "
                 "section_%04d.png, model.nii.gz, picture1.png .. picture4.png, "
-                "picture1_smooth.png, picture3_smooth.png, turntable.gif\n",
+                "picture1_smooth.png, picture3_smooth.png, picture1_preimage.png, "
+                "picture2_enlarged.png, picture3_enlarged.png, turntable.gif\n",
                 a.dir, (int)r.sections - 1);
     if (a.json) print_json(&info, &r, a.dir);
     else {

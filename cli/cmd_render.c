@@ -133,7 +133,9 @@ static const cli_opt render_opts[] = {
      "fifth of the width, labelled",
      A(o.scale_bar)},
     {"--axes", 0, CLI_FLAG, NULL,
-     "an x/y/z triad, lower right, turned as the view (x red, y green, z blue)", A(o.axes)},
+     "an x/y/z triad, lower right, turned as the view (x red, y green, z blue); the "
+     "annotations go on every --turntable frame and --sheet cell",
+     A(o.axes)},
     {"--title", 0, CLI_STR, "TEXT", "a line of text at the top (ASCII)", A(o.title)},
     {"--labels", 0, CLI_FLAG, NULL,
      "IN is a label volume: every label in its colour (from --lut, else a palette of distinct "
@@ -357,9 +359,6 @@ static int render_main(render_args *a)
                 return cli_usage_error(cmd, "--title: only printable ASCII can be drawn");
     if (o.title && strlen(o.title) > 200)
         return cli_usage_error(cmd, "--title: at most 200 characters");
-    if ((o.scale_bar || o.axes || o.title) && (turntable || sheet))
-        return cli_usage_error(cmd, "--scale-bar, --axes and --title need a single picture (no "
-                                    "--turntable, --sheet)");
     if (o.transparent && turntable)
         return cli_usage_error(cmd, "--background transparent: a turntable has no alpha");
     if (o.transparent && o.stereo == BVOX_STEREO_ANAGLYPH)

@@ -1188,6 +1188,24 @@ BVOX_API bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade
  * frame. BVOX_EINVAL also for smooth without a volume. Thread-safe. */
 BVOX_API bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage *pre,
                                              const bvox_shade_opts *opts, uint16_t *codes);
+/* ---- smooth normals kept across frames (issue 18: 60 fps) ----
+ * A view turned frame after frame shows mostly voxels an earlier frame
+ * shaded: a bvox_normal_cache keeps their smooth normals' moments (8 bytes a
+ * voxel, direct-mapped, so it only forgets) for bvox_shade_codes_cached. */
+typedef struct bvox_normal_cache bvox_normal_cache;
+/* A cache of about `entries` voxels (a power of two, 2^12 .. 2^26; 0: 2^22,
+ * 32 MiB), counted in the memory budget. BVOX_ENOMEM/ETOOBIG. */
+BVOX_API bvox_status bvox_normal_cache_create(size_t entries, bvox_normal_cache **out);
+/* Forget every entry: call it when the volume's voxels change (a volume of
+ * other dimensions, or another radius, clears the cache by itself). */
+BVOX_API void bvox_normal_cache_clear(bvox_normal_cache *cache);
+BVOX_API void bvox_normal_cache_destroy(bvox_normal_cache *cache);
+/* bvox_shade_codes_volume through cache (NULL: none): the same codes, the
+ * smooth mode's moments taken from the cache and added to it. One call at a
+ * time per cache. */
+BVOX_API bvox_status bvox_shade_codes_cached(const bvox_volume *vol, const bvox_preimage *pre,
+                                             const bvox_shade_opts *opts,
+                                             bvox_normal_cache *cache, uint16_t *codes);
 /* The colour table of opts for codes made from a pre-image with pre's eye
  * frame and spacing (only those fields of pre are read). Cheap (8193
  * entries, the 27 normals and 4096 gradient bins lit once): rebuild it when
@@ -1339,7 +1357,12 @@ BVOX_API bvox_status bvox_render_turntable(const bvox_volume *vol, const bvox_re
 BVOX_API bvox_status bvox_demo_picture(const bvox_volume *vol, int k, bvox_image **out);
 /* Write picture1.png .. picture4.png into the existing folder dir, and
  * pictures 1 and 3 smooth-shaded (BVOX_SHADE_SMOOTH, 512 x 512) as
- * picture1_smooth.png and picture3_smooth.png. */
+ * picture1_smooth.png and picture3_smooth.png, and the paper's pre-image
+ * methods where it used them (512 x 512): picture 1 by the binary gradient
+ * operator over the pre-image (BVOX_SHADE_PREIMAGE_BINARY) as
+ * picture1_preimage.png, pictures 2 and 3 as the gradient over the pre-image
+ * enlarged x2 (BVOX_SHADE_ENLARGED_GRADIENT) as picture2_enlarged.png and
+ * picture3_enlarged.png. */
 BVOX_API bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir);
 
 /* ------------------------------------------------------------ editing, cut */

@@ -62,6 +62,7 @@ static bvox_status set_disp_center(vw_state *s)
 
 static bvox_status update_display(vw_state *s)
 {
+    bvox_normal_cache_clear(s->normals); /* the displayed voxels change */
     /* only edits inside a known box, no cut: update the surface in place */
     if (s->dirty_state == 1 && !s->cut && s->surf && !s->surf_of_cut &&
         bvox_surface_update(s->surf, s->model, s->dirty) == BVOX_OK) {
@@ -195,6 +196,17 @@ static void report_failure(vw_state *s, bvox_status st, const char *what)
     if (st) snprintf(s->status, sizeof s->status, "%s failed: %.100s", what, bvox_errmsg());
 }
 
+/* Slots for the smooth normals' cache: about 8 per boundary voxel (the 8
+ * voxels around each hit point reach one voxel around the surface), a power
+ * of two from 2^16 up to 2^23 (64 MiB). */
+static size_t normal_cache_entries(const vw_state *s)
+{
+    int64_t want = 8 * (s->surf ? bvox_surface_count(s->surf) : 0);
+    size_t n = (size_t)1 << 16;
+    while (n < ((size_t)1 << 23) && (int64_t)n < want) n <<= 1;
+    return n;
+}
+
 /* The per-pixel shading codes of the pane (a new cast, mode or cut). The
  * smooth mode reads the occupancy around each hit voxel of the volume that
  * was cast (the cut copy when cut); the other modes ignore the volume. */
@@ -207,7 +219,13 @@ static void make_codes(vw_state *s)
                     s->last_smooth_ms > s->coarse_ms;
     if (s->fast_codes) o.mode = BVOX_SHADE_GRADIENT;
     double t = vw_now();
-    report_failure(s, bvox_shade_codes_volume(displayed(s), &p, &o, s->view3d.code), "shading");
+    /* the moments of the voxels earlier frames shaded are kept: a turn of
+     * the view then mostly looks them up (without the cache: only slower) */
+    if (o.mode == BVOX_SHADE_SMOOTH && !s->normals &&
+        bvox_normal_cache_create(normal_cache_entries(s), &s->normals))
+        s->normals = NULL;
+    report_failure(s, bvox_shade_codes_cached(displayed(s), &p, &o, s->normals, s->view3d.code),
+                   "shading");
     if (o.mode == BVOX_SHADE_SMOOTH) s->last_smooth_ms = (vw_now() - t) * 1e3;
 }
 

@@ -154,6 +154,9 @@ typedef struct vw_state {
     int view_drag;           /* a turn or pan drag is under way */
     int fast_codes;          /* the pane shows those stand-in codes */
     double last_smooth_ms;
+    /* the smooth normals' moments across frames (made on first use; cleared
+     * whenever the displayed volume's surface is rebuilt or updated) */
+    bvox_normal_cache *normals;
     /* canvas */
     int width, height;
     uint8_t *rgb;            /* width*height*3 */

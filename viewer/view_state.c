@@ -390,6 +390,7 @@ void vw_close(vw_state *s)
     bvox_volume_destroy(s->model);
     bvox_volume_destroy(s->cut_copy);
     bvox_surface_destroy(s->surf);
+    bvox_normal_cache_destroy(s->normals);
     bvox_journal_destroy(s->journal);
     bvox_image_destroy(s->mosaic);
     free(s->view3d.depth);

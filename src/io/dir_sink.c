@@ -52,7 +52,9 @@ const char *const bvox__demo_file_names[] = {
     "specimen.nii.gz", "specimen.tif", "model.nii.gz", "picture1.png", "picture2.png",
     "picture3.png",    "picture4.png", "turntable.gif",
     /* issue 18: the smooth-shaded pictures beside the paper's */
-    "picture1_smooth.png", "picture3_smooth.png", NULL};
+    "picture1_smooth.png", "picture3_smooth.png",
+    /* issue 18, item 3: the paper's pre-image methods in its pictures */
+    "picture1_preimage.png", "picture2_enlarged.png", "picture3_enlarged.png", NULL};
 #define NKINDS (sizeof kinds / sizeof kinds[0])
 #define MANIFEST_HEADER "bvox output manifest 1"
 #define MANIFEST_MAX (16u << 20) /* 65535 names of ~20 bytes fit many times */

@@ -21,8 +21,19 @@
  * Numbering: the first sheet of every mixed cell is numbered by popcount of
  * the mixed-cell masks (a prefix per word, as mc.c does for edges); the rare
  * further sheets follow, found by binary search in a sorted list of the
- * multi-sheet cells. Each face is emitted once, by the cell at its lower
- * corner (its cube edge 3, 7 or 11), with the other three cells looked up.
+ * multi-sheet cells; the diagonal edges' midpoints by a prefix per column
+ * plus the popcounts of the column's words below. Each face is emitted
+ * once, by the cell at its lower corner (its cube edge 3, 7 or 11), with the
+ * other three cells looked up.
+ *
+ * Plain columns: where no face a cell column emits has a diagonal side or a
+ * multi-sheet corner (checked per column from the diagonal-edge prefixes
+ * and the multi-sheet list: every column of a digital ball, most of an
+ * atlas), each face is a quad of first sheets, i.e. of ranks among the
+ * mixed cells of four columns, and is written directly (emit_plain_word);
+ * the other columns build each face's polygon (face_polygon). Both give the
+ * same vertices and triangles in the same order (test_cuberille compares
+ * them on every kind of volume through bvox__mesh_cuberille_reference).
  */
 #include "mesh_private.h"
 
@@ -52,7 +63,7 @@ typedef struct cub {
     const bvox__mc_case *tab;
     const uint64_t *zero;
     uint32_t *pre;      /* per cell word: mixed cells before it in its row */
-    uint32_t *dpre[3];  /* per column word: diagonal edges before it in its row */
+    uint32_t *dpre[3];  /* per slot column: diagonal edges (x2) before it in its row */
     size_t pre_bytes, dpre_bytes;
     rowinfo *rows;      /* then bases */
     cchunk *chunks;
@@ -63,6 +74,7 @@ typedef struct cub {
     double *verts;
     int32_t *tris;
     int mirrored;
+    int reference; /* every face through face_polygon (tests) */
 } cub;
 
 static inline const uint64_t *col(const cub *c, int32_t X, int32_t Y)
@@ -121,13 +133,41 @@ static void diag_slot(int k, int32_t X, int32_t Y, int32_t Z, int32_t *dx, int32
     *dz = k == 2 ? Z : Z - 1;
 }
 
+/* Diagonal edges of direction k in slot column (X, Y) below bit z: the
+ * column's words are read up to z's (a prefix per word cost 25 MB of page
+ * faults at 512^3, and diagonal edges are rare on smooth objects). */
+static inline int64_t diag_below(const cub *c, int k, int32_t X, int32_t Y, int32_t z)
+{
+    const uint64_t *A = col(c, X, Y), *B, *C = NULL, *D = NULL;
+    if (k == 2) {
+        B = col(c, X + 1, Y);
+        C = col(c, X, Y + 1);
+        D = col(c, X + 1, Y + 1);
+    } else
+        B = k == 0 ? col(c, X, Y + 1) : col(c, X + 1, Y);
+    const size_t wz = (size_t)z >> 6;
+    int64_t n = 0;
+    for (size_t w = 0; w <= wz; w++) {
+        uint64_t a = A[w], b = B[w], cc, d;
+        if (k == 2) {
+            cc = C[w];
+            d = D[w];
+        } else {
+            cc = up(c, A, w);
+            d = up(c, B, w);
+        }
+        uint64_t m = (a & d & ~b & ~cc) | (b & cc & ~a & ~d);
+        if (w == wz) m &= (1ull << (z & 63)) - 1;
+        n += POPCOUNT(m);
+    }
+    return n;
+}
+
 static inline int32_t diag_vertex(const cub *c, int k, int32_t X, int32_t Y, int32_t z, int side)
 {
-    size_t w = (size_t)z >> 6;
-    uint64_t m = diag_word(c, k, X, Y, w) & ((1ull << (z & 63)) - 1);
-    size_t i = ((size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X) * c->g.wpc + w;
+    size_t i = (size_t)Y * (size_t)(c->g.nx + 1) + (size_t)X;
     return (int32_t)(c->dbase[k] + c->rows[Y].diag[k] + c->dpre[k][i] +
-                     2 * POPCOUNT(m) + side);
+                     2 * diag_below(c, k, X, Y, z) + side);
 }
 
 static inline uint64_t cell_key(const cub *c, int32_t X, int32_t Y, int32_t Z)
@@ -298,7 +338,7 @@ static inline uint64_t cwd(const cub *c, const uint64_t *p, size_t w)
 static void add_multis(const cub *c, cchunk *ch, int32_t X, int32_t Y, size_t w,
                        const uint64_t cw[8], uint64_t mixed)
 {
-    for (; mixed && !ch->st; mixed &= mixed - 1) {
+    for (mixed &= bvox__grid_maybe_multi(cw); mixed && !ch->st; mixed &= mixed - 1) {
         unsigned bit = (unsigned)__builtin_ctzll(mixed);
         const bvox__mc_case *cs = &c->tab[bvox__grid_case(cw, bit)];
         if (cs->nloops <= 1) continue;
@@ -315,70 +355,62 @@ static void add_multis(const cub *c, cchunk *ch, int32_t X, int32_t Y, size_t w,
     }
 }
 
-/* Pass 1 for cell row Y, from whole words, each word of the 3 x 3 voxel
- * columns around cell column X read once: the mixed-cell prefixes (pre),
- * the diagonal-edge prefixes of each direction (dpre, as diag_word), the
- * multi-sheet cells, and the row's triangles. Triangles: each exposed face
+/* Pass 1 for cell row Y, from whole words, each word of the 2 x 2 voxel
+ * columns of cell column X read once: the mixed-cell prefixes (pre), the
+ * diagonal edges of each direction (dpre per slot column, as diag_word),
+ * the multi-sheet cells, and the row's faces. Triangles: each exposed face
  * is a polygon of its 4 corners plus one midpoint per diagonal voxel edge
  * among its sides, fanned into (that many - 2) triangles; so 2 per face
- * plus 1 per (face, diagonal side) pair, popcounts of XORs of neighbour
- * words. Row Y emits the x and z faces of voxel row y = Y and the y faces
- * between voxel rows Y - 1 and Y (cube edges 3, 11 and 7 of its cells). A
- * diagonal side implies its face is exposed, so sides need no face mask.
- * V(x, y) is voxel column (x, y) (0 outside) = padded column (x+1, y+1):
- * cell column X = x has corners in V(x-1..x, Y-1..Y). */
+ * plus 1 per (face, diagonal side) pair. The faces are popcounts of XORs
+ * of neighbour words; the diagonal sides are added per row afterwards from
+ * the diagonal-edge counts (diag_sides). Row Y emits the x and z faces of
+ * voxel row y = Y and the y faces between voxel rows Y - 1 and Y (cube
+ * edges 3, 11 and 7 of its cells). V(x, y) is voxel column (x, y) (0
+ * outside) = padded column (x+1, y+1): cell column X = x has corners in
+ * V(x-1..x, Y-1..Y). */
 HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
 {
     const bvox__grid *g = &c->g;
-    int64_t run = 0, tris = 0;
+    int64_t run = 0, faces = 0;
     uint64_t drun[3] = {0, 0, 0}; /* see mc.c: the total check bounds them */
 #define V(x, y) col(c, (x) + 1, (y) + 1)
     for (int32_t x = 0; x <= g->nx; x++) {
-        const uint64_t *a0 = V(x - 1, Y - 1), *b0 = V(x, Y - 1), *c0 = V(x + 1, Y - 1);
-        const uint64_t *a1 = V(x - 1, Y), *b1 = V(x, Y), *c1 = V(x + 1, Y);
-        const uint64_t *a2 = V(x - 1, Y + 1), *b2 = V(x, Y + 1);
+        const uint64_t *a0 = V(x - 1, Y - 1), *b0 = V(x, Y - 1);
+        const uint64_t *a1 = V(x - 1, Y), *b1 = V(x, Y);
         size_t at = (size_t)Y * (size_t)(g->nx + 1) + (size_t)x;
         uint32_t *pre = c->pre + at * g->cw;
-        uint32_t *dp0 = c->dpre[0] + at * g->wpc, *dp1 = c->dpre[1] + at * g->wpc,
-                 *dp2 = c->dpre[2] + at * g->wpc;
-        /* the 8 columns' words below (pv), at (cu) and above (nx) word w */
-        const uint64_t *cols[8] = {a0, b0, c0, a1, b1, c1, a2, b2};
-        uint64_t pv[8], cu[8], nx[8];
-        for (int i = 0; i < 8; i++) {
+        for (int k = 0; k < 3; k++) c->dpre[k][at] = (uint32_t)drun[k];
+        /* the 4 columns' words below (pv), at (cu) and above (nx) word w */
+        const uint64_t *cols[4] = {a0, b0, a1, b1};
+        uint64_t pv[4], cu[4], nx[4];
+        for (int i = 0; i < 4; i++) {
             pv[i] = 0;
             cu[i] = cwd(c, cols[i], 0);
             nx[i] = cwd(c, cols[i], 1);
         }
         for (size_t w = 0; w < g->cw; w++) {
             uint64_t o = 0, a = ~0ull, ends_o = 0, ends_a = ~0ull;
-            for (int i = 0; i < 8; i++) {
+            for (int i = 0; i < 4; i++) {
                 o |= cu[i];
                 a &= cu[i];
                 uint64_t ends = (pv[i] >> 63) | (nx[i] << 63);
                 ends_o |= ends;
                 ends_a &= ends | ~(1ull | 1ull << 63);
             }
-            const uint64_t A0 = cu[0], B0 = cu[1], C0 = cu[2], A1 = cu[3], B1 = cu[4], C1 = cu[5],
-                           A2 = cu[6], B2 = cu[7];
+            const uint64_t A0 = cu[0], B0 = cu[1], A1 = cu[2], B1 = cu[3];
             const uint64_t lA0 = A0 << 1 | pv[0] >> 63, lB0 = B0 << 1 | pv[1] >> 63;
-            const uint64_t lA1 = A1 << 1 | pv[3] >> 63, lB1 = B1 << 1 | pv[4] >> 63;
+            const uint64_t lA1 = A1 << 1 | pv[2] >> 63, lB1 = B1 << 1 | pv[3] >> 63;
             const uint64_t hA0 = A0 >> 1 | nx[0] << 63, hB0 = B0 >> 1 | nx[1] << 63;
-            const uint64_t hA1 = A1 >> 1 | nx[3] << 63, hB1 = B1 >> 1 | nx[4] << 63;
-            const uint64_t lC1 = C1 << 1 | pv[5] >> 63, lB2 = B2 << 1 | pv[7] >> 63;
-            for (int i = 0; i < 8; i++) {
+            const uint64_t hA1 = A1 >> 1 | nx[2] << 63;
+            for (int i = 0; i < 4; i++) {
                 pv[i] = cu[i];
                 cu[i] = nx[i];
                 nx[i] = cwd(c, cols[i], w + 2);
             }
-            /* all 3 x 3 x 3 voxels around every cell of the word equal: no
+            /* all 2 x 2 x 3 voxels around every cell of the word equal: no
              * mixed cell, face or diagonal edge (most words) */
             if ((o | ends_o) == 0 || (a == ~0ull && ends_a == ~0ull)) {
                 pre[w] = (uint32_t)run;
-                if (w < g->wpc) {
-                    dp0[w] = (uint32_t)drun[0];
-                    dp1[w] = (uint32_t)drun[1];
-                    dp2[w] = (uint32_t)drun[2];
-                }
                 continue;
             }
             /* cells: corners as corners() */
@@ -390,31 +422,39 @@ HOT static void count_row(cub *c, cchunk *ch, int32_t Y)
                 add_multis(c, ch, x, Y, w, cw, mixed);
             }
             if (w < g->wpc) { /* diagonal edges, diag_word's three directions */
-                dp0[w] = (uint32_t)drun[0];
-                dp1[w] = (uint32_t)drun[1];
-                dp2[w] = (uint32_t)drun[2];
                 drun[0] += 2 * (uint64_t)POPCOUNT(alt(A0, A1, hA0, hA1));
                 drun[1] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, hA0, hB0));
                 drun[2] += 2 * (uint64_t)POPCOUNT(alt(A0, B0, A1, B1));
             }
-            /* x faces between V(x-1, Y) and V(x, Y) */
-            uint64_t zdiag = alt(A0, B0, A1, B1); /* z edge at corner (x, Y) */
-            tris += 2 * POPCOUNT(A1 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(A1, B1, A2, B2)) +
-                    POPCOUNT(alt(lA1, lB1, A1, B1)) + POPCOUNT(alt(A1, B1, hA1, hB1));
-            if (x == g->nx) continue; /* y and z faces: voxel columns x < nx */
-            /* y faces between V(x, Y-1) and V(x, Y) */
-            tris += 2 * POPCOUNT(B0 ^ B1) + POPCOUNT(zdiag) + POPCOUNT(alt(B0, C0, B1, C1)) +
-                    POPCOUNT(alt(lB0, lB1, B0, B1)) + POPCOUNT(alt(B0, B1, hB0, hB1));
-            /* z faces of V(x, Y), between voxels z - 1 and z */
-            tris += 2 * POPCOUNT(B1 ^ lB1) + POPCOUNT(alt(lB0, lB1, B0, B1)) +
-                    POPCOUNT(alt(lB1, lB2, B1, B2)) + POPCOUNT(alt(lA1, lB1, A1, B1)) +
-                    POPCOUNT(alt(lB1, lC1, B1, C1));
+            /* the faces: x faces between V(x-1, Y) and V(x, Y); y faces
+             * between V(x, Y-1) and V(x, Y), z faces of V(x, Y) between
+             * voxels z - 1 and z (voxel columns x < nx) */
+            faces += POPCOUNT(A1 ^ B1);
+            if (x == g->nx) continue;
+            faces += POPCOUNT(B0 ^ B1) + POPCOUNT(B1 ^ lB1);
         }
     }
 #undef V
     c->rows[Y].cells = run;
-    c->rows[Y].tris = tris;
+    c->rows[Y].tris = 2 * faces; /* + the diagonal sides: see diag_sides */
     for (int k = 0; k < 3; k++) c->rows[Y].diag[k] = (int64_t)drun[k];
+}
+
+/* The triangles that diagonal edges add to the rows' faces (before the
+ * rows' counts become prefixes). The four voxels around a diagonal edge
+ * alternate, so its four faces are all exposed and each gets one more
+ * triangle, from the row that emits it. Slot row Y (count_row's) holds the
+ * x edges between voxel rows Y - 1 and Y (their 2 y faces and the z face
+ * of row Y: 3 to row Y, the z face of row Y - 1: 1 to row Y - 1), the y
+ * edges of voxel row Y - 1 (4 faces, all to row Y - 1) and the z edges
+ * between rows Y - 1 and Y (as the x edges: 3 to row Y, 1 to row Y - 1).
+ * rows[].diag counts 2 per edge (its two midpoints). */
+static void diag_sides(rowinfo *rows, int32_t ny)
+{
+    for (int32_t Y = 0; Y <= ny; Y++) {
+        const int64_t *d = rows[Y].diag, *n = rows[Y + 1].diag; /* row ny + 1: none */
+        rows[Y].tris += (3 * (d[0] + d[2]) + n[0] + 4 * n[1] + n[2]) / 2;
+    }
 }
 
 static void pass_count(void *ctx, int64_t begin, int64_t end)
@@ -426,6 +466,156 @@ static void pass_count(void *ctx, int64_t begin, int64_t end)
     }
 }
 
+/* Diagonal edges of direction k in the slots of row Y before column X
+ * (X up to nx + 1, Y up to ny + 1), counted from the start of the grid. */
+static inline int64_t diag_before(const cub *c, int k, int32_t X, int32_t Y)
+{
+    const bvox__grid *g = &c->g;
+    if (Y > g->ny) return c->rows[g->ny + 1].diag[k];
+    if (X > g->nx) return c->rows[Y + 1].diag[k];
+    return c->rows[Y].diag[k] +
+           c->dpre[k][(size_t)Y * (size_t)(g->nx + 1) + (size_t)X];
+}
+
+/* Whether cell row Y's emission has no diagonal voxel edge in slot rows Y
+ * and Y + 1 (the slots of every face side its cells emit). */
+static inline int row_without_diagonals(const cub *c, int32_t Y)
+{
+    int32_t Y2 = Y + 2 > c->g.ny + 1 ? c->g.ny + 1 : Y + 2;
+    for (int k = 0; k < 3; k++)
+        if (c->rows[Y2].diag[k] != c->rows[Y].diag[k]) return 0;
+    return 1;
+}
+
+/* Whether the faces of cell column (X, Y) are all plain quads: no
+ * diagonal voxel edge in slot columns X..X+1 of rows Y..Y+1 (the sides of
+ * its faces) and no multi-sheet cell among cell columns X..X+1 of rows
+ * Y..Y+1 (its faces' ring cells). cur[i] is row Y + i's cursor into the
+ * sorted multi-sheet cells, moved forward as X grows. */
+static inline int column_plain(const cub *c, int32_t X, int32_t Y, int diag_free, int64_t cur[2])
+{
+    const bvox__grid *g = &c->g;
+    int32_t X2 = X + 2 > g->nx + 1 ? g->nx + 1 : X + 2;
+    if (!diag_free)
+        for (int i = 0; i < 2; i++)
+            for (int k = 0; k < 3; k++)
+                if (diag_before(c, k, X2, Y + i) != diag_before(c, k, X, Y + i)) return 0;
+    for (int i = 0; i < 2 && c->nmulti; i++) {
+        if (Y + i > g->ny) break;
+        uint64_t k0 = cell_key(c, X, Y + i, 0), k1 = cell_key(c, X2, Y + i, 0);
+        while (cur[i] < c->nmulti && c->multis[cur[i]].key < k0) cur[i]++;
+        if (cur[i] < c->nmulti && c->multis[cur[i]].key < k1) return 0;
+    }
+    return 1;
+}
+
+/* The first multi-sheet cell of row Y or later (a cursor for column_plain). */
+static int64_t multi_row_start(const cub *c, int32_t Y)
+{
+    uint64_t key = cell_key(c, 0, Y, 0);
+    int64_t lo = 0, hi = c->nmulti;
+    while (lo < hi) {
+        int64_t mid = (lo + hi) / 2;
+        if (c->multis[mid].key < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* One face as two triangles, q counter-clockwise seen from +axis; flipped
+ * (q[0] kept) when its outside is toward -axis, or in a mirrored frame:
+ * face_polygon and the fan of emit_row for a 4-corner polygon. */
+static inline int32_t *quad(int32_t *t, int32_t q0, int32_t q1, int32_t q2, int32_t q3, int flip)
+{
+    if (flip) {
+        int32_t s = q1;
+        q1 = q3;
+        q3 = s;
+    }
+    t[0] = q0;
+    t[1] = q1;
+    t[2] = q2;
+    t[3] = q0;
+    t[4] = q2;
+    t[5] = q3;
+    return t + 6;
+}
+
+/* Cell word (X, Y, w) of a plain column (column_plain): every ring cell's
+ * vertex is its first sheet, the rank of the cell among the mixed cells of
+ * its column (first[j] + popcount below, j = dx | dy << 1), and a ring cell
+ * one up (dz = 1) is the next mixed cell of its column, since both hold the
+ * face's edge. The vertex positions and triangles, in emit_row's order,
+ * without building polygons. base: the world position of (X - 0.5, Y -
+ * 0.5, 0) as bvox__grid_world sums it, so a cell adds only its z term (the
+ * same operations in the same order: bitwise-equal positions). */
+/* always inlined: a call of its own would leave it outside emit_row's POPCNT
+ * clone, with the portable popcount */
+static inline __attribute__((always_inline)) int32_t *emit_plain_word(cub *c, int32_t X, int32_t Y, size_t w,
+                                       const uint64_t cw[8], uint64_t mixed_word,
+                                       const double base[3], int64_t *vi, int32_t *t)
+{
+    const bvox__grid *g = &c->g;
+    const size_t wpc = g->wpc;
+    uint64_t hi[3][3], lo[3][3];
+    for (int j = 0; j < 3; j++)
+        for (int i = 0; i < 3; i++) {
+            const uint64_t *p = col(c, X + i, Y + j);
+            uint64_t pm = w >= 1 && w - 1 < wpc ? p[w - 1] : 0;
+            uint64_t h = w < wpc ? p[w] : 0;
+            hi[j][i] = h;
+            lo[j][i] = h << 1 | pm >> 63;
+        }
+    uint64_t mx[4];
+    int64_t first[4];
+    for (int j = 1; j < 4; j++) {
+        int xi = j & 1, yj = j >> 1;
+        uint64_t o = lo[yj][xi] | lo[yj][xi + 1] | lo[yj + 1][xi] | lo[yj + 1][xi + 1] |
+                     hi[yj][xi] | hi[yj][xi + 1] | hi[yj + 1][xi] | hi[yj + 1][xi + 1];
+        uint64_t a = lo[yj][xi] & lo[yj][xi + 1] & lo[yj + 1][xi] & lo[yj + 1][xi + 1] &
+                     hi[yj][xi] & hi[yj][xi + 1] & hi[yj + 1][xi] & hi[yj + 1][xi + 1];
+        mx[j] = o & ~a;
+        int32_t CX = X + xi, CY = Y + yj;
+        first[j] = CX <= g->nx && CY <= g->ny
+                       ? c->rows[CY].cells +
+                             c->pre[((size_t)CY * (size_t)(g->nx + 1) + (size_t)CX) * g->cw + w]
+                       : 0;
+    }
+    const double *d = c->geo->direction, s2 = c->geo->spacing[2];
+    const uint64_t f0 = cw[6] ^ cw[7], f1 = cw[5] ^ cw[7], f2 = cw[3] ^ cw[7];
+    /* flip where the upper voxel is the 1 (outward toward -axis), unless
+     * the frame is mirrored */
+    const uint64_t fl = c->mirrored ? ~0ull : 0;
+    const uint64_t flip0 = ~(cw[6] ^ fl), flip1 = ~(cw[5] ^ fl), flip2 = ~(cw[3] ^ fl);
+    int64_t v = *vi;
+    for (uint64_t m = mixed_word; m; m &= m - 1) {
+        unsigned bit = (unsigned)__builtin_ctzll(m);
+        uint64_t below = (1ull << bit) - 1;
+        double cz = ((double)(int32_t)(w * 64 + bit) - 0.5) * s2;
+        double *pv = c->verts + 3 * v;
+        pv[0] = base[0] + d[2] * cz;
+        pv[1] = base[1] + d[5] * cz;
+        pv[2] = base[2] + d[8] * cz;
+        int32_t v0 = (int32_t)v++;
+        if ((f0 >> bit) & 1) {
+            int32_t v2 = (int32_t)(first[2] + POPCOUNT(mx[2] & below));
+            t = quad(t, v0, v2, v2 + 1, v0 + 1, (int)((flip0 >> bit) & 1));
+        }
+        if ((f1 >> bit) & 1) {
+            int32_t v1 = (int32_t)(first[1] + POPCOUNT(mx[1] & below));
+            t = quad(t, v0, v0 + 1, v1 + 1, v1, (int)((flip1 >> bit) & 1));
+        }
+        if ((f2 >> bit) & 1) {
+            int32_t v1 = (int32_t)(first[1] + POPCOUNT(mx[1] & below));
+            int32_t v2 = (int32_t)(first[2] + POPCOUNT(mx[2] & below));
+            int32_t v3 = (int32_t)(first[3] + POPCOUNT(mx[3] & below));
+            t = quad(t, v0, v1, v3, v2, (int)((flip2 >> bit) & 1));
+        }
+    }
+    *vi = v;
+    return t;
+}
+
 HOT static void emit_row(cub *c, int32_t Y)
 {
     const bvox__grid *g = &c->g;
@@ -433,11 +623,20 @@ HOT static void emit_row(cub *c, int32_t Y)
         int64_t vi = c->rows[Y].cells;
         int32_t *t = c->tris + 3 * c->rows[Y].tris;
         const int64_t row_cells = c->rows[Y + 1].cells - c->rows[Y].cells;
+        const int diag_free = row_without_diagonals(c, Y);
+        int64_t cur[2] = {c->nmulti ? multi_row_start(c, Y) : 0, 0};
+        cur[1] = cur[0];
+        const double *d = c->geo->direction, *o = c->geo->origin, *sp = c->geo->spacing;
         for (int32_t X = 0; X <= g->nx; X++) {
             /* skip columns without mixed cells (their faces are none either) */
             const uint32_t *pre = c->pre + ((size_t)Y * (size_t)(g->nx + 1) + (size_t)X) * g->cw;
             const int64_t col_end = X < g->nx ? (int64_t)pre[g->cw] : row_cells;
             if (col_end == (int64_t)pre[0]) continue;
+            const int plain = !c->reference && column_plain(c, X, Y, diag_free, cur);
+            /* bvox__grid_world's x and y terms, summed in its order */
+            const double a = (X - 0.5) * sp[0], b = (Y - 0.5) * sp[1];
+            const double base[3] = {o[0] + d[0] * a + d[1] * b, o[1] + d[3] * a + d[4] * b,
+                                    o[2] + d[6] * a + d[7] * b};
             for (size_t w = 0; w < g->cw; w++) {
                 /* the prefixes say which words hold mixed cells */
                 if ((w + 1 < g->cw ? (int64_t)pre[w + 1] : col_end) == (int64_t)pre[w]) continue;
@@ -446,6 +645,10 @@ HOT static void emit_row(cub *c, int32_t Y)
                 corners(c, X, Y, w, cw);
                 const uint64_t mixed_word = bvox__grid_mixed(cw);
                 if (!mixed_word) continue;
+                if (plain) {
+                    t = emit_plain_word(c, X, Y, w, cw, mixed_word, base, &vi, t);
+                    continue;
+                }
                 wordcells_init(c, X, Y, w, &wc);
                 for (uint64_t mixed = mixed_word; mixed; mixed &= mixed - 1) {
                     unsigned bit = (unsigned)__builtin_ctzll(mixed);
@@ -515,10 +718,11 @@ static void cub_release(cub *c)
     free((void *)c->zero);
 }
 
-bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
+static bvox_status cuberille(const bvox_volume *vol, bvox_mesh *m, int reference)
 {
     cub c;
     memset(&c, 0, sizeof c);
+    c.reference = reference;
     bvox__grid_init(&c.g, vol);
     c.geo = &vol->geom;
     c.mirrored = bvox__geometry_mirrored(c.geo);
@@ -528,8 +732,7 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
     size_t ncells, ncols;
     if (!bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), g->cw * sizeof(uint32_t),
                         &ncells) ||
-        !bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), g->wpc * sizeof(uint32_t),
-                        &ncols))
+        !bvox__mul_size((size_t)(g->nx + 1) * (size_t)(g->ny + 1), sizeof(uint32_t), &ncols))
         return bvox__fail(BVOX_ETOOBIG, "volume too large to mesh");
     c.zero = bvox__mem_zalloc(g->wpc + 1, sizeof(uint64_t));
     c.rows = bvox__mem_zalloc((size_t)g->ny + 2, sizeof(rowinfo));
@@ -558,6 +761,7 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
         cub_release(&c);
         return st;
     }
+    diag_sides(c.rows, g->ny);
     int64_t cells = 0, tris = 0, diag[3] = {0, 0, 0};
     for (int32_t Y = 0; Y <= g->ny; Y++) {
         rowinfo r = c.rows[Y];
@@ -621,4 +825,14 @@ bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
     m->ntriangles = tris;
     cub_release(&c);
     return BVOX_OK;
+}
+
+bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m)
+{
+    return cuberille(vol, m, 0);
+}
+
+bvox_status bvox__mesh_cuberille_reference(const bvox_volume *vol, bvox_mesh *m)
+{
+    return cuberille(vol, m, 1);
 }

@@ -102,6 +102,25 @@ static inline uint64_t bvox__grid_mixed(const uint64_t c[8])
     uint64_t a = c[0] & c[1] & c[2] & c[3] & c[4] & c[5] & c[6] & c[7];
     return o & ~a;
 }
+/* Cells of the word that may hold more than one surface sheet (a superset
+ * of the cases with nloops > 1, checked against the table by
+ * test_cuberille): a cube face with 1s on one diagonal only, or the 8
+ * corners split into one body-diagonal pair and the other six. */
+static inline uint64_t bvox__grid_maybe_multi(const uint64_t c[8])
+{
+#define BVOX__ALT(a, b, cc, d) (((a) & (d) & ~(b) & ~(cc)) | ((b) & (cc) & ~(a) & ~(d)))
+    uint64_t m = BVOX__ALT(c[0], c[2], c[4], c[6]) | BVOX__ALT(c[1], c[3], c[5], c[7]) |
+                 BVOX__ALT(c[0], c[1], c[4], c[5]) | BVOX__ALT(c[2], c[3], c[6], c[7]) |
+                 BVOX__ALT(c[0], c[1], c[2], c[3]) | BVOX__ALT(c[4], c[5], c[6], c[7]);
+#undef BVOX__ALT
+    for (int p = 0; p < 4; p++) { /* corners p and 7 - p equal, the six others not */
+        uint64_t b = ~(c[p] ^ c[7 - p]);
+        for (int r = 0; r < 8; r++)
+            if (r != p && r != 7 - p) b &= c[r] ^ c[p];
+        m |= b;
+    }
+    return m;
+}
 static inline unsigned bvox__grid_case(const uint64_t c[8], unsigned bit)
 {
     unsigned k = 0;
@@ -154,6 +173,9 @@ bvox_status bvox__mesh_edge_stats(const bvox_mesh *m, int64_t *edges, int64_t *b
 /* ---- volume -> mesh (mc.c, cuberille.c; dispatched by mesh_from_volume.c) ---- */
 bvox_status bvox__mesh_mc(const bvox_volume *vol, bvox_mesh *m);
 bvox_status bvox__mesh_cuberille(const bvox_volume *vol, bvox_mesh *m);
+/* The same mesh with every face built as a general polygon (no plain-quad
+ * path): what the tests compare bvox__mesh_cuberille with. */
+bvox_status bvox__mesh_cuberille_reference(const bvox_volume *vol, bvox_mesh *m);
 
 /* ---- readers (read_*.c), on a buffer; name for messages ---- */
 bvox_status bvox__mesh_read_stl(const uint8_t *d, size_t n, const char *name, bvox_mesh *m);

@@ -18,7 +18,10 @@
  * The levels carry rx zero columns beyond the volume's x faces, so every
  * term of a slice is one pointer into them, and a slice is gathered in
  * blocks of words held in registers while each term is loaded once
- * (morph_ball_kern.h, compiled per SIMD level).
+ * (morph_ball_kern.h, compiled per SIMD level). The slices nest (E_k holds
+ * E_k+1), so they are built from k = ry down in one running buffer, each
+ * from the one before and only the terms whose reach grows (radius 10: 105
+ * loads per word instead of 169).
  * Erosion is the same with AND; voxels outside the volume are 0, so output
  * rows within ry of the y faces are 0 and out-of-range columns AND in 0.
  */
@@ -34,7 +37,8 @@
 
 int bvox__morph_ball_test_tile = 0;
 
-typedef void (*gather_fn)(uint64_t *, uint64_t *, const uint64_t *const *, int, size_t, bool);
+typedef void (*gather_fn)(uint64_t *, bool, uint64_t *, uint64_t *, const uint64_t *const *, int,
+                          size_t, bool);
 typedef void (*step_fn)(uint64_t *, const uint64_t *, size_t, size_t, int, uint64_t, bool);
 
 typedef struct term {
@@ -47,7 +51,8 @@ typedef struct ball_job {
     bool erode;
     int rx, ry;
     const term *terms;
-    const int *kstart; /* terms of slice k: kstart[k] .. kstart[k + 1] - 1 */
+    const int *kstart; /* terms of slice k: kstart[k] .. kstart[k + 1] - 1; below ry,
+                          only those not in slice k + 1 (see bvox__morph_ball) */
     const int *lev_h;  /* z reach of each level, increasing */
     int nlev;
     int64_t nchunks;     /* bands of rows, all rounds together */
@@ -131,6 +136,7 @@ static void band(const ball_job *j, int64_t chunk)
     /* level l: columns x0 - rx .. x0 + tx + rx of the current input row */
     const size_t zstride = (size_t)(j->tx + 2 * rx) * wpc;
     uint64_t *tmp = scratch + (size_t)j->nlev * zstride; /* one level's size */
+    uint64_t *run = tmp + zstride;                        /* the slice, tx columns */
     const uint64_t **ptrs = j->ptrs + slot * (size_t)j->kstart[ry + 1];
     for (int t = 0; t < j->kstart[ry + 1]; t++)
         ptrs[t] = scratch + (size_t)j->terms[t].lev * zstride + (size_t)(rx + j->terms[t].dx) * wpc;
@@ -168,15 +174,16 @@ static void band(const ball_job *j, int64_t chunk)
                 prev = z;
                 prev_h = j->lev_h[l];
             }
-            /* each slice k into the output rows yi - k and yi + k */
-            for (int64_t k = 0; k <= ry; k++) {
+            /* each slice k into the output rows yi - k and yi + k, from
+             * the narrowest (k = ry) up: slice k is slice k + 1 with the
+             * terms whose reach grows (run holds the slice) */
+            for (int64_t k = ry; k >= 0; k--) {
                 int64_t ylo = yi - k, yhi = yi + k;
                 bool lo_in = ylo >= ya && ylo < yb, hi_in = k && yhi >= ya && yhi < yb;
-                if (!lo_in && !hi_in) continue;
-                uint64_t *o1 = lo_in ? out_seg(j, ylo, x0) : out_seg(j, yhi, x0);
+                uint64_t *o1 = lo_in ? out_seg(j, ylo, x0) : hi_in ? out_seg(j, yhi, x0) : NULL;
                 uint64_t *o2 = lo_in && hi_in ? out_seg(j, yhi, x0) : NULL;
-                j->gather(o1, o2, ptrs + j->kstart[k], j->kstart[k + 1] - j->kstart[k], segw,
-                          erode);
+                j->gather(run, k == ry, o1, o2, ptrs + j->kstart[k],
+                          j->kstart[k + 1] - j->kstart[k], segw, erode);
             }
         }
     }
@@ -238,6 +245,28 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
         while (lev_h[l] != hs[t]) l++;
         terms[t].lev = l;
     }
+    /* Slices nest: slice k + 1's offsets are slice k's with reaches no
+     * larger, and a term of smaller reach is contained in (for erosion,
+     * contains) the term of the same dx with larger reach. So slice k is
+     * slice k + 1 OR'ed (AND'ed) with the terms of slice k that slice k + 1
+     * lacks; band() builds them from k = ry down and keeps only those
+     * (radius 10: 105 of 169 terms). Filtered in place, k ascending: slice
+     * k's kept terms never pass slice k's own start. */
+    {
+        int m = 0;
+        for (int k = 0; k <= ry; k++) {
+            int start = m;
+            for (int t = kstart[k]; t < kstart[k + 1]; t++) {
+                bool shared = false;
+                for (int u = kstart[k + 1]; k < ry && u < kstart[k + 2] && !shared; u++)
+                    shared = terms[u].dx == terms[t].dx && terms[u].lev == terms[t].lev;
+                if (!shared) terms[m++] = terms[t];
+            }
+            kstart[k] = start;
+        }
+        kstart[ry + 1] = m;
+        n = m;
+    }
     j.gather = bvox__ball_gather_generic;
     j.step = bvox__ball_step_generic;
 #if defined(__x86_64__)
@@ -268,7 +297,7 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
      * output rows in about 512 KB (half this machine's L2 per core) */
     size_t wpc = in->wpc;
     int64_t budget = (int64_t)((64 * 1024) / wpc) - 2 * (int64_t)rx * (nlev + 1);
-    int64_t tx = budget / (nlev + 2 * ry + 2);
+    int64_t tx = budget / (nlev + 2 * ry + 3);
     if (tx < 8) tx = 8;
     if (bvox__morph_ball_test_tile > 0) tx = bvox__morph_ball_test_tile;
     if (tx > in->nx) tx = in->nx;
@@ -292,7 +321,7 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
     }
     j.nslots = nchunks;
     j.nchunks = nchunks * rounds;
-    j.chunk_words = (size_t)(nlev + 1) * (size_t)(tx + 2 * rx) * wpc;
+    j.chunk_words = (size_t)(nlev + 2) * (size_t)(tx + 2 * rx) * wpc; /* + tmp, run */
     size_t bytes = 0;
     j.ptrs = bvox__mem_zalloc((size_t)nchunks * (size_t)n, sizeof *j.ptrs);
     if (!j.ptrs) {

@@ -14,8 +14,8 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
 
 /* The inner loops (morph_ball_kern.h), one set per SIMD level. */
 #define BVOX__BALL_DECL(lv)                                                                  \
-    void bvox__ball_gather_##lv(uint64_t *o1, uint64_t *o2, const uint64_t *const *p, int np, \
-                                size_t n, bool erode);                                        \
+    void bvox__ball_gather_##lv(uint64_t *run, bool first, uint64_t *o1, uint64_t *o2,       \
+                                const uint64_t *const *p, int np, size_t n, bool erode);      \
     void bvox__ball_step_##lv(uint64_t *dst, const uint64_t *src, size_t ncols, size_t wpc,   \
                               int s, uint64_t tail, bool erode);
 BVOX__BALL_DECL(generic)

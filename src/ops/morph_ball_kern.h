@@ -22,15 +22,17 @@
 /* Words are gathered 16 at a time: the accumulators stay in registers
  * while every term of a slice is loaded once. */
 static inline __attribute__((always_inline)) void
-BALL_KERN(gather_op)(uint64_t *restrict o1, uint64_t *restrict o2, const uint64_t *const *p,
-                     int np, size_t n, bool erode)
+BALL_KERN(gather_op)(uint64_t *restrict run, bool first, uint64_t *restrict o1,
+                     uint64_t *restrict o2, const uint64_t *const *p, int np, size_t n,
+                     bool erode)
 {
     typedef uint64_t vec __attribute__((vector_size(BALL_VW * 8), aligned(8), may_alias));
     size_t i = 0;
     for (; i + 16 <= n; i += 16) {
         vec a[BALL_NACC];
-        for (int q = 0; q < BALL_NACC; q++) a[q] = *(const vec *)(p[0] + i + q * BALL_VW);
-        for (int t = 1; t < np; t++) {
+        for (int q = 0; q < BALL_NACC; q++)
+            a[q] = *(const vec *)((first ? p[0] : run) + i + q * BALL_VW);
+        for (int t = first ? 1 : 0; t < np; t++) {
             const uint64_t *s = p[t] + i;
             for (int q = 0; q < BALL_NACC; q++) {
                 vec x = *(const vec *)(s + q * BALL_VW);
@@ -38,6 +40,8 @@ BALL_KERN(gather_op)(uint64_t *restrict o1, uint64_t *restrict o2, const uint64_
             }
         }
         for (int q = 0; q < BALL_NACC; q++) {
+            *(vec *)(run + i + q * BALL_VW) = a[q];
+            if (!o1) continue;
             vec *d = (vec *)(o1 + i + q * BALL_VW);
             *d = erode ? *d & a[q] : *d | a[q];
             if (o2) {
@@ -47,20 +51,28 @@ BALL_KERN(gather_op)(uint64_t *restrict o1, uint64_t *restrict o2, const uint64_
         }
     }
     for (; i < n; i++) {
-        uint64_t acc = p[0][i];
-        for (int t = 1; t < np; t++) acc = erode ? acc & p[t][i] : acc | p[t][i];
+        uint64_t acc = first ? p[0][i] : run[i];
+        for (int t = first ? 1 : 0; t < np; t++) acc = erode ? acc & p[t][i] : acc | p[t][i];
+        run[i] = acc;
+        if (!o1) continue;
         o1[i] = erode ? o1[i] & acc : o1[i] | acc;
         if (o2) o2[i] = erode ? o2[i] & acc : o2[i] | acc;
     }
 }
 
-/* o1 (and o2 unless NULL) OR= (AND= when erode) the OR (AND) of the np
- * arrays p[t][0 .. n). */
-void BALL_KERN(gather)(uint64_t *o1, uint64_t *o2, const uint64_t *const *p, int np, size_t n,
-                       bool erode)
+/* run = the OR (AND when erode) of the np arrays p[t][0 .. n), and of run
+ * itself unless first (np >= 1 when first); then o1 and o2 (each unless
+ * NULL) OR= (AND=) run. */
+void BALL_KERN(gather)(uint64_t *run, bool first, uint64_t *o1, uint64_t *o2,
+                       const uint64_t *const *p, int np, size_t n, bool erode)
 {
-    if (erode) BALL_KERN(gather_op)(o1, o2, p, np, n, true);
-    else BALL_KERN(gather_op)(o1, o2, p, np, n, false);
+    if (erode) {
+        if (first) BALL_KERN(gather_op)(run, true, o1, o2, p, np, n, true);
+        else BALL_KERN(gather_op)(run, false, o1, o2, p, np, n, true);
+    } else {
+        if (first) BALL_KERN(gather_op)(run, true, o1, o2, p, np, n, false);
+        else BALL_KERN(gather_op)(run, false, o1, o2, p, np, n, false);
+    }
 }
 
 static inline __attribute__((always_inline)) uint64_t BALL_KERN(op3)(uint64_t a, uint64_t b,

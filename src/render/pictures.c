@@ -11,6 +11,14 @@
  * binary shading and today's can be compared view for view. Picture 2 is
  * picture 1's view in depth shading and picture 4 the stored bits: neither
  * has a smooth counterpart of its own.
+ * And the paper's own two methods where it used them (issue 18, item 3):
+ * picture 1 is "binary gradient shaded", and the paper computes binary
+ * normals either in the ray cast (the 26 codes, picture1.png) or by "a binary
+ * gradient operator over the pre-image" (picture1_preimage.png); pictures 2
+ * and 3 are the depth pre-image "zoomed x2" with the pixel averaging of
+ * Figure 5, after which "we may again run any gradient operator ... over the
+ * enlarged pre-image to obtain a shaded surface view" (picture2_enlarged.png,
+ * picture3_enlarged.png: Sobel over the enlarged depths, lit).
  * The view is the isometric one from (+1, +1, +1), z up, so the specimen
  * stands on end; the reslicing plane is x = the centre of the volume,
  * keeping the lower x, so the view sees the cut face (the bored hole, the
@@ -107,11 +115,32 @@ bvox_status bvox__demo_picture_smooth(const bvox_volume *vol, int k, bvox_image 
     return bvox_render(vol, &o, out, NULL);
 }
 
-/* The files, in the order written: picture1..4.png, then the smooth ones. */
-#define NPICTURES 6
-static const char *const picture_names[NPICTURES] = {"picture1.png", "picture2.png", "picture3.png",
-                                                     "picture4.png", "picture1_smooth.png",
-                                                     "picture3_smooth.png"};
+bvox_status bvox__demo_picture_paper(const bvox_volume *vol, int k, bvox_image **out)
+{
+    *out = NULL;
+    if (!vol) return bvox__fail(BVOX_EINVAL, "picture: no volume");
+    if (k < 1 || k > 3) return bvox__fail(BVOX_EINVAL, "picture %d: the paper's modes are for 1..3", k);
+    bvox_render_opts o;
+    picture_opts(vol, k, &o);
+    if (k == 1) {
+        o.shade = BVOX_SHADE_PREIMAGE_BINARY; /* its cue bits keep the depth shading */
+        return bvox_render(vol, &o, out, NULL);
+    }
+    /* pictures 2 and 3's 256 x 256 pre-image enlarged to 512 x 512, the
+     * gradient operator in place of the zoom and the high-pass filter */
+    o.shade = BVOX_SHADE_ENLARGED_GRADIENT;
+    o.average = 0;
+    o.filter = -1;
+    return bvox_render(vol, &o, out, NULL);
+}
+
+/* The files, in the order written: picture1..4.png, the smooth ones, then
+ * the paper's pre-image methods. */
+#define NPICTURES 9
+static const char *const picture_names[NPICTURES] = {
+    "picture1.png",         "picture2.png",          "picture3.png",
+    "picture4.png",         "picture1_smooth.png",   "picture3_smooth.png",
+    "picture1_preimage.png", "picture2_enlarged.png", "picture3_enlarged.png"};
 
 bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
 {
@@ -126,6 +155,7 @@ bvox_status bvox_demo_pictures(const bvox_volume *vol, const char *dir)
     for (int k = 0; k < 4 && !st; k++) st = bvox_demo_picture(vol, k + 1, &img[k]);
     if (!st) st = bvox__demo_picture_smooth(vol, 1, &img[4]);
     if (!st) st = bvox__demo_picture_smooth(vol, 3, &img[5]);
+    for (int k = 0; k < 3 && !st; k++) st = bvox__demo_picture_paper(vol, k + 1, &img[6 + k]);
     int written = 0;
     for (; written < NPICTURES && !st; written++) {
         snprintf(path, size, "%s/%s", dir, picture_names[written]);

@@ -95,6 +95,7 @@ int bvox__preimage_ok(const bvox_preimage *pre);
 typedef struct bvox__moment_cache {
     uint64_t key[BVOX_MOMENT_CACHE]; /* 0: empty */
     int32_t m[BVOX_MOMENT_CACHE][3];
+    bvox_normal_cache *shared; /* behind it, kept across calls (NULL: none) */
 } bvox__moment_cache;
 static inline bvox__moment_cache *bvox__moment_cache_new(void)
 {
@@ -102,6 +103,22 @@ static inline bvox__moment_cache *bvox__moment_cache_new(void)
 }
 void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
                              int32_t c, int32_t r, double n[3], bvox__moment_cache *mc);
+/* A pixel's voxels for its smooth normal: count 8 (the cell around its
+ * entry point, fractions f towards base + 1) or 1 (the nearest voxel, when
+ * pixels are as large as voxels), 0 for the background. */
+typedef struct bvox__smooth_cell {
+    int32_t base[3];
+    int count;
+    double f[3];
+} bvox__smooth_cell;
+/* The cells of row r (p->width of them), the shared cache's entries of
+ * their voxels asked of the memory on the way (a row later they are there). */
+void bvox__smooth_cells_row(const bvox_volume *vol, const bvox_preimage *p, int32_t r,
+                            bvox__smooth_cell *cells, const bvox__moment_cache *mc);
+/* bvox__smooth_normal_eye of a foreground pixel with its cell made. */
+void bvox__smooth_normal_cell(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                              int32_t c, int32_t r, const bvox__smooth_cell *cell, double n[3],
+                              bvox__moment_cache *mc);
 void bvox__preimage_binary_normal(const bvox_preimage *p, int32_t x, int32_t y, double n[3]);
 void bvox__pixel_normal(const bvox_volume *vol, const bvox_preimage *p, bvox_shade_mode mode,
                         int radius, int32_t x, int32_t y, double n[3], bvox__moment_cache *mc);
@@ -170,5 +187,11 @@ static inline uint64_t bvox__surface_nb_bits(const uint64_t nb[6], unsigned k)
  * view (and for 3 the cut) of bvox_demo_picture k; bvox_demo_pictures
  * writes them as picture1_smooth.png and picture3_smooth.png. */
 bvox_status bvox__demo_picture_smooth(const bvox_volume *vol, int k, bvox_image **out);
+/* pictures.c: the demo's picture k (1..3) by the paper's pre-image methods:
+ * 1 the binary gradient operator over the pre-image (with the depth cue),
+ * 2 and 3 the gradient over the pre-image enlarged x2 (Figure 5), 512 x 512;
+ * written as picture1_preimage.png, picture2_enlarged.png and
+ * picture3_enlarged.png. */
+bvox_status bvox__demo_picture_paper(const bvox_volume *vol, int k, bvox_image **out);
 
 #endif

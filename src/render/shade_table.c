@@ -12,7 +12,8 @@
  * shade_gradient.c's and the cut-face test render_pipeline.c's, so a still
  * picture (bvox render) and the window shade the same way.
  */
-#include "render.h"
+#include "normal_cache.h"
+#include "occupancy.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -112,6 +113,7 @@ typedef struct codes_ctx {
     const bvox_shade_opts *opts;
     uint16_t *codes;
     bvox__cut_test cut;
+    bvox_normal_cache *cache;
 } codes_ctx;
 
 static void codes_rows(void *arg, int64_t y0, int64_t y1)
@@ -122,7 +124,15 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
     uint16_t *codes = g->codes;
     const int32_t range = pre->depth_range > 1 ? pre->depth_range : 2;
     bvox__moment_cache *mc = opts->mode == BVOX_SHADE_SMOOTH ? bvox__moment_cache_new() : NULL;
-    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++)
+    if (mc) mc->shared = g->cache;
+    /* smooth: each row's cells are made a row ahead, their cached moments
+     * asked of the memory then (without the scratch: per pixel, slower) */
+    bvox__smooth_cell *cells = mc ? bvox__mem_alloc(2 * (size_t)pre->width * sizeof *cells) : NULL;
+    if (cells) bvox__smooth_cells_row(g->vol, pre, (int32_t)y0, cells + (y0 & 1) * pre->width, mc);
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
+        const bvox__smooth_cell *row = cells ? cells + (size_t)(y & 1) * (size_t)pre->width : NULL;
+        if (cells && y + 1 < y1)
+            bvox__smooth_cells_row(g->vol, pre, y + 1, cells + (size_t)((y + 1) & 1) * (size_t)pre->width, mc);
         for (int32_t x = 0; x < pre->width; x++) {
             size_t i = (size_t)y * (size_t)pre->width + (size_t)x;
             int32_t d = pre->depth[i];
@@ -143,7 +153,8 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
             case BVOX_SHADE_PREIMAGE_BINARY:
             case BVOX_SHADE_ENLARGED_GRADIENT: {
                 double n[3];
-                bvox__pixel_normal(g->vol, pre, opts->mode, opts->smooth_radius, x, y, n, mc);
+                if (row) bvox__smooth_normal_cell(g->vol, pre, opts->smooth_radius, x, y, &row[x], n, mc);
+                else bvox__pixel_normal(g->vol, pre, opts->mode, opts->smooth_radius, x, y, n, mc);
                 c = gradient_bin(n);
                 break;
             }
@@ -156,6 +167,8 @@ static void codes_rows(void *arg, int64_t y0, int64_t y1)
             BVOX_ASSERT(c < BVOX_SCODE_CUT);
             codes[i] = (uint16_t)c;
         }
+    }
+    free(cells);
     free(mc);
 }
 
@@ -167,6 +180,13 @@ bvox_status bvox_shade_codes(const bvox_preimage *pre, const bvox_shade_opts *op
 bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage *pre,
                                     const bvox_shade_opts *opts, uint16_t *codes)
 {
+    return bvox_shade_codes_cached(vol, pre, opts, NULL, codes);
+}
+
+bvox_status bvox_shade_codes_cached(const bvox_volume *vol, const bvox_preimage *pre,
+                                    const bvox_shade_opts *opts, bvox_normal_cache *cache,
+                                    uint16_t *codes)
+{
     if (!pre || !pre->depth || !pre->code || !codes)
         return bvox__fail(BVOX_EINVAL, "shade: missing pre-image or codes");
     bvox_status st = opts_check(opts);
@@ -175,7 +195,11 @@ bvox_status bvox_shade_codes_volume(const bvox_volume *vol, const bvox_preimage 
         return bvox__fail(BVOX_EINVAL, "shade: smooth shading needs the volume "
                                        "(bvox_shade_codes_volume)");
     BVOX_ASSERT(bvox__preimage_ok(pre));
-    codes_ctx g = {vol, pre, opts, codes, {{0, 0, 0}, 0, 0}};
+    codes_ctx g = {vol, pre, opts, codes, {{0, 0, 0}, 0, 0}, NULL};
+    if (cache && opts->mode == BVOX_SHADE_SMOOTH) {
+        bvox__normal_cache_bind(cache, vol, bvox__smooth_radius(opts->smooth_radius));
+        g.cache = cache;
+    }
     if (opts->cut) bvox__cut_test_init(&g.cut, opts->plane, opts->plane[3], pre);
     /* rows over the threads: smooth normals cost a few microseconds a pixel */
     bvox__parallel_for(pre->height, 16, codes_rows, &g);

@@ -3,7 +3,9 @@
  * cues: "simultaneous projections from different viewpoints"): three axis
  * views and an isometric one in a 2 x 2 grid. All four are projections of
  * one size fitted to the same bounding sphere, so they share one scale and a
- * length reads the same in every cell.
+ * length reads the same in every cell. Annotations: each cell its own axes
+ * triad (the cells look along different axes) and scale bar, the title once
+ * at the top of the sheet.
  */
 #include "scene.h"
 
@@ -37,7 +39,12 @@ bvox_status bvox_render_sheet(const bvox_volume *vol, const bvox_render_opts *op
         }
         if (!o.proj.width) o.proj.width = 256;
         if (!o.proj.height) o.proj.height = 256;
-        st = bvox__scene_render_one(&sc, &o, &cell[k], NULL);
+        o.title = NULL;
+        const int note = o.scale_bar || o.axes;
+        bvox_preimage *pre = NULL;
+        st = bvox__scene_render_one(&sc, &o, &cell[k], note ? &pre : NULL);
+        if (!st && note) st = bvox__annotate(&o, pre, vol->geom.unit, &cell[k]);
+        bvox_preimage_destroy(pre);
     }
     if (!st) {
         const bvox_image *c0 = cell[0];
@@ -55,6 +62,17 @@ bvox_status bvox_render_sheet(const bvox_volume *vol, const bvox_render_opts *op
                     memcpy(d, cell[k]->pixels + (size_t)y * row, row);
                 }
         }
+    }
+    if (!st && opts->title) { /* the title alone: no pixel size needed */
+        bvox_render_opts t = bvox_render_opts_default();
+        t.title = opts->title;
+        memcpy(t.background, opts->background, sizeof t.background);
+        t.transparent = opts->transparent;
+        st = bvox__annotate(&t, NULL, vol->geom.unit, out);
+    }
+    if (st) {
+        bvox_image_destroy(*out);
+        *out = NULL;
     }
     for (int k = 0; k < 4; k++) bvox_image_destroy(cell[k]);
     bvox__scene_close(&sc);

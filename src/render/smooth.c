@@ -14,6 +14,7 @@
  * component is sum_k k (bit(z+k) - bit(z-k)) = sum over k of the popcounts
  * of the windows z+k..z+h minus z-h..z-k.
  */
+#include "normal_cache.h"
 #include "occupancy.h"
 
 #include <math.h>
@@ -30,23 +31,62 @@ static const int8_t half_height[4][19] = {
 };
 static int ball_half_height(int r, int i, int j) { return half_height[r][i * i + j * j]; }
 
+/* A column's share of the ball is at most 7 voxels (z-3 .. z+3, r <= 3), so
+ * it is taken as a 7-bit field (bit 3 = voxel z) and counted by two tables
+ * of 128 entries instead of popcounts of nested windows (the same integers,
+ * several times fewer operations: the library stays portable, without the
+ * popcnt instruction, and a popcount is a dozen operations).
+ * field_count: its 1-bits; field_zmoment: sum of (bit - 3) over its 1-bits. */
+static const uint8_t field_mask[4] = {0x08, 0x1c, 0x3e, 0x7f}; /* voxels z-h .. z+h */
+static const int8_t field_count[128] = {
+    0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4,
+    1, 2, 2, 3, 2, 3, 3, 4, 2, 3, 3, 4, 3, 4, 4, 5,
+    1, 2, 2, 3, 2, 3, 3, 4, 2, 3, 3, 4, 3, 4, 4, 5,
+    2, 3, 3, 4, 3, 4, 4, 5, 3, 4, 4, 5, 4, 5, 5, 6,
+    1, 2, 2, 3, 2, 3, 3, 4, 2, 3, 3, 4, 3, 4, 4, 5,
+    2, 3, 3, 4, 3, 4, 4, 5, 3, 4, 4, 5, 4, 5, 5, 6,
+    2, 3, 3, 4, 3, 4, 4, 5, 3, 4, 4, 5, 4, 5, 5, 6,
+    3, 4, 4, 5, 4, 5, 5, 6, 4, 5, 5, 6, 5, 6, 6, 7,
+};
+static const int8_t field_zmoment[128] = {
+    0, -3, -2, -5, -1, -4, -3, -6, 0, -3, -2, -5, -1, -4, -3, -6,
+    1, -2, -1, -4, 0, -3, -2, -5, 1, -2, -1, -4, 0, -3, -2, -5,
+    2, -1, 0, -3, 1, -2, -1, -4, 2, -1, 0, -3, 1, -2, -1, -4,
+    3, 0, 1, -2, 2, -1, 0, -3, 3, 0, 1, -2, 2, -1, 0, -3,
+    3, 0, 1, -2, 2, -1, 0, -3, 3, 0, 1, -2, 2, -1, 0, -3,
+    4, 1, 2, -1, 3, 0, 1, -2, 4, 1, 2, -1, 3, 0, 1, -2,
+    5, 2, 3, 0, 4, 1, 2, -1, 5, 2, 3, 0, 4, 1, 2, -1,
+    6, 3, 4, 1, 5, 2, 3, 0, 6, 3, 4, 1, 5, 2, 3, 0,
+};
+
 /* The first moment of the occupancy over the ball, in index units. */
 static void ball_moment(const bvox_volume *v, int32_t x, int32_t y, int32_t z, int r, int64_t m[3])
 {
-    m[0] = m[1] = m[2] = 0;
+    int64_t m0 = 0, m1 = 0, m2 = 0;
+    /* bits z-3 .. z+3 of every column: word w from bit sh, and the next
+     * word when the field crosses into it; words beyond the column read 0 */
+    const int64_t start = (int64_t)z - 3, wpc = (int64_t)v->wpc;
+    const int64_t w = start >= 0 ? start / 64 : -1; /* floor; start >= -4 (z >= -1) */
+    const unsigned sh = (unsigned)(start - w * 64);
+    const int lo_ok = w >= 0 && w < wpc, hi_ok = sh > 57 && w + 1 < wpc;
+    const int inside = x - r >= 0 && y - r >= 0 && x + r < v->nx && y + r < v->ny;
     for (int j = -r; j <= r; j++)
         for (int i = -r; i <= r; i++) {
             int h = ball_half_height(r, i, j);
             if (h < 0) continue;
-            uint64_t w = bvox__column_window(v, x + i, y + j, (int64_t)z - 32);
-            if (!w) continue;
-            int64_t n = bvox__popcount64(w & bvox__window_mask(-h, h));
-            m[0] += i * n;
-            m[1] += j * n;
-            for (int k = 1; k <= h; k++)
-                m[2] += (int64_t)bvox__popcount64(w & bvox__window_mask(k, h)) -
-                        (int64_t)bvox__popcount64(w & bvox__window_mask(-h, -k));
+            const int32_t cx = x + i, cy = y + j;
+            if (!inside && (cx < 0 || cy < 0 || cx >= v->nx || cy >= v->ny)) continue;
+            const uint64_t *col = bvox__column_c(v, cx, cy);
+            uint64_t bits = lo_ok ? col[w] >> sh : 0;
+            if (hi_ok) bits |= col[w + 1] << (64 - sh);
+            const unsigned f = (unsigned)bits & field_mask[h];
+            if (!f) continue;
+            const int n = field_count[f];
+            m0 += i * n;
+            m1 += j * n;
+            m2 += field_zmoment[f];
         }
+    m[0] = m0, m[1] = m1, m[2] = m2;
 }
 
 int bvox_smooth_normal(const bvox_volume *vol, int32_t x, int32_t y, int32_t z, int radius,
@@ -129,6 +169,13 @@ static void cached_moment(const bvox_volume *vol, int radius, bvox__moment_cache
         ball_moment(vol, q[0], q[1], q[2], radius, m);
         return;
     }
+    if (mc->shared && mc->shared->usable) { /* it is the cache: one load */
+        if (!bvox__nc_get(mc->shared, q, m)) {
+            ball_moment(vol, q[0], q[1], q[2], radius, m);
+            bvox__nc_put(mc->shared, q, m);
+        }
+        return;
+    }
     /* coordinates here are within -1 .. 65535 (one beyond the volume) */
     const uint64_t key = (uint64_t)(uint32_t)(q[0] + 1) | (uint64_t)(uint32_t)(q[1] + 1) << 20 |
                          (uint64_t)(uint32_t)(q[2] + 1) << 40 | 1ull << 63;
@@ -136,26 +183,26 @@ static void cached_moment(const bvox_volume *vol, int radius, bvox__moment_cache
                                   (uint32_t)q[2] * 83492791u) % BVOX_MOMENT_CACHE;
     if (mc->key[h] != key) {
         int64_t t[3];
-        ball_moment(vol, q[0], q[1], q[2], radius, t);
+        if (!mc->shared || !bvox__nc_get(mc->shared, q, t)) {
+            ball_moment(vol, q[0], q[1], q[2], radius, t);
+            if (mc->shared) bvox__nc_put(mc->shared, q, t);
+        }
         for (int a = 0; a < 3; a++) mc->m[h][a] = (int32_t)t[a];
         mc->key[h] = key;
     }
     for (int a = 0; a < 3; a++) m[a] = mc->m[h][a];
 }
 
-void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
-                             int32_t c, int32_t r, double n[3], bvox__moment_cache *mc)
+/* The cell of pixel (c, r)'s entry point (the middle of its depth step):
+ * the voxel base and the fractions f towards base + 1 per axis; when pixels
+ * are as large as voxels or larger (each pixel meets its own voxels anyway)
+ * the nearest voxel alone, f = 0. Returns the number of voxels, 1 or 8. */
+static int hit_cell(const bvox_volume *vol, const bvox_preimage *p, int32_t c, int32_t r,
+                    int32_t base[3], double f[3])
 {
-    /* The moments of the 8 voxels around the ray's entry point (the middle
-     * of its depth step), trilinearly interpolated: the normal then turns
-     * smoothly across a voxel instead of jumping at its border (pixels
-     * smaller than voxels; else the nearest voxel's). */
     const size_t i = (size_t)r * (size_t)p->width + (size_t)c;
     const double *e = p->eye;
     const double t = p->depth[i] + 0.5;
-    int32_t base[3];
-    double f[3], v[3] = {0, 0, 0};
-    radius = bvox__smooth_radius(radius);
     for (int a = 0; a < 3; a++) {
         double x = p->origin[a] + c * p->pixel_size[0] * e[a] + r * p->pixel_size[1] * e[3 + a] +
                    t * p->depth_step * e[6 + a];
@@ -166,16 +213,59 @@ void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int
         base[a] = (int32_t)b;
         f[a] = u - b;
     }
-    /* pixels as large as voxels or larger: each pixel meets its own voxels
-     * anyway, so the nearest voxel's moment alone (8 times less work) */
     const double *sp = vol->geom.spacing;
     const double px = p->pixel_size[0] < p->pixel_size[1] ? p->pixel_size[0] : p->pixel_size[1];
-    const int nearest = px >= fmin(sp[0], fmin(sp[1], sp[2]));
-    if (nearest)
-        for (int a = 0; a < 3; a++) {
-            base[a] += f[a] >= 0.5;
-            f[a] = 0;
+    if (px < fmin(sp[0], fmin(sp[1], sp[2]))) return 8;
+    for (int a = 0; a < 3; a++) {
+        base[a] += f[a] >= 0.5;
+        f[a] = 0;
+    }
+    return 1;
+}
+
+void bvox__smooth_normal_eye(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                             int32_t c, int32_t r, double n[3], bvox__moment_cache *mc)
+{
+    bvox__smooth_cell cell;
+    cell.count = hit_cell(vol, p, c, r, cell.base, cell.f);
+    bvox__smooth_normal_cell(vol, p, radius, c, r, &cell, n, mc);
+}
+
+void bvox__smooth_cells_row(const bvox_volume *vol, const bvox_preimage *p, int32_t r,
+                            bvox__smooth_cell *cells, const bvox__moment_cache *mc)
+{
+    const int share = mc && mc->shared && mc->shared->usable;
+    for (int32_t c = 0; c < p->width; c++) {
+        bvox__smooth_cell *e = &cells[c];
+        if (p->depth[(size_t)r * (size_t)p->width + (size_t)c] < 0) {
+            e->count = 0;
+            continue;
         }
+        e->count = hit_cell(vol, p, c, r, e->base, e->f);
+        if (!share) continue;
+        for (int k = 0; k < e->count; k++) { /* their loads, not the arithmetic, are the cost */
+            const int32_t q[3] = {e->base[0] + (k & 1), e->base[1] + (k >> 1 & 1), e->base[2] + (k >> 2 & 1)};
+            size_t slot;
+            (void)bvox__nc_key(mc->shared, q, &slot);
+            __builtin_prefetch((const void *)&mc->shared->slot[slot]);
+        }
+    }
+}
+
+void bvox__smooth_normal_cell(const bvox_volume *vol, const bvox_preimage *p, int radius,
+                              int32_t c, int32_t r, const bvox__smooth_cell *cell, double n[3],
+                              bvox__moment_cache *mc)
+{
+    /* The moments of the 8 voxels around the ray's entry point, trilinearly
+     * interpolated: the normal then turns smoothly across a voxel instead
+     * of jumping at its border (pixels smaller than voxels; else the
+     * nearest voxel's, see hit_cell). */
+    const size_t i = (size_t)r * (size_t)p->width + (size_t)c;
+    const int32_t *base = cell->base;
+    const double *f = cell->f;
+    double v[3] = {0, 0, 0};
+    radius = bvox__smooth_radius(radius);
+    const int nearest = cell->count == 1;
     for (int k = 0; k < (nearest ? 1 : 8); k++) {
         const int32_t q[3] = {base[0] + (k & 1), base[1] + (k >> 1 & 1), base[2] + (k >> 2 & 1)};
         const double w = (k & 1 ? f[0] : 1 - f[0]) * (k >> 1 & 1 ? f[1] : 1 - f[1]) *

@@ -4,6 +4,7 @@
  * the object spinning about its upright axis, written as an animated GIF or
  * as numbered PNG files. One scene serves every frame, so the cut copy and
  * the boundary-voxel surface are made once and each frame is only a cast.
+ * The annotations (scale bar, axes, title) are drawn on every frame.
  */
 #include "gif.h"
 #include "scene.h"
@@ -62,11 +63,17 @@ static bvox_status turntable(const bvox_volume *vol, const bvox_render_opts *opt
     delay = delay < 2 ? 2 : delay > 100 ? 100 : delay;
     bvox__gif *g = NULL;
     int written = 0;
+    /* annotations on every frame: the axes turn with the object, the scale
+     * bar and the title stay (each frame's own pre-image gives its pixel) */
+    const int note = opts->scale_bar || opts->axes || opts->title;
     for (int i = 0; i < n && !st; i++) {
         bvox_render_opts fo;
         bvox_image *img = NULL;
+        bvox_preimage *pre = NULL;
         st = bvox_turntable_view(opts, i, n, &fo);
-        if (!st) st = bvox__scene_render(&sc, &fo, &img, NULL);
+        if (!st) st = bvox__scene_render(&sc, &fo, &img, note ? &pre : NULL);
+        if (!st && note) st = bvox__annotate(&fo, pre, vol->geom.unit, &img);
+        bvox_preimage_destroy(pre);
         if (!st && gif) {
             if (!g) st = bvox__gif_open(path, img->width, img->height, delay, &g);
             if (!st) st = bvox__gif_add(g, img);

@@ -67,19 +67,22 @@ assert r["sections"] == 65, r
 assert r["dice"] >= 0.97 and abs(r["volume_error_percent"]) < 5, r
 PY
 
-# Exactly the two files, the four pictures and the two smooth-shaded ones
-# (pictures 1 and 3), no temporary ones; each
+# Exactly the two files, the four pictures, the two smooth-shaded ones
+# (pictures 1 and 3) and the three by the paper's pre-image methods
+# (picture 1 by the binary operator over the pre-image, 2 and 3 by the
+# gradient over the enlarged pre-image), no temporary ones; each
 # volume reads back the same.
 sections=$(i=0; while [ $i -lt 65 ]; do printf 'section_%04d.png ' $i; i=$((i + 1)); done)
 [ "$(LC_ALL=C ls -A "$tmp/out/sub" | tr '\n' ' ')" = \
-  ".bvox-manifest model.nii.gz picture1.png picture1_smooth.png picture2.png picture3.png picture3_smooth.png picture4.png ${sections}specimen.nii.gz specimen.tif turntable.gif " ] ||
+  ".bvox-manifest model.nii.gz picture1.png picture1_preimage.png picture1_smooth.png picture2.png picture2_enlarged.png picture3.png picture3_enlarged.png picture3_smooth.png picture4.png ${sections}specimen.nii.gz specimen.tif turntable.gif " ] ||
     fail "demo -o wrote: $(ls -A "$tmp/out/sub")"
 # The paper's pictures and the smooth ones: 512 x 512, gray but for
 # picture 3 (its cut face tinted); their content is compared with golden copies by the unit test
 # render_pictures.
 python3 - "$tmp/out/sub" <<'PY' || fail "the pictures"
 import struct, sys
-for k, color in ((1, 0), (2, 0), (3, 2), (4, 0), ("1_smooth", 0), ("3_smooth", 2)):
+for k, color in ((1, 0), (2, 0), (3, 2), (4, 0), ("1_smooth", 0), ("3_smooth", 2),
+                 ("1_preimage", 0), ("2_enlarged", 0), ("3_enlarged", 2)):
     head = open("%s/picture%s.png" % (sys.argv[1], k), "rb").read(33)
     assert head[:8] == b"\x89PNG\r\n\x1a\n" and head[12:16] == b"IHDR", k
     w, h, depth, ctype = struct.unpack(">IIBB", head[16:26])

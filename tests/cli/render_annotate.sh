@@ -4,7 +4,8 @@
 # through the real command, the PNGs read back by pngtool.py: --color
 # multiplies the gray picture sample by sample, a transparent background is
 # an RGBA PNG with alpha 0 exactly on the background, two volumes on one grid
-# take their colours (the nearer in front), --labels with --lut; bad colours,
+# take their colours (the nearer in front), --labels with --lut, annotations
+# on every turntable frame and every sheet cell; bad colours,
 # sizes and mixes exit 2 with one line, a grid mismatch exits 1, nothing
 # written. Usage: sh render_annotate.sh BVOX DATADIR
 set -eu
@@ -109,6 +110,56 @@ t = json.load(open(sys.argv[1]))
 assert (t["width"], t["height"], t["channels"]) == (120, 90, 3)
 PY
 
+# annotations on the turntable's frames and on the sheet (issue 18): the
+# annotated picture is the plain one (gray v = RGB v,v,v) except near the
+# axes triad (lower right of each frame / each sheet cell, turned with the
+# view) and the title (top rows of the frame / of the sheet), and every
+# frame and cell has its triad
+a="$tmp/a.nii"
+"$BVOX" render "$a" -o "$tmp/tp.png" --view iso --turntable 3 --size 160,160 ||
+    fail "plain turntable"
+"$BVOX" render "$a" -o "$tmp/ta.png" --view iso --turntable 3 --size 160,160 --axes --title T ||
+    fail "annotated turntable"
+"$BVOX" render "$a" -o "$tmp/ta.gif" --view iso --turntable 3 --size 160,160 --axes --scale-bar \
+    --title T || fail "annotated turntable GIF"
+"$BVOX" render "$a" -o "$tmp/sp.png" --sheet --size 160,160 || fail "plain sheet"
+"$BVOX" render "$a" -o "$tmp/sa.png" --sheet --size 160,160 --axes --title T || fail "annotated sheet"
+for f in tp_000 tp_001 tp_002 ta_000 ta_001 ta_002 sp sa; do png read "$tmp/$f.png" >"$tmp/$f.json"; done
+python3 - "$tmp" "$here" <<'PY' || fail "annotations of turntable frames and sheet cells"
+import json, sys
+t = sys.argv[1]
+sys.path.insert(0, sys.argv[2])
+import pngtool
+assert pngtool.read_gif(t + "/ta.gif")["frames"] == 3
+def load(n):
+    return json.load(open("%s/%s.json" % (t, n)))
+def diff(plain, ann):
+    assert plain["channels"] == 1 and ann["channels"] == 3, (plain["channels"], ann["channels"])
+    assert (plain["width"], plain["height"]) == (ann["width"], ann["height"])
+    out = set()
+    for y, (pr, ar) in enumerate(zip(plain["rows"], ann["rows"])):
+        for x, v in enumerate(pr):
+            if ar[3 * x:3 * x + 3] != [v, v, v]:
+                out.add((x, y))
+    return out
+def near_axes(x, y, x1, y1):  # the triad: centre 32 pixels in from the corner, reach ~30
+    return x1 - 64 <= x < x1 and y1 - 64 <= y < y1
+for i in range(3):
+    d = diff(load("tp_%03d" % i), load("ta_%03d" % i))
+    triad = {p for p in d if near_axes(p[0], p[1], 160, 160)}
+    title = {p for p in d if p[1] < 16}
+    assert triad and title and d == triad | title, (i, sorted(d - triad - title)[:5])
+d = diff(load("sp"), load("sa"))
+title = {p for p in d if p[1] < 16}
+assert title, "no title on the sheet"
+for cx in (0, 160):
+    for cy in (0, 160):
+        assert any(near_axes(x, y, cx + 160, cy + 160) for x, y in d), ("no triad in cell", cx, cy)
+rest = [p for p in d if p not in title and
+        not any(near_axes(p[0], p[1], cx + 160, cy + 160) for cx in (0, 160) for cy in (0, 160))]
+assert not rest, rest[:5]
+PY
+
 # bad command lines: exit 2, one line, nothing written
 usage() {
     set +e
@@ -133,7 +184,6 @@ usage "$a" -o "$tmp/x.png" --size 20000,10
 usage "$a" -o "$tmp/x.png" --title "$(printf 'tab\there')"
 usage "$a" -o "$tmp/x.png" --lut "$tmp/lab.txt"
 usage "$a" "$tmp/b.nii" -o "$tmp/x.png" --labels
-usage "$a" -o "$tmp/x.png" --scale-bar --sheet
 usage "$a" -o "$tmp/x.gif" --turntable 2 --background transparent
 usage "$a" -o "$tmp/x.png" --stereo anaglyph --background transparent
 usage "$a" "$tmp/b.nii" -o "$tmp/x.png" --sheet

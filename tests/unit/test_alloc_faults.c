@@ -909,7 +909,7 @@ TEST(render_sheet_mosaic_turntable)
 static bvox_status op_demo_pictures(void)
 {
     bvox_status st = bvox_demo_pictures(fixture, wdir);
-    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 6); /* 4 + 2 smooth */
+    if (st == BVOX_OK) OP_CHECK(harness_count_entries(wdir) == 9); /* 4 + 2 smooth + 3 pre-image */
     return st;
 }
 

@@ -7,7 +7,7 @@
  * then writes them instead of comparing and FAILS, saying which it wrote;
  * look at them, commit them, and run again without the variable. */
 #include "harness.h"
-#include "render/render.h" /* bvox__demo_picture_smooth */
+#include "render/render.h" /* bvox__demo_picture_smooth, _paper */
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,19 +33,22 @@ static bvox_image *reduce(const bvox_image *in)
     return out;
 }
 
-static const char *golden_name(int k)
+static const char *golden_name(int k, const char *suffix)
 {
     static char name[64];
-    snprintf(name, sizeof name, "golden/picture%d.png", k);
+    snprintf(name, sizeof name, "golden/picture%d%s.png", k, suffix);
     return name;
 }
 
-static int check_picture(int k, int want_w, int want_h, int want_channels)
+/* suffix "": the paper's picture k; "_preimage", "_enlarged": k by the
+ * paper's pre-image methods (bvox__demo_picture_paper) */
+static int check_picture_as(int k, const char *suffix, int want_w, int want_h, int want_channels)
 {
     bvox_volume *v;
     CHECK_OK(bvox_demo_specimen(&v));
     bvox_image *pic;
-    CHECK_OK(bvox_demo_picture(v, k, &pic));
+    if (*suffix) CHECK_OK(bvox__demo_picture_paper(v, k, &pic));
+    else CHECK_OK(bvox_demo_picture(v, k, &pic));
     bvox_volume_destroy(v);
     CHECK_EQ(pic->width, want_w);
     CHECK_EQ(pic->height, want_h);
@@ -53,29 +56,98 @@ static int check_picture(int k, int want_w, int want_h, int want_channels)
     bvox_image *small = reduce(pic);
     CHECK(small != NULL);
     bvox_image_destroy(pic);
-    if (harness_golden_update(small, golden_name(k))) { /* update mode: written, and a failure */
+    if (harness_golden_update(small, golden_name(k, suffix))) { /* update mode: written, and a failure */
         bvox_image_destroy(small);
         return 1;
     }
     bvox_image *gold;
-    CHECK_OK(bvox_image_read_png(harness_golden_path(golden_name(k)), &gold));
+    CHECK_OK(bvox_image_read_png(harness_golden_path(golden_name(k, suffix)), &gold));
     CHECK_EQ(gold->width, small->width);
     CHECK_EQ(gold->height, small->height);
     CHECK_EQ(gold->channels, small->channels);
     size_t n = (size_t)gold->width * gold->height * gold->channels;
     double sum = 0;
     for (size_t i = 0; i < n; i++) sum += abs((int)gold->pixels[i] - (int)small->pixels[i]);
-    fprintf(stderr, "picture%d: mean absolute difference %.4f\n", k, sum / (double)n);
+    fprintf(stderr, "picture%d%s: mean absolute difference %.4f\n", k, suffix, sum / (double)n);
     CHECK(sum / (double)n <= 2.0);
     bvox_image_destroy(gold);
     bvox_image_destroy(small);
     return 0;
 }
 
+static int check_picture(int k, int want_w, int want_h, int want_channels)
+{
+    return check_picture_as(k, "", want_w, want_h, want_channels);
+}
+
 TEST(picture1_golden) { return check_picture(1, 512, 512, 1); }
 TEST(picture2_golden) { return check_picture(2, 512, 512, 1); }
 TEST(picture3_golden) { return check_picture(3, 512, 512, 3); }
 TEST(picture4_golden) { return check_picture(4, 512, 512, 1); }
+/* the paper's pre-image methods where it used them (issue 18, item 3) */
+TEST(picture1_preimage_golden) { return check_picture_as(1, "_preimage", 512, 512, 1); }
+TEST(picture2_enlarged_golden) { return check_picture_as(2, "_enlarged", 512, 512, 1); }
+TEST(picture3_enlarged_golden) { return check_picture_as(3, "_enlarged", 512, 512, 3); }
+
+/* Pixels showing the object (non-zero in any channel) in a and not in b,
+ * or in b and not in a; *in_a: a's object pixels. */
+static long silhouette_differ(const bvox_image *a, const bvox_image *b, long *in_a)
+{
+    long d = 0;
+    *in_a = 0;
+    for (size_t i = 0; i < (size_t)a->width * (size_t)a->height; i++) {
+        int oa = 0, ob = 0;
+        for (int c = 0; c < a->channels; c++) oa |= a->pixels[i * (size_t)a->channels + (size_t)c] != 0;
+        for (int c = 0; c < b->channels; c++) ob |= b->pixels[i * (size_t)b->channels + (size_t)c] != 0;
+        d += oa != ob, *in_a += oa;
+    }
+    return d;
+}
+
+/* The pre-image methods' files are those pictures; each shows the object
+ * where the paper's picture of the same view does (picture 1: the same
+ * pre-image; 2 and 3: the 256 x 256 pre-image enlarged, against picture 1's
+ * smooth picture 3's 512 x 512 silhouettes), picture 3's cut face tinted. */
+TEST(pictures_paper_methods)
+{
+    bvox_volume *v;
+    CHECK_OK(bvox_demo_specimen(&v));
+    CHECK_OK(bvox_demo_pictures(v, harness_tmpdir()));
+    static const char *const names[3] = {"picture1_preimage.png", "picture2_enlarged.png",
+                                         "picture3_enlarged.png"};
+    bvox_image *smooth3;
+    CHECK_OK(bvox__demo_picture_smooth(v, 3, &smooth3));
+    for (int k = 1; k <= 3; k++) {
+        bvox_image *got, *want, *ref;
+        CHECK_OK(bvox_image_read_png(harness_path(names[k - 1]), &got));
+        CHECK_OK(bvox__demo_picture_paper(v, k, &want));
+        CHECK_EQ(got->width, 512);
+        CHECK_EQ(got->height, 512);
+        CHECK_EQ(got->channels, k == 3 ? 3 : 1);
+        CHECK_EQ(got->channels, want->channels);
+        CHECK(!memcmp(got->pixels, want->pixels, (size_t)512 * 512 * want->channels));
+        if (k < 3) CHECK_OK(bvox_demo_picture(v, 1, &ref));
+        long obj, differ = silhouette_differ(got, k < 3 ? ref : smooth3, &obj);
+        fprintf(stderr, "%s: %ld object pixels, %ld differ from the 512 x 512 view\n", names[k - 1], obj,
+                differ);
+        CHECK(obj > 40000);
+        CHECK(differ <= (k == 1 ? 0 : obj / 50)); /* 1: the very same pre-image */
+        if (k == 3) {
+            int tinted = 0;
+            for (size_t i = 0; i < (size_t)512 * 512; i++)
+                tinted += got->pixels[3 * i] > got->pixels[3 * i + 2] + 40;
+            CHECK(tinted > 5000);
+        }
+        if (k < 3) bvox_image_destroy(ref);
+        bvox_image_destroy(got), bvox_image_destroy(want);
+    }
+    bvox_image *none;
+    CHECK_STATUS(bvox__demo_picture_paper(v, 4, &none), BVOX_EINVAL);
+    CHECK(none == NULL);
+    bvox_image_destroy(smooth3);
+    bvox_volume_destroy(v);
+    return 0;
+}
 
 /* The files bvox_demo_pictures writes are the pictures; picture 3 shows a
  * tinted cut face, picture 4 is the mosaic of every other column. */

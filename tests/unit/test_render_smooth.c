@@ -137,6 +137,62 @@ static double share_within(const bvox_volume *v, const bvox_preimage *p, bvox_sh
     return hits ? (double)good / (double)hits : -1;
 }
 
+/* The smooth normal by brute force: minus the sum of the offsets (i, j, k)
+ * with i^2 + j^2 + k^2 <= r^2 + r whose voxel is 1 (outside reads 0),
+ * divided by the spacing; 0 when that sum is zero. */
+static int ref_smooth_normal(const bvox_volume *v, int x, int y, int z, int r, const double sp[3],
+                             double n[3])
+{
+    bvox_dims d = bvox_volume_dims(v);
+    long m[3] = {0, 0, 0};
+    for (int k = -r; k <= r; k++)
+        for (int j = -r; j <= r; j++)
+            for (int i = -r; i <= r; i++) {
+                if (i * i + j * j + k * k > r * r + r) continue;
+                int a = x + i, b = y + j, c = z + k;
+                if (a < 0 || b < 0 || c < 0 || a >= d.nx || b >= d.ny || c >= d.nz) continue;
+                if (!bvox_volume_get(v, a, b, c)) continue;
+                m[0] += i, m[1] += j, m[2] += k;
+            }
+    double len = 0;
+    for (int a = 0; a < 3; a++) n[a] = -(double)m[a] / sp[a], len += n[a] * n[a];
+    if (len == 0) return 0;
+    for (int a = 0; a < 3; a++) n[a] /= sqrt(len);
+    return 1;
+}
+
+TEST(smooth_normal_matches_brute_force)
+{
+    /* random voxels (half set) in 9 x 7 x 133: columns of three words, so
+     * the ball's windows cross word borders and every face of the volume,
+     * at every voxel and one beyond, for each radius and a thick spacing */
+    bvox_volume *v = NULL;
+    CHECK_OK(bvox_volume_create((bvox_dims){9, 7, 133}, &v));
+    unsigned s = 12345;
+    for (int z = 0; z < 133; z++)
+        for (int y = 0; y < 7; y++)
+            for (int x = 0; x < 9; x++) {
+                s = s * 1103515245u + 12345u;
+                if (s >> 16 & 1) bvox_volume_set(v, x, y, z, 1);
+            }
+    const double sp[3] = {0.5, 1, 3};
+    CHECK_OK(bvox_volume_set_spacing(v, sp[0], sp[1], sp[2], NULL));
+    long compared = 0;
+    for (int r = 1; r <= 3; r++)
+        for (int z = -1; z <= 133; z++)
+            for (int y = -1; y <= 7; y++)
+                for (int x = -1; x <= 9; x++) {
+                    double n[3], e[3];
+                    int got = bvox_smooth_normal(v, x, y, z, r, n), want = ref_smooth_normal(v, x, y, z, r, sp, e);
+                    CHECK_EQ(got, want);
+                    for (int a = 0; a < 3; a++) CHECK_NEAR(n[a], want ? e[a] : 0, 1e-12);
+                    compared++;
+                }
+    CHECK_EQ(compared, 3L * 135 * 9 * 11);
+    bvox_volume_destroy(v);
+    return 0;
+}
+
 TEST(sphere_normals_within_10_degrees)
 {
     bvox_volume *v = make(SN, in_sphere);
