@@ -152,8 +152,26 @@ bvox_status bvox__progress(double fraction);
 /* done of total steps; does nothing measurable without a callback. */
 bvox_status bvox__progress_steps(int64_t done, int64_t total);
 int bvox__progress_active(void);
-/* bvox__parallel_for that, with a callback set, runs [0, n) in 32 blocks one
- * after the other and reports after each (fraction 0..1 of the current range).
+/* Work split into bands run one after the other, with a progress check
+ * between them (for Ctrl-C): without a callback one band; with one, bands of
+ * about a quarter of a second of work each, timed from the first band (which
+ * is 1/nfixed of the work), so that a callback costs nothing measurable; with
+ * a progress interval of 0 (every check reported, what the tests ask for) the
+ * nfixed equal bands, always the same. Use:
+ *     bvox__bands b;
+ *     bvox__bands_begin(&b, total, 16);
+ *     for (int64_t lo = 0, hi; lo < total && !st; lo = hi) {
+ *         hi = bvox__bands_next(&b, lo);
+ *         ... [lo, hi) ...; st = bvox__progress_steps(hi, total);
+ *     } */
+typedef struct bvox__bands {
+    int64_t total, nfixed, i, t0_ns;
+} bvox__bands;
+void bvox__bands_begin(bvox__bands *b, int64_t total, int64_t nfixed);
+int64_t bvox__bands_next(bvox__bands *b, int64_t lo);
+/* bvox__parallel_for that, with a callback set, runs [0, n) in bands (as
+ * bvox__bands, 32 of them with interval 0) one after the other and reports
+ * after each (fraction 0..1 of the current range).
  * fn must be a pure function of its range. BVOX_ECANCELED when canceled: the
  * output is then partly computed and must be discarded. */
 bvox_status bvox__parallel_for_progress(int64_t n, int64_t min_per_thread, bvox__range_fn fn,

@@ -9,11 +9,9 @@
  * cancellation is lost however far the object is from the origin.
  *
  * Topology: the Euler number of the 26-connected object comes from the scan;
- * components (26) and cavities (6-connected background components that do
- * not reach the border) come from run labelling (components.c). A background
- * component reaches the outside exactly when its bounding box touches the
- * volume's border, so the complement is labelled as is, with no padding
- * (padding would fail for a 65535-wide volume and cost a bigger copy).
+ * components (26) come from run labelling (components.c), cavities
+ * (6-connected background components that do not reach the border, and the
+ * 26-connected ones they make up) from measure_cavities.c.
  */
 #include "measure/measure.h"
 
@@ -96,25 +94,16 @@ static void principal(bvox_measures *m)
     }
 }
 
-/* 26-components of vol, and 6-connected background components not touching
- * the border (labelling the complement). */
-static bvox_status topology(const bvox_volume *vol, int64_t count, bvox_measures *m)
+/* 26-components of vol, and the cavities (measure_cavities.c); bbox is the
+ * object's voxel box from the scan. */
+static bvox_status topology(const bvox_volume *vol, int64_t count, const int32_t bbox[6],
+                            bvox_measures *m)
 {
     bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
     if (!st) st = bvox__progress(0.6);
     if (st) return st;
     if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
-    bvox_volume *bg = NULL;
-    st = bvox_volume_copy(vol, &bg);
-    if (st) return st;
-    bvox_volume_complement(bg);
-    st = bvox__components_count(bg, 6, 1, &m->cavities);
-    if (!st) st = bvox__progress(0.8);
-    /* a 26-connected cavity is a union of 6-connected ones: none of those,
-     * none of these, and the second labelling is saved */
-    if (!st && m->cavities > 0) st = bvox__components_count(bg, 26, 1, &m->cavities_26);
-    bvox_volume_destroy(bg);
-    return st;
+    return bvox__measure_cavities(vol, bbox, &m->cavities, &m->cavities_26);
 }
 
 void bvox__measure_from_scan(const bvox__scan *sc, const bvox_geometry *geom,
@@ -180,7 +169,7 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
     bvox_measures m;
     bvox__measure_from_scan(&s, &vol->geom, weight, bbox_shift, &m);
     if (s.count) {
-        st = topology(vol, s.count, &m);
+        st = topology(vol, s.count, s.bbox, &m);
         if (st) return st;
     }
     m.tunnels = m.components + m.cavities - m.euler;

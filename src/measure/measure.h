@@ -9,7 +9,8 @@
  *   measure_crofton.c  the Crofton direction weights for a voxel spacing;
  *   measure.c          bvox_measure: the scan turned into physical measures,
  *                      plus the topology that needs labelling;
- *   measure_components.c  bvox_measure_components.
+ *   measure_components.c  bvox_measure_components;
+ *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure.
  */
 #ifndef BVOX_MEASURE_H
 #define BVOX_MEASURE_H
@@ -78,5 +79,12 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
 void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
                              const double weight[BVOX__NDIR], const int32_t bbox_shift[3],
                              bvox_measures *out);
+
+/* Cavities of vol: 6-connected background components not reaching the
+ * border (cav6), and the 26-connected ones (cav26); bbox is the object's
+ * voxel box (x0 y0 z0 x1 y1 z1, half-open), the object not empty.
+ * BVOX_ENOMEM / BVOX_ETOOBIG, or a progress cancel. */
+bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6], int64_t *cav6,
+                                   int64_t *cav26);
 
 #endif /* BVOX_MEASURE_H */

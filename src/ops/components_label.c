@@ -407,6 +407,28 @@ fail:
 
 /* ---- the border ---- */
 
+/* Join to `outside` every run of group grp holding a voxel of the OR of
+ * cols[0..nc) (words within the group's columns): the first such voxel of
+ * each run, found for all runs of a word at once. */
+static void join_hits(bvox__labelruns *r, size_t grp, const uint64_t *const *cols, int nc,
+                      uint32_t outside)
+{
+    const uint64_t *u = bvox__labelruns_group(r, grp);
+    uint64_t carry = 0, u_hi = 0;
+    uint32_t run = r->grp_start[grp];
+    for (size_t k = 0; k < r->wpc; k++) {
+        uint64_t e = 0;
+        for (int c = 0; c < nc; c++) e |= cols[c][k];
+        uint64_t s = bvox__run_starts(u[k], u_hi);
+        for (uint64_t f = first_in_segments(e, s, &carry); f; f &= f - 1) {
+            unsigned p = (unsigned)__builtin_ctzll(f);
+            bvox__uf_unite(r->parent, run + bvox__popcount64(s & upto(p)) - 1, outside);
+        }
+        run += bvox__popcount64(s);
+        u_hi = u[k] >> 63;
+    }
+}
+
 void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside)
 {
     size_t wpc = r->wpc, g = (size_t)r->g;
@@ -431,21 +453,25 @@ void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside
                     if (x == 0 || y == 0 || x + 1 == r->nx || y + 1 == r->ny)
                         cols[nc++] = r->words + (y * r->nx + x) * wpc;
                 }
-            uint64_t carry = 0, u_hi = 0;
-            uint32_t run = r0;
-            for (size_t k = 0; k < wpc; k++) {
-                uint64_t e = 0;
-                for (int c = 0; c < nc; c++) e |= cols[c][k];
-                uint64_t s = bvox__run_starts(u[k], u_hi);
-                for (uint64_t f = first_in_segments(e, s, &carry); f; f &= f - 1) {
-                    unsigned p = (unsigned)__builtin_ctzll(f);
-                    bvox__uf_unite(r->parent, run + bvox__popcount64(s & upto(p)) - 1, outside);
-                }
-                run += bvox__popcount64(s);
-                u_hi = u[k] >> 63;
-            }
+            join_hits(r, grp, cols, nc, outside);
         }
         if (u[0] & 1) bvox__uf_unite(r->parent, r0, outside);
         if ((u[wpc - 1] >> last_bit) & 1) bvox__uf_unite(r->parent, r1 - 1, outside);
+    }
+}
+
+void bvox__labelruns_join_mask(bvox__labelruns *r, const uint64_t *mask, uint32_t outside)
+{
+    size_t g = (size_t)r->g;
+    for (size_t grp = 0; grp < r->ngrp; grp++) {
+        if (r->grp_start[grp] == r->grp_start[grp + 1]) continue;
+        const uint64_t *cols[4];
+        int nc = 0;
+        for (size_t j = 0; j < g; j++)
+            for (size_t i = 0; i < g; i++) {
+                const uint64_t *col = bvox__labelruns_column(r, grp, i, j);
+                if (col) cols[nc++] = mask + (size_t)(col - r->words);
+            }
+        join_hits(r, grp, cols, nc, outside);
     }
 }

@@ -56,6 +56,10 @@ static inline const uint64_t *bvox__labelruns_column(const bvox__labelruns *r, s
  * (an extra entry the caller initialised). */
 void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside);
 
+/* Join every run holding a voxel of mask (words laid out as the labelled
+ * ones) to node `outside` (an extra entry the caller initialised). */
+void bvox__labelruns_join_mask(bvox__labelruns *r, const uint64_t *mask, uint32_t outside);
+
 static inline uint64_t bvox__run_starts(uint64_t w, uint64_t carry)
 {
     return w & ~((w << 1) | carry);

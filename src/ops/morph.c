@@ -198,15 +198,19 @@ static bvox_status box26(const bvox_volume *in, bool erode, bvox_volume **out)
         return st;
     }
     /* With a progress callback, bands of rows one after the other (each band
-     * recomputes 2 rows of zx per chunk: a few per cent, only then). */
-    int64_t bands = bvox__progress_active() && in->ny >= 256 ? 16 : 1, maxchunks = j.nchunks;
-    for (int64_t b = 0; !st && b < bands; b++) {
-        j.y0 = in->ny * b / bands;
-        j.y1 = in->ny * (b + 1) / bands;
+     * recomputes 2 rows of zx per chunk: a few per cent, only then; bands of
+     * a quarter of a second, see bvox__bands, make that nothing). */
+    int64_t maxchunks = j.nchunks;
+    bvox__bands bands;
+    bvox__bands_begin(&bands, in->ny, in->ny >= 256 ? 16 : 1);
+    for (int64_t lo = 0, hi; !st && lo < in->ny; lo = hi) {
+        hi = bvox__bands_next(&bands, lo);
+        j.y0 = lo;
+        j.y1 = hi;
         j.nchunks = (j.y1 - j.y0) / 8 < maxchunks ? (j.y1 - j.y0) / 8 : maxchunks;
         if (j.nchunks < 1) j.nchunks = 1;
         bvox__parallel_for(j.nchunks, 1, erode ? box26_erode_chunks : box26_dilate_chunks, &j);
-        st = bvox__progress_steps(b + 1, bands);
+        st = bvox__progress_steps(hi, in->ny);
     }
     bvox__free(j.ring, bytes);
     if (st) {

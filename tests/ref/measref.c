@@ -116,5 +116,6 @@ void measref_compute(const voxref *r, const double sp[3], measref *o)
     o->components = flood_count(r->v, nx, ny, nz, 1, 26, 0);
     voxref *pad = voxref_pad(r, (const int[3]){1, 1, 1}, (const int[3]){1, 1, 1});
     o->cavities = flood_count(pad->v, nx + 2, ny + 2, nz + 2, 0, 6, 1);
+    o->cavities_26 = flood_count(pad->v, nx + 2, ny + 2, nz + 2, 0, 26, 1);
     voxref_destroy(pad);
 }

@@ -18,6 +18,7 @@
 
 typedef struct measref {
     int64_t count, faces[3], trans[MEASREF_NCLASS], euler, components, cavities;
+    int64_t cavities_26; /* 26-connected background components not reaching the border */
     double centroid[3], cov[9]; /* physical, origin 0 */
 } measref;
 

@@ -35,6 +35,7 @@ static int check_against_ref(const bvox_measures *m, const measref *o, const dou
     CHECK_EQ(m->euler, o->euler);
     CHECK_EQ(m->components, o->components);
     CHECK_EQ(m->cavities, o->cavities);
+    CHECK_EQ(m->cavities_26, o->cavities_26);
     double area = 0;
     for (int c = 0; c < BVOX__NDIR; c++) area += w[c] * (double)o->trans[c];
     CHECK(rel_near(m->area, area, 1e-12));

@@ -360,3 +360,40 @@ TEST(one_bar_for_a_nested_call)
     CHECK(strcmp(bvox_status_name(BVOX_ECANCELED), "BVOX_ECANCELED") == 0);
     return 0;
 }
+
+/* bvox__bands: one band without a callback; the nfixed equal bands with
+ * interval 0 (what the sweeps above rely on: the same calls every run); with
+ * an interval, bands of about a quarter of a second, so work that takes
+ * microseconds is the first fixed band and then the rest at once. */
+static int band_count(int64_t total, int64_t nfixed, int64_t *first_end)
+{
+    bvox__bands b;
+    bvox__bands_begin(&b, total, nfixed);
+    int n = 0;
+    for (int64_t lo = 0, hi; lo < total; lo = hi) {
+        hi = bvox__bands_next(&b, lo);
+        if (hi <= lo || hi > total) return -1;
+        if (n++ == 0) *first_end = hi;
+    }
+    return n;
+}
+
+TEST(bands_sized_by_time)
+{
+    int64_t first = 0;
+    CHECK_EQ(band_count(1000, 16, &first), 1); /* no callback */
+    CHECK_EQ(first, 1000);
+    bvox_set_progress(quiet, NULL);
+    bvox_set_progress_interval(0);
+    CHECK_EQ(band_count(1000, 16, &first), 16);
+    CHECK_EQ(first, 62);
+    CHECK_EQ(band_count(5, 16, &first), 5); /* never an empty band */
+    bvox_set_progress_interval(0.005);
+    int n = band_count(1000, 16, &first);
+    CHECK_EQ(first, 62);
+    /* 2 unless this process was held off the CPU for tens of ms */
+    CHECK(n >= 2 && n <= 4);
+    CHECK_EQ(band_count(1000, 1, &first), 1);
+    bvox_set_progress(NULL, NULL);
+    return 0;
+}

@@ -1,0 +1,236 @@
+/*
+ * measure_cavities.c — the cavities of bvox_measure: 6-connected background
+ * components that do not reach the border, and how many 26-connected ones
+ * they make up.
+ *
+ * Only the columns of the object's x-y bounding box grown by one are
+ * labelled: every background voxel outside that box reaches the border along
+ * a straight line, and the ring of columns around the box is all background,
+ * so joining the box's border runs to "outside" is exact. z is kept whole so
+ * that no word is shifted.
+ *
+ * 26-connected cavities are unions of 6-connected ones (a background
+ * component touching the border contains a 6-connected one that does), so
+ * after the 6-connected labelling only the cavity voxels K are looked at
+ * again: a 26-component of K is a 26-cavity unless one of its voxels is a
+ * 26-neighbour of the exterior E (background minus K). K is usually a few
+ * small pockets: it is copied into the box of its own columns (grown by
+ * one), T = K & dilate26(E) is formed word by word where K has voxels, and
+ * K is labelled 26-connected with the runs holding a T voxel joined to
+ * "outside". This replaces a second labelling of the whole background,
+ * except when the cavities are everywhere (see label_all_26).
+ */
+#include "measure/measure.h"
+#include "ops/components_label.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Columns [x0, x1) x [y0, y1) of a volume-sized word array, all wpc words. */
+typedef struct colbox {
+    size_t x0, y0, nx, ny;
+} colbox;
+
+typedef struct extract_job {
+    const bvox_volume *v;
+    colbox b;
+    uint64_t *dst;
+} extract_job;
+
+/* The complement of the box's columns (bits beyond nz stay 0). */
+static void extract_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const extract_job *j = ctx;
+    size_t wpc = j->v->wpc, nx = (size_t)j->v->nx;
+    for (int64_t y = begin; y < end; y++) {
+        const uint64_t *src = j->v->words + (((size_t)y + j->b.y0) * nx + j->b.x0) * wpc;
+        uint64_t *dst = j->dst + (size_t)y * j->b.nx * wpc;
+        size_t n = j->b.nx * wpc;
+        for (size_t i = 0; i < n; i++) dst[i] = ~src[i];
+        for (size_t c = wpc - 1; c < n; c += wpc) dst[c] &= j->v->tail_mask;
+    }
+}
+
+typedef struct root_job {
+    const uint32_t *parent;
+    int64_t roots;
+} root_job;
+
+static void count_roots(void *ctx, int64_t begin, int64_t end)
+{
+    root_job *j = ctx;
+    int64_t n = 0;
+    for (int64_t i = begin; i < end; i++) n += j->parent[i] == (uint32_t)i;
+    __atomic_fetch_add(&j->roots, n, __ATOMIC_RELAXED);
+}
+
+/* Components among the runs and the outside node (index nruns), the
+ * outside's own not counted. */
+static int64_t count_inner(const bvox__labelruns *r)
+{
+    root_job j = {r->parent, 0};
+    bvox__parallel_for((int64_t)r->nruns + 1, 1 << 16, count_roots, &j);
+    return j.roots - 1;
+}
+
+/* 64 z-neighbourhoods of a column word: w with its voxels at z - 1 and
+ * z + 1 (prev/next: the words below and above, 0 outside). */
+static inline uint64_t zdilate(uint64_t prev, uint64_t w, uint64_t next)
+{
+    return w | (w << 1) | (prev >> 63) | (w >> 1) | (next << 63);
+}
+
+/* K (the cavity voxels, box kb inside the labelled box lb, whose background
+ * words are bg) and T = K & dilate26(bg & ~K) into t; kb has a ring of
+ * empty columns so every neighbour column is inside it. */
+static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, colbox kb,
+                              size_t wpc, uint64_t *t)
+{
+    for (size_t y = 1; y + 1 < kb.ny; y++)
+        for (size_t x = 1; x + 1 < kb.nx; x++) {
+            const uint64_t *kc = k + (y * kb.nx + x) * wpc;
+            uint64_t *tc = t + (y * kb.nx + x) * wpc;
+            for (size_t w = 0; w < wpc; w++) {
+                if (!kc[w]) continue;
+                uint64_t d = 0;
+                for (size_t dy = 0; dy < 3; dy++)
+                    for (size_t dx = 0; dx < 3; dx++) {
+                        size_t kcol = (y + dy - 1) * kb.nx + (x + dx - 1);
+                        size_t bcol = (kb.y0 + y + dy - 1) * lb.nx + (kb.x0 + x + dx - 1);
+                        const uint64_t *kk = k + kcol * wpc, *bb = bg + bcol * wpc;
+                        uint64_t e = bb[w] & ~kk[w];
+                        uint64_t ep = w ? bb[w - 1] & ~kk[w - 1] : 0;
+                        uint64_t en = w + 1 < wpc ? bb[w + 1] & ~kk[w + 1] : 0;
+                        d |= zdilate(ep, e, en);
+                    }
+                tc[w] = kc[w] & d;
+            }
+        }
+}
+
+/* The 26-cavities by labelling all of the box's background: cheaper than
+ * going through K when the cavities are everywhere (a coin toss has a
+ * million of them). */
+static bvox_status label_all_26(const uint64_t *bg, colbox lb, size_t wpc, int32_t nz,
+                                int64_t *out)
+{
+    bvox__labelruns r26;
+    bvox_status st = bvox__labelruns_find(bg, NULL, lb.nx, lb.ny, wpc, 26, 1, &r26);
+    if (st) return st;
+    r26.parent[r26.nruns] = (uint32_t)r26.nruns;
+    bvox__labelruns_join_border(&r26, (size_t)nz, (uint32_t)r26.nruns);
+    *out = count_inner(&r26);
+    bvox__labelruns_free(&r26);
+    return BVOX_OK;
+}
+
+/* The 26-cavities, given the 6-labelling r of the background words bg of box
+ * lb whose parents have been flattened (parent[i] is i's root). */
+static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *bg, colbox lb,
+                                     int32_t nz, int64_t *out)
+{
+    size_t wpc = r->wpc;
+    uint32_t outside = r->parent[r->nruns];
+    /* the columns holding cavity runs */
+    size_t x0 = lb.nx, x1 = 0, y0 = lb.ny, y1 = 0;
+    for (size_t col = 0; col < lb.nx * lb.ny; col++) {
+        size_t n = 0;
+        for (uint32_t i = r->grp_start[col]; i < r->grp_start[col + 1]; i++)
+            n += r->parent[i] != outside;
+        if (!n) continue;
+        size_t x = col % lb.nx, y = col / lb.nx;
+        if (x < x0) x0 = x;
+        if (x + 1 > x1) x1 = x + 1;
+        if (y < y0) y0 = y;
+        if (y + 1 > y1) y1 = y + 1;
+    }
+    /* never on the labelled box's border (joined to outside there) */
+    colbox kb = {x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2};
+    size_t nw = kb.nx * kb.ny * wpc;
+    bvox_status st = BVOX_OK;
+    uint64_t *k = bvox__alloc(2 * nw * sizeof *k, true, "cavity voxels", &st);
+    if (!k) return st;
+    uint64_t *t = k + nw;
+    int32_t *z0 = bvox__mem_alloc(((size_t)nz / 2 + 1) * sizeof *z0);
+    int32_t *z1 = bvox__mem_alloc(((size_t)nz / 2 + 1) * sizeof *z1);
+    if (!z0 || !z1) {
+        st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+        goto done;
+    }
+    for (size_t y = 1; y + 1 < kb.ny; y++)
+        for (size_t x = 1; x + 1 < kb.nx; x++) {
+            size_t col = (kb.y0 + y) * lb.nx + kb.x0 + x;
+            uint32_t first = r->grp_start[col];
+            if (first == r->grp_start[col + 1]) continue;
+            const uint64_t *src = bg + col * wpc;
+            uint64_t *dst = k + (y * kb.nx + x) * wpc;
+            /* runs of the column in order: starts and ends found a word at
+             * a time, the i-th start paired with the i-th end */
+            size_t ns = 0, ne = 0;
+            for (size_t w = 0; w < wpc; w++) {
+                uint64_t v = src[w];
+                if (!v) continue;
+                uint64_t lo = w ? src[w - 1] >> 63 : 0, hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
+                uint64_t s = bvox__run_starts(v, lo), e = v & ~((v >> 1) | (hi << 63));
+                for (; s; s &= s - 1) z0[ns++] = (int32_t)(w * 64) + __builtin_ctzll(s);
+                for (; e; e &= e - 1) z1[ne++] = (int32_t)(w * 64) + __builtin_ctzll(e) + 1;
+            }
+            for (size_t i = 0; i < ns; i++)
+                if (r->parent[first + i] != outside) bvox__column_fill(dst, z0[i], z1[i], 1);
+        }
+    touching_exterior(bg, lb, k, kb, wpc, t);
+    bvox__labelruns r26;
+    st = bvox__labelruns_find(k, NULL, kb.nx, kb.ny, wpc, 26, 1, &r26);
+    if (st) goto done;
+    r26.parent[r26.nruns] = (uint32_t)r26.nruns;
+    bvox__labelruns_join_mask(&r26, t, (uint32_t)r26.nruns);
+    *out = count_inner(&r26);
+    bvox__labelruns_free(&r26);
+done:
+    free(z0);
+    free(z1);
+    bvox__free(k, 2 * nw * sizeof *k);
+    return st;
+}
+
+bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6], int64_t *cav6,
+                                   int64_t *cav26)
+{
+    *cav6 = *cav26 = 0;
+    size_t x0 = bbox[0] > 0 ? (size_t)bbox[0] - 1 : 0, y0 = bbox[1] > 0 ? (size_t)bbox[1] - 1 : 0;
+    size_t x1 = bbox[3] < vol->nx ? (size_t)bbox[3] + 1 : (size_t)vol->nx;
+    size_t y1 = bbox[4] < vol->ny ? (size_t)bbox[4] + 1 : (size_t)vol->ny;
+    colbox lb = {x0, y0, x1 - x0, y1 - y0};
+    size_t wpc = vol->wpc, nw = lb.nx * lb.ny * wpc;
+    bvox_status st = BVOX_OK;
+    uint64_t *bg = bvox__alloc(nw * sizeof *bg, false, "background words", &st);
+    if (!bg) return st;
+    extract_job ej = {vol, lb, bg};
+    bvox__parallel_for((int64_t)lb.ny, 16, extract_rows, &ej);
+    bvox__labelruns r;
+    st = bvox__labelruns_find(bg, NULL, lb.nx, lb.ny, wpc, 6, 1, &r);
+    if (!st) {
+        uint32_t outside = (uint32_t)r.nruns, *parent = r.parent;
+        parent[outside] = outside;
+        bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
+        *cav6 = count_inner(&r);
+        st = bvox__progress(0.8);
+        if (st || *cav6 == 0) {
+            /* done */
+        } else if (*cav6 > 16384 && (size_t)*cav6 > r.nruns / 64) {
+            /* cavities everywhere (a coin toss): one labelling of all the
+             * background costs less than copying K and finding its contacts
+             * (small volumes take the K route whatever they hold: it is the
+             * one they test) */
+            st = label_all_26(bg, lb, wpc, vol->nz, cav26);
+        } else {
+            /* roots are the smallest run of their component and parent[i]
+             * <= i, so one pass in order makes every parent a root */
+            for (size_t i = 0; i <= r.nruns; i++) parent[i] = parent[parent[i]];
+            st = count_cavities_26(&r, bg, lb, vol->nz, cav26);
+        }
+        bvox__labelruns_free(&r);
+    }
+    bvox__free(bg, nw * sizeof *bg);
+    return st;
+}

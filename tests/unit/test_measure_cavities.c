@@ -1,0 +1,236 @@
+/* test_measure_cavities.c — the cavities of bvox_measure (6-connected
+ * background components not reaching the border, and the 26-connected ones;
+ * src/measure/measure_cavities.c) against the breadth-first references of
+ * tests/ref/measref.c and against the previous route (the complement of the
+ * whole volume labelled 6- then 26-connected with its border merged): random
+ * volumes of several densities, adversarial shapes (nested shells, cavities
+ * touching each other or the exterior only diagonally, a spiral, runs across
+ * word boundaries, objects on the border), the AAL atlas whole and per
+ * label; at every SIMD level and with 1, 3 and 16 threads. */
+#include "harness.h"
+#include "internal.h"
+#include "ref/measref.h"
+#include "ref/voxref.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The previous route, kept here as a second reference for volumes too big
+ * for the breadth-first one. */
+static int old_route(const bvox_volume *v, int64_t *c6, int64_t *c26)
+{
+    *c6 = *c26 = 0;
+    if (bvox_volume_count(v) == 0 || bvox_volume_count(v) == (int64_t)v->nx * v->ny * v->nz)
+        return 0;
+    bvox_volume *bg = NULL;
+    CHECK_OK(bvox_volume_copy(v, &bg));
+    bvox_volume_complement(bg);
+    CHECK_OK(bvox__components_count(bg, 6, 1, c6));
+    CHECK_OK(bvox__components_count(bg, 26, 1, c26));
+    bvox_volume_destroy(bg);
+    return 0;
+}
+
+static const int thread_counts[] = {1, 3, 16};
+
+/* bvox_measure at every SIMD level and thread count gives cav6 and cav26
+ * (and the components, and tunnels = components + cavities - euler). */
+static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int64_t cav26)
+{
+    bvox_simd saved = bvox_simd_active();
+    int threads = bvox_threads(), bad = 0;
+    for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512 && !bad; lv++) {
+        if (!bvox_simd_supported((bvox_simd)lv)) continue;
+        CHECK_OK(bvox_simd_set((bvox_simd)lv));
+        for (size_t t = 0; t < sizeof thread_counts / sizeof *thread_counts && !bad; t++) {
+            bvox_set_threads(thread_counts[t]);
+            bvox_measures m;
+            CHECK_OK(bvox_measure(v, &m));
+            if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
+                m.tunnels != m.components + m.cavities - m.euler) {
+                fprintf(stderr,
+                        "  %dx%dx%d simd %s threads %d: components %lld cavities %lld/%lld, "
+                        "expected %lld %lld/%lld\n",
+                        v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t],
+                        (long long)m.components, (long long)m.cavities,
+                        (long long)m.cavities_26, (long long)comp, (long long)cav6,
+                        (long long)cav26);
+                bad = 1;
+            }
+        }
+    }
+    CHECK_OK(bvox_simd_set(saved));
+    bvox_set_threads(threads);
+    return bad;
+}
+
+/* r against the breadth-first reference and the previous route. */
+static int check_ref(const voxref *r)
+{
+    const double sp[3] = {1, 1, 1};
+    measref o;
+    measref_compute(r, sp, &o);
+    bvox_volume *v = voxref_to_volume(r);
+    CHECK(v);
+    int64_t c6, c26;
+    CHECK(!old_route(v, &c6, &c26));
+    CHECK_EQ(c6, o.cavities);
+    CHECK_EQ(c26, o.cavities_26);
+    int bad = check_all_paths(v, o.components, o.cavities, o.cavities_26);
+    bvox_volume_destroy(v);
+    return bad;
+}
+
+TEST(random_densities_vs_reference)
+{
+    /* sizes past one word in z and rows enough for 3- and 16-way splits */
+    static const int sizes[][3] = {{1, 1, 70}, {5, 3, 64}, {9, 7, 65}, {13, 11, 130},
+                                   {21, 40, 67}, {33, 260, 20}, {270, 17, 31}};
+    const unsigned dens[] = {2, 4, 5, 6, 7, 8}; /* of 10: background from dense to sparse */
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++)
+        for (size_t d = 0; d < sizeof dens / sizeof *dens; d++) {
+            const int *s = sizes[i];
+            voxref *r = voxref_create(s[0], s[1], s[2]);
+            voxref_random(r, dens[d], 10, harness_rand);
+            if (check_ref(r)) {
+                fprintf(stderr, "  density %u/10\n", dens[d]);
+                return 1;
+            }
+            voxref_destroy(r);
+        }
+    return 0;
+}
+
+static void vset(voxref *r, int x, int y, int z, uint8_t value) { *voxref_at(r, x, y, z) = value; }
+
+/* Hollow box shell [x0, x1) etc. of thickness 1 (value 1), inside cleared. */
+static void shell(voxref *r, int x0, int y0, int z0, int x1, int y1, int z1)
+{
+    voxref_fill_box(r, (bvox_box){x0, y0, z0, x1, y1, z1}, 1);
+    voxref_fill_box(r, (bvox_box){x0 + 1, y0 + 1, z0 + 1, x1 - 1, y1 - 1, z1 - 1}, 0);
+}
+
+TEST(adversarial_vs_reference)
+{
+    /* nested shells: cavity, object inside it, cavity inside that */
+    voxref *r = voxref_create(20, 20, 140);
+    shell(r, 1, 1, 1, 19, 19, 139);
+    shell(r, 4, 4, 50, 16, 16, 90);
+    shell(r, 7, 7, 60, 13, 13, 80);
+    CHECK(!check_ref(r));
+    /* the object fills the border: the labelled box is the whole volume */
+    shell(r, 0, 0, 0, 20, 20, 140);
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+
+    /* two cavities touching only along an edge (one 26-cavity), and a cavity
+     * that touches the exterior only at a corner (6- but no 26-cavity) */
+    r = voxref_create(16, 12, 66);
+    voxref_fill_box(r, (bvox_box){1, 1, 1, 15, 11, 65}, 1);
+    voxref_fill_box(r, (bvox_box){3, 3, 60, 5, 5, 64}, 0);
+    voxref_fill_box(r, (bvox_box){5, 5, 62, 7, 7, 63}, 0); /* edge contact across x and y */
+    voxref_fill_box(r, (bvox_box){10, 3, 30, 12, 5, 34}, 0);
+    vset(r, 14, 10, 64, 0); /* a notch on the box's corner, open to the outside */
+    vset(r, 13, 9, 63, 0);  /* its corner neighbour: enclosed for 6, not for 26 */
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+
+    /* a cavity running across the 64-bit word boundaries of its columns */
+    r = voxref_create(6, 5, 200);
+    voxref_fill_box(r, (bvox_box){1, 1, 1, 5, 4, 199}, 1);
+    voxref_fill_box(r, (bvox_box){2, 2, 60, 4, 3, 131}, 0);
+    voxref_fill_box(r, (bvox_box){2, 2, 135, 3, 3, 190}, 0);
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+
+    /* a square spiral corridor inside a slab, closed at its outer end: one
+     * long thin cavity that winds through most columns */
+    r = voxref_create(41, 41, 7);
+    voxref_fill_box(r, (bvox_box){0, 0, 1, 41, 41, 6}, 1);
+    int x = 2, y = 2, len = 36, dir = 0;
+    static const int step[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    for (int leg = 0; len > 0; leg++) {
+        for (int i = 0; i < len; i++) {
+            vset(r, x, y, 3, 0);
+            x += step[dir][0];
+            y += step[dir][1];
+        }
+        dir = (dir + 1) % 4;
+        if (leg % 2) len -= 2;
+    }
+    CHECK(!check_ref(r));
+    /* opened to the outside at its start: no cavity */
+    vset(r, 2, 2, 2, 0);
+    vset(r, 2, 2, 1, 0);
+    vset(r, 2, 2, 0, 0);
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+
+    /* many small hollow blobs and single-voxel holes, some diagonal pairs */
+    r = voxref_create(35, 29, 97);
+    for (int k = 0; k < 60; k++) {
+        int bx = (int)(harness_rand() % 31), by = (int)(harness_rand() % 25),
+            bz = (int)(harness_rand() % 92);
+        int dx = 3 + (int)(harness_rand() % 4), dy = 3 + (int)(harness_rand() % 4),
+            dz = 3 + (int)(harness_rand() % 5);
+        shell(r, bx, by, bz, bx + dx, by + dy, bz + dz);
+    }
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+    return 0;
+}
+
+/* Big coin tosses (cavities everywhere: the whole-background route) and
+ * sparse ones, against the previous route. */
+TEST(large_random_vs_previous)
+{
+    static const unsigned dens[] = {3, 5, 7};
+    for (size_t d = 0; d < 3; d++) {
+        voxref *r = voxref_create(97, 300, 131);
+        voxref_random(r, dens[d], 10, harness_rand);
+        bvox_volume *v = voxref_to_volume(r);
+        voxref_destroy(r);
+        int64_t c6, c26, comp;
+        CHECK(!old_route(v, &c6, &c26));
+        CHECK_OK(bvox__components_count(v, 26, 0, &comp));
+        CHECK(!check_all_paths(v, comp, c6, c26));
+        bvox_volume_destroy(v);
+    }
+    return 0;
+}
+
+#define AAL "/usr/share/mricron/templates/aal.nii.gz"
+
+TEST(realdata_aal_whole_and_per_label)
+{
+    bvox_volume *v = NULL;
+    bvox_read_opts ro = BVOX_READ_OPTS_INIT;
+    CHECK_OK(bvox_read(AAL, &ro, &v));
+    voxref *r = voxref_from_volume(v);
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+    bvox_volume_destroy(v);
+    bvox_labelset *set;
+    CHECK_OK(bvox_labels_read(AAL, NULL, 0, &set));
+    int64_t with_cavities = 0;
+    for (int64_t i = 0; i < set->n; i++) {
+        r = voxref_from_volume(set->objects[i].volume);
+        measref o;
+        measref_compute(r, (const double[3]){1, 1, 1}, &o);
+        voxref_destroy(r);
+        bvox_measures m;
+        CHECK_OK(bvox_measure(set->objects[i].volume, &m));
+        CHECK_EQ(m.components, o.components);
+        CHECK_EQ(m.cavities, o.cavities);
+        CHECK_EQ(m.cavities_26, o.cavities_26);
+        with_cavities += m.cavities > 0;
+        if (i % 29 == 0) /* a few at every level and thread count */
+            CHECK(!check_all_paths(set->objects[i].volume, o.components, o.cavities,
+                                   o.cavities_26));
+    }
+    CHECK_EQ(set->n, 116);
+    fprintf(stderr, "  %lld of 116 labels have cavities\n", (long long)with_cavities);
+    bvox_labelset_destroy(set);
+    return 0;
+}
