@@ -216,7 +216,8 @@ static void make_codes(vw_state *s)
     pane_preimage(s, &p);
     bvox_shade_opts o = shade_opts(s);
     s->fast_codes = o.mode == BVOX_SHADE_SMOOTH && s->view_drag && s->coarse_ms > 0 &&
-                    s->last_smooth_ms > s->coarse_ms;
+                    (s->last_smooth_ms > s->coarse_ms ||
+                     s->last_smooth_ms + s->last_full_cast_ms > s->drag_frame_ms);
     if (s->fast_codes) o.mode = BVOX_SHADE_GRADIENT;
     double t = vw_now();
     /* the moments of the voxels earlier frames shaded are kept: a turn of

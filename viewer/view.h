@@ -150,7 +150,11 @@ typedef struct vw_state {
      * neighbourhood: slower than the cast on a large view): while the view
      * is dragged they are made from the depth map (the gradient mode, the
      * same 64 x 64 bins and table) when the last smooth codes took longer
-     * than coarse_ms, and the smooth ones again on release */
+     * than coarse_ms, or when the last smooth frame (its full cast and its
+     * codes) took longer than drag_frame_ms (a 60 Hz frame by default, so a
+     * turn stays at 60 fps where smooth frames cannot), and the smooth ones
+     * again on release */
+    double drag_frame_ms;
     int view_drag;           /* a turn or pan drag is under way */
     int fast_codes;          /* the pane shows those stand-in codes */
     double last_smooth_ms;

@@ -335,6 +335,7 @@ bvox_status vw_open(bvox_volume *model, int width, int height, vw_state **out)
     s->prim_size = 8;
     s->fps = -1;
     s->coarse_ms = 25; /* below 40 fps of casts, drag at half resolution */
+    s->drag_frame_ms = 1000.0 / 60; /* smooth mode: stand-in codes while turning */
     s->save_path = "bvox-view-model.nii.gz";
     s->need_surface = s->need_cast = s->need_code = s->need_lut = s->need_mosaic = 1;
     *out = s;

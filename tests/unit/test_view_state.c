@@ -525,3 +525,42 @@ TEST(smooth_drag_then_full)
     vw_close(s);
     return 0;
 }
+
+/* A turn in the smooth mode keeps to drag_frame_ms (60 Hz by default): when
+ * the last smooth frame (its full cast plus its codes) took longer, the drag
+ * shows the stand-in codes even where the codes alone are under coarse_ms;
+ * when it fits, the drag stays smooth. */
+static int drag_codes_with_budget(double frame_ms)
+{
+    vw_state *s = open_ball(48, 17, 160, 160);
+    if (!s) return -1;
+    s->overlay = 0;
+    s->shade = VW_SHADE_SMOOTH;
+    s->coarse_ms = 1e9; /* the codes alone never count as slow */
+    s->drag_frame_ms = frame_ms;
+    int fast = -1;
+    if (!vw_render(s) && !s->fast_codes && s->last_smooth_ms > 0) {
+        vw_event d = {.type = VW_EV_DOWN, .button = VW_BUTTON_LEFT, .x = 80, .y = 80};
+        vw_handle(s, &d);
+        d.type = VW_EV_MOTION, d.x = 84;
+        vw_handle(s, &d);
+        s->coarse = 0;
+        if (!vw_render(s)) fast = s->fast_codes;
+        d.type = VW_EV_UP;
+        vw_handle(s, &d);
+        if (fast >= 0 && (vw_render(s) || s->fast_codes)) fast = -1; /* smooth again */
+    }
+    vw_close(s);
+    return fast;
+}
+
+TEST(smooth_drag_keeps_frame_budget)
+{
+    CHECK_EQ(drag_codes_with_budget(1e-9), 1); /* over budget: stand-in codes */
+    CHECK_EQ(drag_codes_with_budget(1e9), 0);  /* within it: smooth while turning */
+    vw_state *s = open_ball(16, 5, 64, 64);
+    CHECK(s);
+    CHECK(s->drag_frame_ms > 16 && s->drag_frame_ms < 17); /* the default: 60 Hz */
+    vw_close(s);
+    return 0;
+}
