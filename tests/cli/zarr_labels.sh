@@ -15,10 +15,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-if ! $PY -c 'import zarr, numcodecs' 2>/dev/null; then
-    echo "python3-zarr missing (scripts/install-deps.sh installs it)" >&2
-    exit 1
-fi
+. "$(dirname "$0")/lib/common.sh"
+need_python_zarr
 
 # The arrays, and numpy's answers per label: count, bbox (voxels) and
 # centroid (physical: origin + spacing * index) in bvox's x, y, z order (the

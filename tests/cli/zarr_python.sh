@@ -14,10 +14,8 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 count() { "$BVOX" info "$@" --json | $PY -c 'import json,sys; print(json.load(sys.stdin)["count"])'; }
 
-if ! $PY -c 'import zarr, numcodecs' 2>/dev/null; then
-    echo "python3-zarr missing (scripts/install-deps.sh installs it)" >&2
-    exit 1
-fi
+. "$(dirname "$0")/lib/common.sh"
+need_python_zarr
 
 # 1. bvox -> python: an off-centre sphere in an awkward grid, odd chunks.
 "$BVOX" shape sphere r=20 at=30,25,40 --dims 61,53,100 -o "$tmp/s.nii" >/dev/null

@@ -14,10 +14,8 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT INT TERM
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-if ! $PY -c 'import zarr, numcodecs' 2>/dev/null; then
-    echo "python3-zarr missing (scripts/install-deps.sh installs it)" >&2
-    exit 1
-fi
+. "$(dirname "$0")/lib/common.sh"
+need_python_zarr
 
 # 1. python -> bvox, exactly. Shape (z, y, x) = (131, 203, 80); chunks
 #    (z, y, x) = (65, 100, 37), so x 37, y 100, z 65 in bvox's order.

@@ -40,3 +40,11 @@ if not eval(expr):
     sys.exit("%s: %s is false for %s" % (path, expr, text.strip()[:600]))
 PY
 }
+
+# need_python_zarr: Debian's python3-zarr (with numcodecs) is importable by
+# /usr/bin/python3, or the script fails saying what to install.
+need_python_zarr() {
+    /usr/bin/python3 -c 'import zarr, numcodecs' 2>/dev/null && return 0
+    echo "python3-zarr missing (scripts/install-deps.sh installs it)" >&2
+    exit 1
+}
