@@ -49,8 +49,14 @@ bvox_status bvox__write_detached(const char *path, const char *data_path, const 
     /* the data first, so that the header never names a missing file */
     bvox_status st = bvox__write_byte_slices(data_path, vol, gz, NULL, 0);
     if (st) return st;
+    return bvox__write_header_after(path, data_path, header, header_size);
+}
+
+bvox_status bvox__write_header_after(const char *path, const char *data_path, const char *header,
+                                     size_t header_size)
+{
     bvox__sink s;
-    st = bvox__sink_open(path, 0, &s);
+    bvox_status st = bvox__sink_open(path, 0, &s);
     if (!st) st = bvox__sink_write(&s, header, header_size);
     if (!st) st = bvox__sink_commit(&s);
     else bvox__sink_abort(&s);

@@ -245,6 +245,10 @@ bvox_status bvox__detached_name(const char *path, size_t strip, const char *ext,
  * header into path; on failure neither is left behind. */
 bvox_status bvox__write_detached(const char *path, const char *data_path, const bvox_volume *vol,
                                  int gz, const char *header, size_t header_size);
+/* The header into path (whole or not at all) after its data file was
+ * written; on failure the data file is removed too. */
+bvox_status bvox__write_header_after(const char *path, const char *data_path, const char *header,
+                                     size_t header_size);
 /* The NRRD writer (nrrd_write.c), for the format table in nrrd.c. */
 bvox_status bvox__nrrd_write(const char *path, const bvox_volume *vol,
                              const bvox_write_opts *opts);

@@ -19,7 +19,6 @@
 #include "common/strbuf.h"
 
 #include <string.h>
-#include <unistd.h>
 
 /* header (plain) then the samples, compressed by `compress` (0 none, 1
  * gzip, BVOX__SINK_ZLIB), into path: the whole file or nothing. */
@@ -41,15 +40,13 @@ static bvox_status write_file(const char *path, const void *header, size_t heade
 
 /* The data into data_path first, so that the header never names a missing
  * file, then the header into path; on failure neither is left behind. */
-static bvox_status write_pair(const char *path, const char *data_path, const void *header,
+static bvox_status write_pair(const char *path, const char *data_path, const char *header,
                               size_t header_size, int compress, const uint32_t *labels,
                               size_t n, bvox_dtype t)
 {
     bvox_status st = write_file(data_path, NULL, 0, compress, labels, n, t);
     if (st) return st;
-    st = write_file(path, header, header_size, 0, NULL, 0, t);
-    if (st) unlink(data_path);
-    return st;
+    return bvox__write_header_after(path, data_path, header, header_size);
 }
 
 static const char *const nrrd_types[] = {"uint8",  "int8",  "uint16", "int16",
