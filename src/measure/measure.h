@@ -87,4 +87,15 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
 bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6], int64_t *cav6,
                                    int64_t *cav26);
 
+/* Grows reached (zeroed, nx * ny columns of wpc words like bg) to the
+ * voxels of bg 6-connected to the border of the box (its ring of columns,
+ * z = 0 and z = nz - 1) by at most max_sweeps sweeps; false when that was
+ * not enough to settle (reached is then a subset). measure_flood.c. */
+bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
+                        int max_sweeps, uint64_t *reached);
+
+/* Test hook of measure_cavities.c: -1 (default) chooses the route; 0 always
+ * labels the background; n > 0 always floods first, at most n sweeps. */
+extern int bvox__cavity_flood_sweeps;
+
 #endif /* BVOX_MEASURE_H */

@@ -84,7 +84,7 @@ static inline uint64_t zdilate(uint64_t prev, uint64_t w, uint64_t next)
  * words are bg) and T = K & dilate26(bg & ~K) into t; kb has a ring of
  * empty columns so every neighbour column is inside it. */
 static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, colbox kb,
-                              size_t wpc, uint64_t *t)
+                              size_t wpc, bool bg_is_exterior, uint64_t *t)
 {
     for (size_t y = 1; y + 1 < kb.ny; y++)
         for (size_t x = 1; x + 1 < kb.nx; x++) {
@@ -98,9 +98,11 @@ static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, 
                         size_t kcol = (y + dy - 1) * kb.nx + (x + dx - 1);
                         size_t bcol = (kb.y0 + y + dy - 1) * lb.nx + (kb.x0 + x + dx - 1);
                         const uint64_t *kk = k + kcol * wpc, *bb = bg + bcol * wpc;
-                        uint64_t e = bb[w] & ~kk[w];
-                        uint64_t ep = w ? bb[w - 1] & ~kk[w - 1] : 0;
-                        uint64_t en = w + 1 < wpc ? bb[w + 1] & ~kk[w + 1] : 0;
+                        /* the exterior: given, or the background minus K */
+                        uint64_t keep = bg_is_exterior ? ~0ull : 0;
+                        uint64_t e = bb[w] & (~kk[w] | keep);
+                        uint64_t ep = w ? bb[w - 1] & (~kk[w - 1] | keep) : 0;
+                        uint64_t en = w + 1 < wpc ? bb[w + 1] & (~kk[w + 1] | keep) : 0;
                         d |= zdilate(ep, e, en);
                     }
                 tc[w] = kc[w] & d;
@@ -119,6 +121,21 @@ static bvox_status label_all_26(const uint64_t *bg, colbox lb, size_t wpc, int32
     if (st) return st;
     r26.parent[r26.nruns] = (uint32_t)r26.nruns;
     bvox__labelruns_join_border(&r26, (size_t)nz, (uint32_t)r26.nruns);
+    *out = count_inner(&r26);
+    bvox__labelruns_free(&r26);
+    return BVOX_OK;
+}
+
+/* The 26-components of the cavity voxels k (box kb) none of whose runs
+ * holds a voxel of t (those touching the exterior). */
+static bvox_status count_k26(const uint64_t *k, const uint64_t *t, colbox kb, size_t wpc,
+                             int64_t *out)
+{
+    bvox__labelruns r26;
+    bvox_status st = bvox__labelruns_find(k, NULL, kb.nx, kb.ny, wpc, 26, 1, &r26);
+    if (st) return st;
+    r26.parent[r26.nruns] = (uint32_t)r26.nruns;
+    bvox__labelruns_join_mask(&r26, t, (uint32_t)r26.nruns);
     *out = count_inner(&r26);
     bvox__labelruns_free(&r26);
     return BVOX_OK;
@@ -178,18 +195,64 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *b
             for (size_t i = 0; i < ns; i++)
                 if (r->parent[first + i] != outside) bvox__column_fill(dst, z0[i], z1[i], 1);
         }
-    touching_exterior(bg, lb, k, kb, wpc, t);
-    bvox__labelruns r26;
-    st = bvox__labelruns_find(k, NULL, kb.nx, kb.ny, wpc, 26, 1, &r26);
-    if (st) goto done;
-    r26.parent[r26.nruns] = (uint32_t)r26.nruns;
-    bvox__labelruns_join_mask(&r26, t, (uint32_t)r26.nruns);
-    *out = count_inner(&r26);
-    bvox__labelruns_free(&r26);
+    touching_exterior(bg, lb, k, kb, wpc, false, t);
+    st = count_k26(k, t, kb, wpc, out);
 done:
     free(z0);
     free(z1);
     bvox__free(k, 2 * nw * sizeof *k);
+    return st;
+}
+
+typedef struct and_not_job {
+    uint64_t *k;
+    const uint64_t *r;
+} and_not_job;
+
+static void and_not_words(void *ctx, int64_t begin, int64_t end)
+{
+    const and_not_job *j = ctx;
+    for (int64_t i = begin; i < end; i++) j->k[i] &= ~j->r[i];
+}
+
+/* -1: choose (see bvox__measure_cavities); 0: always label the background;
+ * n > 0: always flood first, at most n sweeps (tests force each route). */
+int bvox__cavity_flood_sweeps = -1;
+
+/* Sweeps a flood may take before the labelling takes over: a coin toss at
+ * 512^3 settles in ten. */
+#define FLOOD_MAX_SWEEPS 24
+
+/* Both counts through the flood of measure_flood.c: R = the background
+ * reached from the border, the cavity voxels K = bg & ~R (bg becomes K) are
+ * labelled 6-connected, and 26-connected with the runs touching R joined to
+ * outside. *settled = false (bg untouched) when the flood did not settle. */
+static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, size_t nz,
+                                     int max_sweeps, bool *settled, int64_t *cav6,
+                                     int64_t *cav26)
+{
+    size_t nw = lb.nx * lb.ny * wpc;
+    bvox_status st = BVOX_OK;
+    uint64_t *r = bvox__alloc(2 * nw * sizeof *r, true, "reached background", &st);
+    if (!r) return st;
+    uint64_t *t = r + nw;
+    *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, nz, max_sweeps, r);
+    if (!*settled) goto done;
+    and_not_job aj = {bg, r};
+    bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &aj);
+    bvox__labelruns r6;
+    st = bvox__labelruns_find(bg, NULL, lb.nx, lb.ny, wpc, 6, 1, &r6);
+    if (st) goto done;
+    r6.parent[r6.nruns] = (uint32_t)r6.nruns;
+    *cav6 = count_inner(&r6);
+    bvox__labelruns_free(&r6);
+    st = bvox__progress(0.8);
+    if (st || *cav6 == 0) goto done;
+    /* K has no voxel in the ring of border columns (reached whole) */
+    touching_exterior(r, lb, bg, (colbox){0, 0, lb.nx, lb.ny}, wpc, true, t);
+    st = count_k26(bg, t, lb, wpc, cav26);
+done:
+    bvox__free(r, 2 * nw * sizeof *r);
     return st;
 }
 
@@ -207,6 +270,16 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6]
     if (!bg) return st;
     extract_job ej = {vol, lb, bg};
     bvox__parallel_for((int64_t)lb.ny, 16, extract_rows, &ej);
+    int sweeps = bvox__cavity_flood_sweeps;
+    if (sweeps < 0) sweeps = FLOOD_MAX_SWEEPS;
+    if (sweeps > 0) {
+        bool settled = false;
+        st = cavities_by_flood(bg, lb, wpc, (size_t)vol->nz, sweeps, &settled, cav6, cav26);
+        if (st || settled) {
+            bvox__free(bg, nw * sizeof *bg);
+            return st;
+        }
+    }
     bvox__labelruns r;
     st = bvox__labelruns_find(bg, NULL, lb.nx, lb.ny, wpc, 6, 1, &r);
     if (!st) {

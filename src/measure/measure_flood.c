@@ -1,0 +1,143 @@
+/*
+ * measure_flood.c — the background reached from the border, for the
+ * cavities of bvox_measure (measure_cavities.c): a flood fill over whole
+ * words instead of a labelling of every background run.
+ *
+ * On a coin toss the background has a run every four voxels of a column (34
+ * million at 512^3), nearly all of them in the one 6-component that reaches
+ * the border; a 6-labelling spends a union per run contact on it, three
+ * times the cost of the object's 26-labelling. The reached set R (background
+ * voxels 6-connected to the border) is instead grown by raster sweeps,
+ * alternately forward and backward over the columns, each column taking
+ * R = fill_z(bg, R | R of its four neighbours): 64 voxels per operation,
+ * along z within the runs of the column by an addition (upwards) and a
+ * Kogge-Stone fill (downwards). Gauss-Seidel order carries a front along a
+ * whole monotone path in one sweep; a coin toss settles in about ten sweeps,
+ * most of which only test columns (nothing changes). The cavities are then
+ * bg & ~R, a few sparse pockets, labelled alone.
+ *
+ * A winding corridor needs a sweep per turn: after max_sweeps without
+ * settling the caller falls back to the labelling (exact either way).
+ *
+ * Threads: the rows are split into one slab per thread, every sweep of every
+ * slab in the same direction. A column may read its neighbour in another
+ * slab while that one is being written (relaxed atomics: any value read is a
+ * subset of the final R, since R only grows); a sweep in which no thread
+ * changed anything is a fixed point, so the result does not depend on the
+ * interleaving.
+ */
+#include "measure/measure.h"
+
+#include <string.h>
+
+/* Kogge-Stone fill of seeds x downwards (towards bit 0) through the bits of m. */
+static inline uint64_t fill_down(uint64_t x, uint64_t m)
+{
+    uint64_t p = m;
+    x |= p & (x >> 1), p &= p >> 1;
+    x |= p & (x >> 2), p &= p >> 2;
+    x |= p & (x >> 4), p &= p >> 4;
+    x |= p & (x >> 8), p &= p >> 8;
+    x |= p & (x >> 16), p &= p >> 16;
+    x |= p & (x >> 32);
+    return x;
+}
+
+/* s (wpc words, each a subset of the column m) becomes the union of the
+ * runs of m holding a bit of s. Upwards: m + s carries from the lowest seed
+ * of a run through its top, clearing it, so m & ~(m + s) | s is seed..top;
+ * the carry out of bit 63 continues the run in the next word. */
+static void fill_column(const uint64_t *m, uint64_t *s, size_t wpc)
+{
+    uint64_t c = 0;
+    for (size_t k = 0; k < wpc; k++) {
+        uint64_t mk = m[k], sk = (s[k] | c) & mk, t = mk + sk;
+        s[k] = (mk & ~t) | sk;
+        c = t < mk;
+    }
+    c = 0;
+    for (size_t k = wpc; k-- > 0;) {
+        s[k] = fill_down(s[k] | (c & m[k]), m[k]);
+        c = s[k] << 63;
+    }
+}
+
+typedef struct flood_job {
+    const uint64_t *m; /* background words, nx * ny columns */
+    uint64_t *r;       /* reached, grows */
+    size_t nx, ny, wpc;
+    uint64_t top;      /* bit of z = nz - 1 in a column's last word */
+    int64_t nslabs;
+    int backward;
+    int changed;
+} flood_job;
+
+#define LOAD(p) __atomic_load_n((p), __ATOMIC_RELAXED)
+
+/* One column (x, y) inside the border ring; 1 when it grew. */
+static int sweep_column(const flood_job *j, size_t x, size_t y, uint64_t *t)
+{
+    size_t wpc = j->wpc, col = y * j->nx + x;
+    const uint64_t *m = j->m + col * wpc;
+    uint64_t *r = j->r + col * wpc;
+    const uint64_t *w = r - wpc, *e = r + wpc, *s = r - j->nx * wpc, *n = r + j->nx * wpc;
+    uint64_t grew = 0;
+    for (size_t k = 0; k < wpc; k++) {
+        uint64_t old = LOAD(&r[k]);
+        uint64_t nb = LOAD(&w[k]) | LOAD(&e[k]) | LOAD(&s[k]) | LOAD(&n[k]);
+        t[k] = (old | nb) & m[k];
+        grew |= t[k] ^ old;
+    }
+    /* the column's ends lie on the border: z = 0 and z = nz - 1 */
+    t[0] |= m[0] & 1;
+    t[wpc - 1] |= m[wpc - 1] & j->top;
+    grew |= (t[0] ^ LOAD(&r[0])) | (t[wpc - 1] ^ LOAD(&r[wpc - 1]));
+    if (!grew) return 0;
+    fill_column(m, t, wpc);
+    for (size_t k = 0; k < wpc; k++) __atomic_store_n(&r[k], t[k], __ATOMIC_RELAXED);
+    return 1;
+}
+
+static void sweep_slabs(void *ctx, int64_t begin, int64_t end)
+{
+    flood_job *j = ctx;
+    uint64_t t[(BVOX_MAX_DIM + 63) / 64];
+    int changed = 0;
+    for (int64_t sl = begin; sl < end; sl++) {
+        /* rows 1 .. ny - 2: the border ring is reached from the start */
+        size_t inner = j->ny - 2;
+        size_t y0 = 1 + (size_t)sl * inner / (size_t)j->nslabs;
+        size_t y1 = 1 + (size_t)(sl + 1) * inner / (size_t)j->nslabs;
+        for (size_t i = 0; i < y1 - y0; i++) {
+            size_t y = j->backward ? y1 - 1 - i : y0 + i;
+            for (size_t xi = 1; xi + 1 < j->nx; xi++) {
+                size_t x = j->backward ? j->nx - 1 - xi : xi;
+                changed |= sweep_column(j, x, y, t);
+            }
+        }
+    }
+    if (changed) __atomic_store_n(&j->changed, 1, __ATOMIC_RELAXED);
+}
+
+bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
+                        int max_sweeps, uint64_t *reached)
+{
+    /* the border ring of columns: all of their background is reached */
+    for (size_t y = 0; y < ny; y++)
+        for (size_t x = 0; x < nx; x++)
+            if (x == 0 || y == 0 || x + 1 == nx || y + 1 == ny) {
+                size_t off = (y * nx + x) * wpc;
+                memcpy(reached + off, bg + off, wpc * sizeof *bg);
+            }
+    if (nx < 3 || ny < 3) return true; /* every column is on the ring */
+    flood_job j = {bg, reached, nx, ny, wpc, 1ull << ((nz - 1) % 64), 1, 0, 0};
+    int64_t threads = bvox__parallelism(), max_slabs = (int64_t)(ny - 2) / 8;
+    j.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
+    for (int sweep = 0; sweep < max_sweeps; sweep++) {
+        j.backward = sweep & 1;
+        j.changed = 0;
+        bvox__parallel_for(j.nslabs, 1, sweep_slabs, &j);
+        if (!j.changed) return true;
+    }
+    return false;
+}
