@@ -94,16 +94,16 @@ static void principal(bvox_measures *m)
     }
 }
 
-/* 26-components of vol, and the cavities (measure_cavities.c); bbox is the
- * object's voxel box from the scan. */
-static bvox_status topology(const bvox_volume *vol, int64_t count, const int32_t bbox[6],
-                            bvox_measures *m)
+/* 26-components of vol, and the cavities (measure_cavities.c, which takes
+ * the object's voxel box and its faces along z from the scan sc). */
+static bvox_status topology(const bvox_volume *vol, const bvox__scan *sc, bvox_measures *m)
 {
+    int64_t count = sc->count;
     bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
     if (!st) st = bvox__progress(0.6);
     if (st) return st;
     if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
-    return bvox__measure_cavities(vol, bbox, &m->cavities, &m->cavities_26);
+    return bvox__measure_cavities(vol, sc, &m->cavities, &m->cavities_26);
 }
 
 void bvox__measure_from_scan(const bvox__scan *sc, const bvox_geometry *geom,
@@ -169,7 +169,7 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
     bvox_measures m;
     bvox__measure_from_scan(&s, &vol->geom, weight, bbox_shift, &m);
     if (s.count) {
-        st = topology(vol, s.count, s.bbox, &m);
+        st = topology(vol, &s, &m);
         if (st) return st;
     }
     m.tunnels = m.components + m.cavities - m.euler;

@@ -81,10 +81,10 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
                              bvox_measures *out);
 
 /* Cavities of vol: 6-connected background components not reaching the
- * border (cav6), and the 26-connected ones (cav26); bbox is the object's
- * voxel box (x0 y0 z0 x1 y1 z1, half-open), the object not empty.
- * BVOX_ENOMEM / BVOX_ETOOBIG, or a progress cancel. */
-bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6], int64_t *cav6,
+ * border (cav6), and the 26-connected ones (cav26); sc is vol's scan (the
+ * object's voxel box, its count and z faces choose the route), the object
+ * not empty. BVOX_ENOMEM / BVOX_ETOOBIG, or a progress cancel. */
+bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
                                    int64_t *cav26);
 
 /* Grows reached (zeroed, nx * ny columns of wpc words like bg) to the

@@ -256,9 +256,24 @@ done:
     return st;
 }
 
-bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6], int64_t *cav6,
+/* The flood pays when the background mostly reaches the border (it
+ * percolates: above the cubic lattice's site threshold, 0.31, of the box)
+ * and has many runs per word (a labelling's cost grows with the runs, the
+ * flood's with the words): a coin toss has 16 runs per word, the AAL atlas
+ * 0.2. The object's runs along z are half its z faces; the background's in
+ * the box are as many, give or take one per column. */
+static bool flood_pays(const bvox__scan *sc, colbox lb, int32_t nz, size_t wpc)
+{
+    double cols = (double)lb.nx * (double)lb.ny;
+    double bg = cols * nz - (double)sc->count;
+    double runs = (double)sc->trans[BVOX__DIR_Z] / 2 + cols;
+    return bg >= 0.31 * cols * nz && runs >= 2 * cols * (double)wpc;
+}
+
+bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
                                    int64_t *cav26)
 {
+    const int32_t *bbox = sc->bbox;
     *cav6 = *cav26 = 0;
     size_t x0 = bbox[0] > 0 ? (size_t)bbox[0] - 1 : 0, y0 = bbox[1] > 0 ? (size_t)bbox[1] - 1 : 0;
     size_t x1 = bbox[3] < vol->nx ? (size_t)bbox[3] + 1 : (size_t)vol->nx;
@@ -271,7 +286,7 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const int32_t bbox[6]
     extract_job ej = {vol, lb, bg};
     bvox__parallel_for((int64_t)lb.ny, 16, extract_rows, &ej);
     int sweeps = bvox__cavity_flood_sweeps;
-    if (sweeps < 0) sweeps = FLOOD_MAX_SWEEPS;
+    if (sweeps < 0) sweeps = flood_pays(sc, lb, vol->nz, wpc) ? FLOOD_MAX_SWEEPS : 0;
     if (sweeps > 0) {
         bool settled = false;
         st = cavities_by_flood(bg, lb, wpc, (size_t)vol->nz, sweeps, &settled, cav6, cav26);

@@ -6,9 +6,13 @@
  * volumes of several densities, adversarial shapes (nested shells, cavities
  * touching each other or the exterior only diagonally, a spiral, runs across
  * word boundaries, objects on the border), the AAL atlas whole and per
- * label; at every SIMD level and with 1, 3 and 16 threads. */
+ * label; at every SIMD level, with 1, 3 and 16 threads, and by every route
+ * (the flood of measure_flood.c, settled or cut short so that the labelling
+ * takes over, and the labelling alone), plus the flood's reached set against
+ * a breadth-first search. */
 #include "harness.h"
 #include "internal.h"
+#include "measure/measure.h"
 #include "ref/measref.h"
 #include "ref/voxref.h"
 
@@ -34,8 +38,13 @@ static int old_route(const bvox_volume *v, int64_t *c6, int64_t *c26)
 
 static const int thread_counts[] = {1, 3, 16};
 
-/* bvox_measure at every SIMD level and thread count gives cav6 and cav26
- * (and the components, and tunnels = components + cavities - euler). */
+/* bvox__cavity_flood_sweeps: the route chosen, the labelling alone, a flood
+ * cut short after one sweep (the labelling takes over unless that settled
+ * it), a flood that settles. */
+static const int routes[] = {-1, 0, 1, 1 << 20};
+
+/* bvox_measure at every SIMD level, thread count and route gives cav6 and
+ * cav26 (and the components, and tunnels = components + cavities - euler). */
 static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int64_t cav26)
 {
     bvox_simd saved = bvox_simd_active();
@@ -43,16 +52,19 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
     for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512 && !bad; lv++) {
         if (!bvox_simd_supported((bvox_simd)lv)) continue;
         CHECK_OK(bvox_simd_set((bvox_simd)lv));
-        for (size_t t = 0; t < sizeof thread_counts / sizeof *thread_counts && !bad; t++) {
-            bvox_set_threads(thread_counts[t]);
+        /* every thread count by every route */
+        for (size_t t = 0; t < 3 * 4 && !bad; t++) {
+            bvox_set_threads(thread_counts[t % 3]);
+            bvox__cavity_flood_sweeps = routes[t / 3];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
             if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
                 m.tunnels != m.components + m.cavities - m.euler) {
                 fprintf(stderr,
-                        "  %dx%dx%d simd %s threads %d: components %lld cavities %lld/%lld, "
-                        "expected %lld %lld/%lld\n",
-                        v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t],
+                        "  %dx%dx%d simd %s threads %d route %d: components %lld cavities "
+                        "%lld/%lld, expected %lld %lld/%lld\n",
+                        v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t % 3],
+                        routes[t / 3],
                         (long long)m.components, (long long)m.cavities,
                         (long long)m.cavities_26, (long long)comp, (long long)cav6,
                         (long long)cav26);
@@ -62,6 +74,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
     }
     CHECK_OK(bvox_simd_set(saved));
     bvox_set_threads(threads);
+    bvox__cavity_flood_sweeps = -1;
     return bad;
 }
 
@@ -232,5 +245,113 @@ TEST(realdata_aal_whole_and_per_label)
     CHECK_EQ(set->n, 116);
     fprintf(stderr, "  %lld of 116 labels have cavities\n", (long long)with_cavities);
     bvox_labelset_destroy(set);
+    return 0;
+}
+
+/* Breadth-first reference of the flood: the background voxels 6-connected
+ * to the border of r (x or y on the edge, z = 0 or nz - 1). */
+static uint8_t *reached_ref(const voxref *r)
+{
+    size_t n = (size_t)r->nx * r->ny * r->nz;
+    uint8_t *seen = calloc(n, 1);
+    int32_t *queue = malloc(n * 3 * sizeof *queue);
+    size_t head = 0, tail = 0;
+    for (int z = 0; z < r->nz; z++)
+        for (int y = 0; y < r->ny; y++)
+            for (int x = 0; x < r->nx; x++) {
+                bool edge = x == 0 || y == 0 || z == 0 || x + 1 == r->nx || y + 1 == r->ny ||
+                            z + 1 == r->nz;
+                size_t i = ((size_t)z * r->ny + y) * r->nx + x;
+                if (!edge || r->v[i]) continue;
+                seen[i] = 1;
+                queue[tail * 3] = x, queue[tail * 3 + 1] = y, queue[tail * 3 + 2] = z, tail++;
+            }
+    static const int d[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    while (head < tail) {
+        const int32_t *p = &queue[3 * head++];
+        for (int k = 0; k < 6; k++) {
+            int x = p[0] + d[k][0], y = p[1] + d[k][1], z = p[2] + d[k][2];
+            if (x < 0 || y < 0 || z < 0 || x >= r->nx || y >= r->ny || z >= r->nz) continue;
+            size_t i = ((size_t)z * r->ny + y) * r->nx + x;
+            if (r->v[i] || seen[i]) continue;
+            seen[i] = 1;
+            queue[tail * 3] = x, queue[tail * 3 + 1] = y, queue[tail * 3 + 2] = z, tail++;
+        }
+    }
+    free(queue);
+    return seen;
+}
+
+/* bvox__flood_border on the complement of r's words: settled, the reached
+ * set is the reference's bit for bit at 1, 3 and 16 threads; cut short at
+ * max_short sweeps it must not settle (when short_settles is 0) and must be
+ * a subset. */
+static int check_flood(const voxref *r, int max_short, int short_settles)
+{
+    bvox_volume *v = voxref_to_volume(r);
+    CHECK(v);
+    bvox_volume_complement(v);
+    uint8_t *want = reached_ref(r);
+    size_t nw = v->nwords;
+    uint64_t *got = calloc(nw, sizeof *got);
+    int threads = bvox_threads();
+    for (size_t t = 0; t < 3; t++) {
+        bvox_set_threads(thread_counts[t]);
+        memset(got, 0, nw * sizeof *got);
+        CHECK(bvox__flood_border(v->words, (size_t)v->nx, (size_t)v->ny, v->wpc, (size_t)v->nz,
+                                 1 << 20, got));
+        for (int z = 0; z < r->nz; z++)
+            for (int y = 0; y < r->ny; y++)
+                for (int x = 0; x < r->nx; x++) {
+                    size_t w = ((size_t)y * r->nx + x) * v->wpc + (size_t)z / 64;
+                    int bit = (int)((got[w] >> (z % 64)) & 1);
+                    CHECK_EQ(bit, want[((size_t)z * r->ny + y) * r->nx + x]);
+                }
+        memset(got, 0, nw * sizeof *got);
+        bool settled = bvox__flood_border(v->words, (size_t)v->nx, (size_t)v->ny, v->wpc,
+                                          (size_t)v->nz, max_short, got);
+        if (!short_settles) CHECK(!settled);
+        for (int z = 0; z < r->nz; z++)
+            for (int y = 0; y < r->ny; y++)
+                for (int x = 0; x < r->nx; x++) {
+                    size_t w = ((size_t)y * r->nx + x) * v->wpc + (size_t)z / 64;
+                    if ((got[w] >> (z % 64)) & 1)
+                        CHECK(want[((size_t)z * r->ny + y) * r->nx + x]);
+                }
+    }
+    bvox_set_threads(threads);
+    free(got);
+    free(want);
+    bvox_volume_destroy(v);
+    return 0;
+}
+
+TEST(flood_vs_breadth_first)
+{
+    /* random densities on both sides of the percolation threshold, runs
+     * across word boundaries, thin volumes (every column on the ring) */
+    static const int sizes[][3] = {{1, 1, 70}, {2, 9, 64}, {9, 7, 65}, {23, 40, 130}, {40, 19, 200}};
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++)
+        for (unsigned d = 2; d <= 8; d += 2) {
+            voxref *r = voxref_create(sizes[i][0], sizes[i][1], sizes[i][2]);
+            voxref_random(r, d, 10, harness_rand);
+            CHECK(!check_flood(r, 1, 1));
+            voxref_destroy(r);
+        }
+    /* a corridor that winds back and forth in x, open at its far end: each
+     * turn needs another sweep, so 3 sweeps cannot settle it */
+    voxref *r = voxref_create(30, 41, 5);
+    voxref_fill_box(r, (bvox_box){0, 0, 0, 30, 41, 5}, 1);
+    for (int y = 2; y < 39; y += 4) {
+        voxref_fill_box(r, (bvox_box){2, y, 2, 28, y + 1, 3}, 0); /* a leg along x */
+        int x = (y / 4) % 2 ? 2 : 27;                             /* joined at alternate ends */
+        if (y + 4 < 39) voxref_fill_box(r, (bvox_box){x, y, 2, x + 1, y + 5, 3}, 0);
+    }
+    voxref_fill_box(r, (bvox_box){27, 38, 2, 28, 41, 3}, 0); /* the open end */
+    CHECK(!check_flood(r, 3, 0));
+    CHECK(!check_ref(r)); /* and the cavities by every route */
+    voxref_fill_box(r, (bvox_box){27, 40, 2, 28, 41, 3}, 1); /* closed: one long cavity */
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
     return 0;
 }
