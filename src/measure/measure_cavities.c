@@ -83,13 +83,22 @@ static inline uint64_t zdilate(uint64_t prev, uint64_t w, uint64_t next)
 /* K (the cavity voxels, box kb inside the labelled box lb, whose background
  * words are bg) and T = K & dilate26(bg & ~K) into t; kb has a ring of
  * empty columns so every neighbour column is inside it. */
-static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, colbox kb,
-                              size_t wpc, bool bg_is_exterior, uint64_t *t)
+typedef struct touch_job {
+    const uint64_t *bg, *k;
+    colbox lb, kb;
+    size_t wpc;
+    uint64_t *t;
+} touch_job;
+
+static void touching_rows(void *ctx, int64_t begin, int64_t end)
 {
-    for (size_t y = 1; y + 1 < kb.ny; y++)
+    const touch_job *j = ctx;
+    colbox lb = j->lb, kb = j->kb;
+    size_t wpc = j->wpc;
+    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
         for (size_t x = 1; x + 1 < kb.nx; x++) {
-            const uint64_t *kc = k + (y * kb.nx + x) * wpc;
-            uint64_t *tc = t + (y * kb.nx + x) * wpc;
+            const uint64_t *kc = j->k + (y * kb.nx + x) * wpc;
+            uint64_t *tc = j->t + (y * kb.nx + x) * wpc;
             for (size_t w = 0; w < wpc; w++) {
                 if (!kc[w]) continue;
                 uint64_t d = 0;
@@ -97,17 +106,23 @@ static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, 
                     for (size_t dx = 0; dx < 3; dx++) {
                         size_t kcol = (y + dy - 1) * kb.nx + (x + dx - 1);
                         size_t bcol = (kb.y0 + y + dy - 1) * lb.nx + (kb.x0 + x + dx - 1);
-                        const uint64_t *kk = k + kcol * wpc, *bb = bg + bcol * wpc;
-                        /* the exterior: given, or the background minus K */
-                        uint64_t keep = bg_is_exterior ? ~0ull : 0;
-                        uint64_t e = bb[w] & (~kk[w] | keep);
-                        uint64_t ep = w ? bb[w - 1] & (~kk[w - 1] | keep) : 0;
-                        uint64_t en = w + 1 < wpc ? bb[w + 1] & (~kk[w + 1] | keep) : 0;
+                        const uint64_t *kk = j->k + kcol * wpc, *bb = j->bg + bcol * wpc;
+                        uint64_t e = bb[w] & ~kk[w];
+                        uint64_t ep = w ? bb[w - 1] & ~kk[w - 1] : 0;
+                        uint64_t en = w + 1 < wpc ? bb[w + 1] & ~kk[w + 1] : 0;
                         d |= zdilate(ep, e, en);
                     }
                 tc[w] = kc[w] & d;
             }
         }
+}
+
+static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, colbox kb,
+                              size_t wpc, uint64_t *t)
+{
+    if (kb.ny < 3) return;
+    touch_job j = {bg, k, lb, kb, wpc, t};
+    bvox__parallel_for((int64_t)kb.ny - 2, 8, touching_rows, &j);
 }
 
 /* The 26-cavities by labelling all of the box's background: cheaper than
@@ -141,10 +156,12 @@ static bvox_status count_k26(const uint64_t *k, const uint64_t *t, colbox kb, si
     return BVOX_OK;
 }
 
-/* The 26-cavities, given the 6-labelling r of the background words bg of box
- * lb whose parents have been flattened (parent[i] is i's root). */
-static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *bg, colbox lb,
-                                     int32_t nz, int64_t *out)
+/* The 26-cavities, given the 6-labelling r of words (the background words
+ * bg of box lb, or a part of them holding every cavity) whose parents have
+ * been flattened (parent[i] is i's root): the runs not in outside's
+ * component are the cavity voxels K. */
+static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *words,
+                                     const uint64_t *bg, colbox lb, int32_t nz, int64_t *out)
 {
     size_t wpc = r->wpc;
     uint32_t outside = r->parent[r->nruns];
@@ -179,7 +196,7 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *b
             size_t col = (kb.y0 + y) * lb.nx + kb.x0 + x;
             uint32_t first = r->grp_start[col];
             if (first == r->grp_start[col + 1]) continue;
-            const uint64_t *src = bg + col * wpc;
+            const uint64_t *src = words + col * wpc;
             uint64_t *dst = k + (y * kb.nx + x) * wpc;
             /* runs of the column in order: starts and ends found a word at
              * a time, the i-th start paired with the i-th end */
@@ -195,7 +212,7 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *b
             for (size_t i = 0; i < ns; i++)
                 if (r->parent[first + i] != outside) bvox__column_fill(dst, z0[i], z1[i], 1);
         }
-    touching_exterior(bg, lb, k, kb, wpc, false, t);
+    touching_exterior(bg, lb, k, kb, wpc, t);
     st = count_k26(k, t, kb, wpc, out);
 done:
     free(z0);
@@ -225,9 +242,12 @@ int bvox__cavity_flood_sweeps = -1;
 
 /* Both counts through the flood of measure_flood.c: R = the background
  * reached from the border, the cavity voxels K = bg & ~R (bg becomes K) are
- * labelled 6-connected, and 26-connected with the runs touching R joined to
- * outside. *settled = false (bg untouched) when the flood did not settle. */
-static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, size_t nz,
+ * labelled 6-connected (the 6-cavities), and 26-connected with the runs
+ * holding a voxel of T = K & dilate26(R) joined to outside. (Joining T to
+ * the 6-labelling instead, to label only the cavities left, cost as much as
+ * the 26-labelling of K it saved.) *settled = false, bg untouched, when the
+ * flood did not settle. */
+static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_t nz,
                                      int max_sweeps, bool *settled, int64_t *cav6,
                                      int64_t *cav26)
 {
@@ -236,7 +256,7 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, size_t
     uint64_t *r = bvox__alloc(2 * nw * sizeof *r, true, "reached background", &st);
     if (!r) return st;
     uint64_t *t = r + nw;
-    *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, nz, max_sweeps, r);
+    *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, (size_t)nz, max_sweeps, r);
     if (!*settled) goto done;
     and_not_job aj = {bg, r};
     bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &aj);
@@ -248,9 +268,11 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, size_t
     bvox__labelruns_free(&r6);
     st = bvox__progress(0.8);
     if (st || *cav6 == 0) goto done;
-    /* K has no voxel in the ring of border columns (reached whole) */
-    touching_exterior(r, lb, bg, (colbox){0, 0, lb.nx, lb.ny}, wpc, true, t);
-    st = count_k26(bg, t, lb, wpc, cav26);
+    /* the exterior of K is R (R & ~K = R); K has no voxel in the ring of
+     * border columns (reached whole) */
+    colbox kb = {0, 0, lb.nx, lb.ny};
+    touching_exterior(r, lb, bg, kb, wpc, t);
+    st = count_k26(bg, t, kb, wpc, cav26);
 done:
     bvox__free(r, 2 * nw * sizeof *r);
     return st;
@@ -289,7 +311,7 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
     if (sweeps < 0) sweeps = flood_pays(sc, lb, vol->nz, wpc) ? FLOOD_MAX_SWEEPS : 0;
     if (sweeps > 0) {
         bool settled = false;
-        st = cavities_by_flood(bg, lb, wpc, (size_t)vol->nz, sweeps, &settled, cav6, cav26);
+        st = cavities_by_flood(bg, lb, wpc, vol->nz, sweeps, &settled, cav6, cav26);
         if (st || settled) {
             bvox__free(bg, nw * sizeof *bg);
             return st;
@@ -315,7 +337,7 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
             /* roots are the smallest run of their component and parent[i]
              * <= i, so one pass in order makes every parent a root */
             for (size_t i = 0; i <= r.nruns; i++) parent[i] = parent[parent[i]];
-            st = count_cavities_26(&r, bg, lb, vol->nz, cav26);
+            st = count_cavities_26(&r, bg, bg, lb, vol->nz, cav26);
         }
         bvox__labelruns_free(&r);
     }
