@@ -90,9 +90,10 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
 /* Grows reached (zeroed, nx * ny columns of wpc words like bg) to the
  * voxels of bg 6-connected to the border of the box (its ring of columns,
  * z = 0 and z = nz - 1) by at most max_sweeps sweeps; false when that was
- * not enough to settle (reached is then a subset). measure_flood.c. */
+ * not enough to settle (reached is then a subset). row_sweep: ny entries of
+ * scratch. measure_flood.c. */
 bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
-                        int max_sweeps, uint64_t *reached);
+                        int max_sweeps, uint64_t *reached, int32_t *row_sweep);
 
 /* Test hook of measure_cavities.c: -1 (default) chooses the route; 0 always
  * labels the background; n > 0 always floods first, at most n sweeps. */

@@ -253,10 +253,13 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
 {
     size_t nw = lb.nx * lb.ny * wpc;
     bvox_status st = BVOX_OK;
-    uint64_t *r = bvox__alloc(2 * nw * sizeof *r, true, "reached background", &st);
+    /* R, T, and the flood's row scratch */
+    size_t nr = 2 * nw + lb.ny / 2 + 1;
+    uint64_t *r = bvox__alloc(nr * sizeof *r, true, "reached background", &st);
     if (!r) return st;
     uint64_t *t = r + nw;
-    *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, (size_t)nz, max_sweeps, r);
+    *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, (size_t)nz, max_sweeps, r,
+                                  (int32_t *)(t + nw));
     if (!*settled) goto done;
     and_not_job aj = {bg, r};
     bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &aj);
@@ -274,7 +277,7 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
     touching_exterior(r, lb, bg, kb, wpc, t);
     st = count_k26(bg, t, kb, wpc, cav26);
 done:
-    bvox__free(r, 2 * nw * sizeof *r);
+    bvox__free(r, nr * sizeof *r);
     return st;
 }
 

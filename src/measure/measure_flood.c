@@ -18,6 +18,9 @@
  *
  * A winding corridor needs a sweep per turn: after max_sweeps without
  * settling the caller falls back to the labelling (exact either way).
+ * Later sweeps change a few rows: a row is visited only when it or a
+ * neighbour row changed in the sweep before or so far in this one (else its
+ * columns' inputs are as at its last visit, which left them settled).
  *
  * Threads: the rows are split into one slab per thread, every sweep of every
  * slab in the same direction. A column may read its neighbour in another
@@ -67,8 +70,9 @@ typedef struct flood_job {
     uint64_t *r;       /* reached, grows */
     size_t nx, ny, wpc;
     uint64_t top;      /* bit of z = nz - 1 in a column's last word */
+    int32_t *row_sweep; /* per row: the last sweep that changed it, -1 */
     int64_t nslabs;
-    int backward;
+    int sweep, backward;
     int changed;
 } flood_job;
 
@@ -110,17 +114,23 @@ static void sweep_slabs(void *ctx, int64_t begin, int64_t end)
         size_t y1 = 1 + (size_t)(sl + 1) * inner / (size_t)j->nslabs;
         for (size_t i = 0; i < y1 - y0; i++) {
             size_t y = j->backward ? y1 - 1 - i : y0 + i;
+            int32_t last = LOAD(&j->row_sweep[y - 1]), mid = LOAD(&j->row_sweep[y]),
+                    next = LOAD(&j->row_sweep[y + 1]);
+            if (last < j->sweep - 1 && mid < j->sweep - 1 && next < j->sweep - 1) continue;
+            int row_changed = 0;
             for (size_t xi = 1; xi + 1 < j->nx; xi++) {
                 size_t x = j->backward ? j->nx - 1 - xi : xi;
-                changed |= sweep_column(j, x, y, t);
+                row_changed |= sweep_column(j, x, y, t);
             }
+            if (row_changed) __atomic_store_n(&j->row_sweep[y], j->sweep, __ATOMIC_RELAXED);
+            changed |= row_changed;
         }
     }
     if (changed) __atomic_store_n(&j->changed, 1, __ATOMIC_RELAXED);
 }
 
 bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
-                        int max_sweeps, uint64_t *reached)
+                        int max_sweeps, uint64_t *reached, int32_t *row_sweep)
 {
     /* the border ring of columns: all of their background is reached */
     for (size_t y = 0; y < ny; y++)
@@ -130,10 +140,12 @@ bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, si
                 memcpy(reached + off, bg + off, wpc * sizeof *bg);
             }
     if (nx < 3 || ny < 3) return true; /* every column is on the ring */
-    flood_job j = {bg, reached, nx, ny, wpc, 1ull << ((nz - 1) % 64), 1, 0, 0};
+    for (size_t y = 0; y < ny; y++) row_sweep[y] = -1; /* every row visited first */
+    flood_job j = {bg, reached, nx, ny, wpc, 1ull << ((nz - 1) % 64), row_sweep, 1, 0, 0, 0};
     int64_t threads = bvox__parallelism(), max_slabs = (int64_t)(ny - 2) / 8;
     j.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
     for (int sweep = 0; sweep < max_sweeps; sweep++) {
+        j.sweep = sweep;
         j.backward = sweep & 1;
         j.changed = 0;
         bvox__parallel_for(j.nslabs, 1, sweep_slabs, &j);

@@ -294,12 +294,13 @@ static int check_flood(const voxref *r, int max_short, int short_settles)
     uint8_t *want = reached_ref(r);
     size_t nw = v->nwords;
     uint64_t *got = calloc(nw, sizeof *got);
+    int32_t *rows = calloc((size_t)v->ny, sizeof *rows);
     int threads = bvox_threads();
     for (size_t t = 0; t < 3; t++) {
         bvox_set_threads(thread_counts[t]);
         memset(got, 0, nw * sizeof *got);
         CHECK(bvox__flood_border(v->words, (size_t)v->nx, (size_t)v->ny, v->wpc, (size_t)v->nz,
-                                 1 << 20, got));
+                                 1 << 20, got, rows));
         for (int z = 0; z < r->nz; z++)
             for (int y = 0; y < r->ny; y++)
                 for (int x = 0; x < r->nx; x++) {
@@ -309,7 +310,7 @@ static int check_flood(const voxref *r, int max_short, int short_settles)
                 }
         memset(got, 0, nw * sizeof *got);
         bool settled = bvox__flood_border(v->words, (size_t)v->nx, (size_t)v->ny, v->wpc,
-                                          (size_t)v->nz, max_short, got);
+                                          (size_t)v->nz, max_short, got, rows);
         if (!short_settles) CHECK(!settled);
         for (int z = 0; z < r->nz; z++)
             for (int y = 0; y < r->ny; y++)
@@ -321,6 +322,7 @@ static int check_flood(const voxref *r, int max_short, int short_settles)
     }
     bvox_set_threads(threads);
     free(got);
+    free(rows);
     free(want);
     bvox_volume_destroy(v);
     return 0;
