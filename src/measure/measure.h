@@ -10,7 +10,8 @@
  *   measure.c          bvox_measure: the scan turned into physical measures,
  *                      plus the topology that needs labelling;
  *   measure_components.c  bvox_measure_components;
- *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure.
+ *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure;
+ *   measure_flood.c    the background reached from the border, by sweeps.
  */
 #ifndef BVOX_MEASURE_H
 #define BVOX_MEASURE_H
