@@ -60,8 +60,12 @@ static void fill_column(const uint64_t *m, uint64_t *s, size_t wpc)
     }
     c = 0;
     for (size_t k = wpc; k-- > 0;) {
-        s[k] = fill_down(s[k] | (c & m[k]), m[k]);
-        c = s[k] << 63;
+        /* a bit to fill lies just below a reached one (or the word above's
+         * bit 0): most words of a short-run column have none */
+        uint64_t sk = s[k] | (c & m[k]);
+        if (m[k] & ~sk & ((sk >> 1) | c)) sk = fill_down(sk, m[k]);
+        s[k] = sk;
+        c = sk << 63;
     }
 }
 
