@@ -140,24 +140,21 @@ def _labelling(vol, conn, off, shape, order):
     return n, sizes, keys, faces
 
 
-def _label_chunk(block, specs, off, shape, order, core=None):
+def _label_chunk(block, specs, off, shape, order, measure=False):
     """One task per chunk: the chunk read once, labelled once per (conn,
-    background) of specs (background: of its 0 voxels), and with core (the
-    chunk's size: block was read with a one-voxel overlap on its high sides)
-    its measure sums too. Returns (sums or None, [labelling per spec])."""
-    v = _vol(block)
-    sums = None
-    if core is not None:
-        sums = _measure_sums(v, core, off)
-        if tuple(core) != v.shape:
-            v = v.crop((0, 0, 0), [c - 1 for c in core])
+    background) of specs (background: of its 0 voxels), and with measure its
+    part of the measure sums too (_chunk_scan). Returns (scan or None,
+    [labelling per spec])."""
+    b = np.asarray(block)
+    v = _vol(b)
+    scan = _chunk_scan(v, b, off) if measure else None
     bg = None
     out = []
     for conn, background in specs:
         if background and bg is None:
             bg = ~v
         out.append(_labelling(bg if background else v, conn, off, shape, order))
-    return sums, out
+    return scan, out
 
 
 def _shifts(conn):
@@ -179,13 +176,12 @@ def _keys_of(local, flat):
 
 
 def _chunk_summary(res, flat, borders):
-    """The small part of a chunk's task, for the final merge: its measure
-    sums and per labelling the label count, sizes, first-voxel keys and
-    (background labellings: cavities) the keys of the labels on the array's
-    border (borders: per labelling, per axis, (low, high) flags)."""
-    sums, infos = res
+    """The small part of a chunk's task, for the final merge: per labelling
+    the label count, sizes, first-voxel keys and (background labellings:
+    cavities) the keys of the labels on the array's border (borders: per
+    labelling, per axis, (low, high) flags)."""
     out = []
-    for (n, sizes, keys, faces), border in zip(infos, borders):
+    for (n, sizes, keys, faces), border in zip(res[1], borders):
         on = []
         for a in range(3):
             for side in (0, 1):
@@ -194,7 +190,7 @@ def _chunk_summary(res, flat, borders):
                     on.append(np.unique(f[f > 0]))
         b = np.unique(np.concatenate(on)) if on else np.zeros(0, dtype=np.uint32)
         out.append((n, sizes, keys, _keys_of(b, flat)))
-    return sums, out
+    return out
 
 
 def _chunk_rims(res):
@@ -343,42 +339,46 @@ def _finish(summaries, forest, exclude_border):
     return _Merged(lut, bases, len(rank), csize[rank])
 
 
-def _finish_all(summaries, forests, backgrounds):
+def _finish_all(summaries, forests, backgrounds, sums):
     """The final task of a graph: the chunks' measure sums added up (None
     when there are none) and a _Merged per labelling."""
-    sums = [s[0] for s in summaries]
-    total = _add_sums(sums) if sums and sums[0] is not None else None
-    return total, [_finish([s[1][i] for s in summaries], forests[i], bg)
+    total = _add_sums(sums) if sums else None
+    return total, [_finish([s[i] for s in summaries], forests[i], bg)
                    for i, bg in enumerate(backgrounds)]
 
 
 def _merge_graph(arr, specs, order=True, measure=False):
     """The delayed global labellings of arr, one per (conn, background) of
-    specs, in one graph: one task per chunk (read once; with measure, read
-    with a one-voxel overlap on its high sides and its measure sums found
-    too), its faces kept on the workers; per pair of neighbouring chunks a
-    task of label equivalences of every labelling; a tree reduction of
-    union-find forests and one final task: a delayed (sums, [_Merged])."""
+    specs, in one graph: one task per chunk (read once; with measure its
+    part of the measure sums too, and a small task per chunk that adds what
+    crosses its high sides), its faces kept on the workers; per pair of
+    neighbouring chunks a task of label equivalences of every labelling; a
+    tree reduction of union-find forests and one final task: a delayed
+    (sums or None, [_Merged])."""
     starts, grid = _starts(arr.chunks), _grid(arr)
-    blocks = None if measure else arr.to_delayed()
+    blocks = arr.to_delayed()
     flat = {idx: i for i, idx in enumerate(np.ndindex(*grid))}
     conns = [c for c, _ in specs]
     reach = max(conns, key=lambda c: len(_shifts(c)))
     chunk, summ, rims = {}, [], {}
     for idx in np.ndindex(*grid):
         off = [int(starts[a][idx[a]]) for a in range(3)]
-        if measure:
-            blk, _ = _halo_block(arr, starts, idx, 0, 1)
-            core = [int(arr.chunks[a][idx[a]]) for a in range(3)]
-            chunk[idx] = dask.delayed(_label_chunk, pure=True)(blk, specs, off, arr.shape,
-                                                               order, core)
-        else:
-            chunk[idx] = dask.delayed(_label_chunk, pure=True)(blocks[idx], specs, off,
-                                                               arr.shape, order)
+        chunk[idx] = dask.delayed(_label_chunk, pure=True)(blocks[idx], specs, off,
+                                                           arr.shape, order, measure)
         borders = [[(bg and idx[a] == 0, bg and idx[a] == grid[a] - 1) for a in range(3)]
                    for _, bg in specs]
         summ.append(dask.delayed(_chunk_summary, pure=True)(chunk[idx], flat[idx], borders))
         rims[idx] = dask.delayed(_chunk_rims, pure=True)(chunk[idx])
+    sums = []
+    for idx in np.ndindex(*grid) if measure else ():
+        nbrs = {}
+        for e in np.ndindex(2, 2, 2):
+            j = tuple(idx[a] + e[a] for a in range(3))
+            if any(e) and all(j[a] < grid[a] for a in range(3)):
+                nbrs[e] = chunk[j]
+        core = [int(arr.chunks[a][idx[a]]) for a in range(3)]
+        off = [int(starts[a][idx[a]]) for a in range(3)]
+        sums.append(dask.delayed(_halo_sums, pure=True)(chunk[idx], nbrs, core, off))
     pairs = []
     for idx in np.ndindex(*grid):
         for a in range(3):
@@ -400,7 +400,7 @@ def _merge_graph(arr, specs, order=True, measure=False):
                 chunk[idx], chunk[tuple(hi)], a, nb, flat[idx], flat[tuple(hi)], nf, conns))
     forests = _tree(pairs, fn=_forests) if pairs else [np.zeros((0, 2), dtype=np.int64)] * \
         len(specs)
-    return dask.delayed(_finish_all, pure=True)(summ, forests, [bg for _, bg in specs])
+    return dask.delayed(_finish_all, pure=True)(summ, forests, [bg for _, bg in specs], sums)
 
 
 class _Merged:
@@ -479,6 +479,65 @@ def _add_sums(parts):
                 [min(x, y) for x, y in zip(total[3][:3], bb[:3])]
                 + [max(x, y) for x, y in zip(total[3][3:], bb[3:])])
     return total
+
+
+def _sub_sums(a, b):
+    return (a[0] - b[0], [x - y for x, y in zip(a[1], b[1])],
+            [x - y for x, y in zip(a[2], b[2])], a[3], a[4] - b[4],
+            [x - y for x, y in zip(a[5], b[5])])
+
+
+# Why a chunk needs no halo read: bvox_measure_part of the chunk P with its
+# one-voxel overlap on the high sides is linear in scans of boxes (see
+# measure_part.c), and every box but the first (all of P) lies in the shell
+# of P: its overlap planes and the chunk's own last planes. Splitting that
+# first scan along x, y, z (scan(A u B) = scan(A) + scan(B) - scan(A n B)
+# for boxes sharing a plane) leaves scan(core) plus boxes in the shell. So
+# with P~ = P with the core's inside (all but its last planes) cleared,
+# part(P) = part(P~) + scan(core) - scan(core~): the chunk task gives the
+# difference and its six boundary planes, and a small task per chunk builds
+# P~ from its own last planes and the neighbours' first planes. The chunks'
+# voxels are released when their task ends; only planes wait for the
+# neighbours (a halo read held each whole chunk until its neighbours on the
+# high sides were read, at 2048^3 a plane of chunks per worker).
+
+def _chunk_scan(v, b, off):
+    """A chunk's part of the measure sums apart from its halo: (scan(core)
+    - scan(core with its inside cleared), with core's bbox; its first and
+    last planes along x, y, z)."""
+    core = list(v.shape)
+    sc = _measure_sums(v, core, off)
+    d = (0, [0] * 3, [0] * 6, sc[3] if sc[0] else None, 0, [0] * 7)
+    if all(c > 1 for c in core):
+        t = v.copy()
+        t.fill_box((0, 0, 0), [c - 2 for c in core], False)
+        d = _sub_sums(sc, _measure_sums(t, core, off))
+        d = d[:3] + (sc[3] if sc[0] else None,) + d[4:]
+    firsts = (b[0] != 0, b[:, 0] != 0, b[:, :, 0] != 0)
+    lasts = (b[-1] != 0, b[:, -1] != 0, b[:, :, -1] != 0)
+    return d, firsts, lasts
+
+
+def _halo_sums(own, nbrs, core, off):
+    """A chunk's measure sums: P~ (its last planes, and the first planes of
+    its neighbours on the high sides: nbrs[(ex, ey, ez)] their chunk tasks)
+    through bvox_measure_part, plus the chunk's own difference."""
+    d, _, lasts = own[0]
+    over = [any(e[a] for e in nbrs) for a in range(3)]
+    p = np.zeros([core[a] + over[a] for a in range(3)], dtype=bool)
+    c0, c1, c2 = core
+    p[c0 - 1, :c1, :c2] = lasts[0]
+    p[:c0, c1 - 1, :c2] = lasts[1]
+    p[:c0, :c1, c2 - 1] = lasts[2]
+    for e, r in nbrs.items():
+        a0 = e.index(1)  # the neighbour's first plane across axis a0
+        plane = r[0][1][a0]
+        sub = tuple(0 if e[x] else slice(0, core[x]) for x in range(3) if x != a0)
+        p[tuple(core[x] if e[x] else slice(0, core[x]) for x in range(3))] = plane[sub]
+    h = _measure_sums(_vol(p), core, off)
+    return (h[0] + d[0], [x + y for x, y in zip(h[1], d[1])],
+            [x + y for x, y in zip(h[2], d[2])], d[3] or [0] * 6, h[4] + d[4],
+            [x + y for x, y in zip(h[5], d[5])])
 
 
 def _topology(res):

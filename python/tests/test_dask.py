@@ -282,3 +282,13 @@ def test_measure_cavities_across_chunks(client, chunks):
     # the complement: the pockets become objects, the border background one
     same_measure(bd.measure(da.from_array(~m, chunks=chunks)),
                  bvox.Volume.from_numpy(~m).measure())
+
+
+def test_measure_thin_chunks(client):
+    # chunks one and two voxels thick: a chunk's own last planes are then
+    # all of it (no inside to clear), and the planes of the neighbours across
+    # its faces, edges and corner make its whole overlap
+    m = random_vol(11, shape=(20, 21, 22), p=0.5)
+    want = bvox.Volume.from_numpy(m).measure()
+    for chunks in [((1, 2, 17), (10, 1, 10), (2, 1, 19)), ((1,) * 20, (21,), (2,) * 11)]:
+        same_measure(bd.measure(da.from_array(m, chunks=chunks)), want)
