@@ -9,14 +9,17 @@ chunk (with the halo the operation needs); what crosses chunk borders is
 joined here:
 
 - count: a sum of chunk counts;
-- measure: each chunk, read with a one-voxel overlap on its high sides,
-  gives the exact integer sums of what lies on its side of the border
-  (bvox_measure_part: counts, moments, Euler number, the transitions behind
-  the surface areas); the sums add up and bvox_measure_from_sums turns them
-  into the dict of Volume.measure(). Components and cavities come from the
-  global labelling below;
-- components: chunk labels (each chunk labelled once per pass; its faces
-  stay on the workers), then per pair of neighbouring chunks a task that
+- measure: each chunk, read once, gives the exact integer sums of what
+  lies on its side of the border (bvox_measure_part: counts, moments, Euler
+  number, the transitions behind the surface areas; what crosses its high
+  sides is added by a small task from its last planes and its neighbours'
+  first planes, see _chunk_scan) and its three labellings (object 26,
+  background 6 and 26); the sums add up and bvox_measure_from_sums turns
+  them into the dict of Volume.measure(). Components and cavities come from
+  the global labellings below;
+- components: chunk labels (each chunk labelled once per pass; only its
+  faces leave the C labelling, and they stay on the workers), then per pair
+  of neighbouring chunks a task that
   finds the label equivalences across their shared plane (the low face of
   the upper chunk widened by the rims of its in-plane neighbours: edges and
   corners), a tree reduction of union-find forests of those pairs, and one
