@@ -157,8 +157,9 @@ def main():
         if "measure" in steps:
             t = time.perf_counter()
             m = bd.measure(a)
-            line("measure", time.perf_counter() - t, euler=m["euler"],
-                 components=m["components"], cavities=m["cavities"])
+            line("measure", time.perf_counter() - t, count=m["count"], euler=m["euler"],
+                 components=m["components"], cavities=m["cavities"],
+                 cavities_26=m["cavities_26"], tunnels=m["tunnels"])
         if "dilate" in steps:
             t = time.perf_counter()
             dil = int(bd.dilate(a, 26).sum().compute())
@@ -176,8 +177,9 @@ def main():
             vol = bvox.Volume.from_numpy(np.asarray(z[:]))
             assert count == vol.count()
             want = vol.measure()
-            assert (m["euler"], m["components"], m["cavities"]) == \
-                (want["euler"], want["components"], want["cavities"])
+            assert (m["count"], m["euler"], m["components"], m["cavities"], m["cavities_26"]) == \
+                (want["count"], want["euler"], want["components"], want["cavities"],
+                 want["cavities_26"])
             wl, wc = vol.components(26)
             assert ncomp == len(wc) and largest == int((wl == 1).sum())
             assert dil == vol.dilate(26).count()

@@ -525,6 +525,14 @@ BVOX_API bvox_status bvox_components_keep(const bvox_components *comps, int64_t 
 /* Labels as x-fastest uint32 samples (nx*ny*nz of them): 0 background,
  * i + 1 for component i. dst must hold nx*ny*nz values. */
 BVOX_API void bvox_components_labels(const bvox_components *comps, uint32_t *dst);
+/* Labels of the voxels in box (half-open, inside the volume) as x-fastest
+ * uint32 samples, as bvox_components_labels writes them for the whole
+ * volume: dst must hold the box's voxel count. Reads only the columns of the
+ * box up to its z1, so one face of the volume costs one plane (chunked
+ * labelling reads the faces of each chunk). BVOX_EINVAL when the box is
+ * empty or not inside the volume (dst untouched). */
+BVOX_API bvox_status bvox_components_labels_box(const bvox_components *comps, bvox_box box,
+                                                uint32_t *dst);
 /* Index (0 = largest) of the component holding voxel (x, y, z), or -1 if
  * that voxel is 0 or outside. */
 BVOX_API int64_t bvox_components_index_at(const bvox_components *comps, int32_t x, int32_t y,

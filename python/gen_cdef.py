@@ -63,6 +63,8 @@ bvox_set_progress bvox_set_progress_interval""".split()
 FUNCS += "bvox_measure_part bvox_measure_from_sums".split()
 # bvox.render_objects: several volumes in one picture
 FUNCS += ["bvox_render_objects"]
+# bvox.dask: labels of a chunk's faces only (no whole label array)
+FUNCS += ["bvox_components_labels_box"]
 
 
 def generate():

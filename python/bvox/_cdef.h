@@ -509,3 +509,4 @@ void bvox_set_progress_interval(double seconds);
 bvox_status bvox_measure_part(const bvox_volume *part, const int32_t core[3], const int32_t offset[3], bvox_measure_sums *out);
 bvox_status bvox_measure_from_sums(const bvox_measure_sums *sums, const bvox_geometry *geom, bvox_measures *out);
 bvox_status bvox_render_objects(const bvox_volume *const *vols, const uint8_t (*colors)[3], int n, const bvox_render_opts *opts, bvox_image **out);
+bvox_status bvox_components_labels_box(const bvox_components *comps, bvox_box box, uint32_t *dst);

@@ -9,14 +9,17 @@ chunk (with the halo the operation needs); what crosses chunk borders is
 joined here:
 
 - count: a sum of chunk counts;
-- measure: each chunk, read with a one-voxel overlap on its high sides,
-  gives the exact integer sums of what lies on its side of the border
-  (bvox_measure_part: counts, moments, Euler number, the transitions behind
-  the surface areas); the sums add up and bvox_measure_from_sums turns them
-  into the dict of Volume.measure(). Components and cavities come from the
-  global labelling below;
-- components: chunk labels (each chunk labelled once per pass; its faces
-  stay on the workers), then per pair of neighbouring chunks a task that
+- measure: each chunk, read once, gives the exact integer sums of what
+  lies on its side of the border (bvox_measure_part: counts, moments, Euler
+  number, the transitions behind the surface areas; what crosses its high
+  sides is added by a small task from its last planes and its neighbours'
+  first planes, see _chunk_scan) and its three labellings (object 26,
+  background 6 and 26); the sums add up and bvox_measure_from_sums turns
+  them into the dict of Volume.measure(). Components and cavities come from
+  the global labellings below;
+- components: chunk labels (each chunk labelled once per pass; only its
+  faces leave the C labelling, and they stay on the workers), then per pair
+  of neighbouring chunks a task that
   finds the label equivalences across their shared plane (the low face of
   the upper chunk widened by the rims of its in-plane neighbours: edges and
   corners), a tree reduction of union-find forests of those pairs, and one
@@ -97,31 +100,64 @@ def count(arr):
 
 # ------------------------------------------------------------ components
 
-def _label_block(block, conn, background, off, shape, order=True):
-    """Labels of one chunk (of its background when asked): the count, each
-    label's size and first voxel (global column-order key: (y nx + x) nz + z;
-    only when order is asked: the ties of the final order) and the chunk's
-    six faces of labels."""
-    b = np.asarray(block)
-    if background:
-        b = b == 0
-    labels, comps = _vol(b).components(conn)
-    n = len(comps)
-    sizes = np.array([c["voxels"] for c in comps], dtype=np.int64)
+def _labelling(vol, conn, off, shape, order):
+    """One labelling of a chunk (a Volume): the count, each label's size and
+    first voxel (global column-order key: (y nx + x) nz + z; only when order
+    is asked: the ties of the final order) and the chunk's six faces of
+    labels. Only the faces (and, for the keys, one plane of each label's
+    box) are written out of the C labelling (bvox_components_labels_box):
+    the whole label array of a 256^3 chunk, 64 MiB written with a plane
+    stride, cost 3-10x the labelling itself."""
+    out = ffi.new("bvox_components **")
+    check(lib.bvox_components_find(vol._p, conn, out))
+    comps = ffi.gc(out[0], lib.bvox_components_destroy)
+    nx, ny, nz = vol.shape
+    n = int(lib.bvox_components_count(comps))
+    items = [lib.bvox_components_get(comps, i) for i in range(n)]
+    sizes = np.array([c.voxels for c in items], dtype=np.int64)
+    # the smallest unsigned type that holds the labels: faces wait on the
+    # workers for their face-pair tasks
+    dt = np.uint8 if n < 0xFF else np.uint16 if n < 0xFFFF else np.uint32
+
+    def box(x0, y0, z0, x1, y1, z1):
+        b = np.empty((z1 - z0, y1 - y0, x1 - x0), dtype=np.uint32)  # x fastest
+        check(lib.bvox_components_labels_box(comps, (x0, y0, z0, x1, y1, z1),
+                                             ffi.from_buffer("uint32_t[]", b)))
+        return b.transpose(2, 1, 0)  # [x, y, z]
+
     keys = np.zeros(n, dtype=np.int64)
     if n and order:
         # the first voxel in column order (y slowest, then x, z fastest) lies
         # in the label's lowest y plane: search only that plane of its box
-        for i, c in enumerate(comps):
-            lo, hi = c["bbox"]["min"], c["bbox"]["max"]
-            plane = labels[lo[0]:hi[0] + 1, lo[1], lo[2]:hi[2] + 1] == i + 1
+        for i, c in enumerate(items):
+            b = c.bbox
+            plane = box(b.x0, b.y0, b.z0, b.x1, b.y0 + 1, b.z1)[:, 0, :] == i + 1
             x, z = np.unravel_index(int(np.argmax(plane)), plane.shape)  # x-major, z fastest
-            keys[i] = ((lo[1] + off[1]) * shape[0] + lo[0] + x + off[0]) * shape[2] + \
-                lo[2] + z + off[2]
-    # basic slices (views of the x-fastest label memory), copied small
-    faces = [(labels[0].copy(), labels[-1].copy()), (labels[:, 0].copy(), labels[:, -1].copy()),
-             (labels[:, :, 0].copy(), labels[:, :, -1].copy())]
+            keys[i] = ((b.y0 + off[1]) * shape[0] + b.x0 + x + off[0]) * shape[2] + \
+                b.z0 + z + off[2]
+    faces = [(box(0, 0, 0, 1, ny, nz)[0], box(nx - 1, 0, 0, nx, ny, nz)[0]),
+             (box(0, 0, 0, nx, 1, nz)[:, 0], box(0, ny - 1, 0, nx, ny, nz)[:, 0]),
+             (box(0, 0, 0, nx, ny, 1)[:, :, 0], box(0, 0, nz - 1, nx, ny, nz)[:, :, 0])]
+    faces = [tuple(np.ascontiguousarray(f, dtype=dt) for f in pair) for pair in faces]
+    ffi.release(comps)
     return n, sizes, keys, faces
+
+
+def _label_chunk(block, specs, off, shape, order, measure=False):
+    """One task per chunk: the chunk read once, labelled once per (conn,
+    background) of specs (background: of its 0 voxels), and with measure its
+    part of the measure sums too (_chunk_scan). Returns (scan or None,
+    [labelling per spec])."""
+    b = np.asarray(block)
+    v = _vol(b)
+    scan = _chunk_scan(v, b, off) if measure else None
+    bg = None
+    out = []
+    for conn, background in specs:
+        if background and bg is None:
+            bg = ~v
+        out.append(_labelling(bg if background else v, conn, off, shape, order))
+    return scan, out
 
 
 def _shifts(conn):
@@ -142,37 +178,39 @@ def _keys_of(local, flat):
     return (np.int64(flat) << _KEYBITS) | local.astype(np.int64)
 
 
-def _label_summary(info, flat, border):
-    """The small part of a chunk's labelling, for the final merge: the
-    label count, sizes, first-voxel keys and (for cavities) the keys of the
-    labels on the array's border (border: per axis, (low, high) flags)."""
-    n, sizes, keys, faces = info
-    on = []
-    for a in range(3):
-        for side in (0, 1):
-            if border[a][side]:
-                f = faces[a][side]
-                on.append(np.unique(f[f > 0]))
-    b = np.unique(np.concatenate(on)) if on else np.zeros(0, dtype=np.uint32)
-    return n, sizes, keys, _keys_of(b, flat)
+def _chunk_summary(res, flat, borders):
+    """The small part of a chunk's task, for the final merge: per labelling
+    the label count, sizes, first-voxel keys and (background labellings:
+    cavities) the keys of the labels on the array's border (borders: per
+    labelling, per axis, (low, high) flags)."""
+    out = []
+    for (n, sizes, keys, faces), border in zip(res[1], borders):
+        on = []
+        for a in range(3):
+            for side in (0, 1):
+                if border[a][side]:
+                    f = faces[a][side]
+                    on.append(np.unique(f[f > 0]))
+        b = np.unique(np.concatenate(on)) if on else np.zeros(0, dtype=np.uint32)
+        out.append((n, sizes, keys, _keys_of(b, flat)))
+    return out
 
 
-def _rims(info):
-    """The four edges of each low face (the rims a diagonal neighbour across
-    the plane touches): per axis, (first row, last row, first column, last
-    column)."""
-    faces = info[3]
-    return [(f[0].copy(), f[-1].copy(), f[:, 0].copy(), f[:, -1].copy())
-            for f in (faces[a][0] for a in range(3))]
+def _chunk_rims(res):
+    """The four edges of each low face of each labelling (the rims a
+    diagonal neighbour across the plane touches): per labelling, per axis,
+    (first row, last row, first column, last column)."""
+    return [[(f[0].copy(), f[-1].copy(), f[:, 0].copy(), f[:, -1].copy())
+             for f in (faces[a][0] for a in range(3))]
+            for _, _, _, faces in res[1]]
 
 
-def _face_pairs(lo, hi, a, rims, flat_lo, flat_hi, flats, conn):
-    """The equivalences (pairs of label keys, unique) between the high face
-    along axis a of chunk lo and the plane of low faces across it: the low
-    face of chunk hi and, where conn reaches diagonally, the rims of hi's
-    in-plane neighbours (rims[(du, dv)], their flat indices flats[(du, dv)])."""
-    p = lo[3][a][1]
-    q = hi[3][a][0]
+def _plane_pairs(p, q, rims, a, flat_lo, flat_hi, flats, conn):
+    """The equivalences (pairs of label keys, unique) between p, the high
+    face along axis a of chunk flat_lo, and the plane of low faces across
+    it: q, the low face of chunk flat_hi, and where conn reaches diagonally
+    the rims of its in-plane neighbours (rims[(du, dv)], their flat indices
+    flats[(du, dv)])."""
     nu, nv = p.shape
     # the plane across, widened by one voxel on each side, in keys
     qk = np.zeros((nu + 2, nv + 2), dtype=np.int64)
@@ -180,8 +218,7 @@ def _face_pairs(lo, hi, a, rims, flat_lo, flat_hi, flats, conn):
     for (du, dv), r in rims.items():
         row0, row1, col0, col1 = r[a]
         if du and dv:
-            e = (row1 if du < 0 else row0)[-1 if dv < 0 else 0]
-            e = np.array([e])
+            e = np.array([(row1 if du < 0 else row0)[-1 if dv < 0 else 0]])
         elif du:
             e = row1 if du < 0 else row0
         else:
@@ -190,16 +227,45 @@ def _face_pairs(lo, hi, a, rims, flat_lo, flat_hi, flats, conn):
         u = slice(0, 1) if du < 0 else slice(nu + 1, nu + 2) if du > 0 else slice(1, nu + 1)
         v = slice(0, 1) if dv < 0 else slice(nv + 1, nv + 2) if dv > 0 else slice(1, nv + 1)
         qk[u, v] = ek.reshape(qk[u, v].shape)
-    pk = np.where(p > 0, _keys_of(p, flat_lo), 0)
-    out = []
+    # the keys across as small indices, so that a pair is one integer: the
+    # pairs are deduplicated by a table (or a 1-D sort) instead of a sort
+    # of rows (np.unique(axis=0) was most of a 256^3 chunk's merge time)
+    uq, qi = np.unique(qk, return_inverse=True)
+    qi = qi.reshape(qk.shape)
+    m_uq = len(uq)
+    pi = p.astype(np.int64)
+    center = qi[1:-1, 1:-1]
+    codes = []
     for du, dv in _shifts(conn):
-        b = qk[1 + du:1 + du + nu, 1 + dv:1 + dv + nv]
-        m = (pk > 0) & (b > 0)
+        b = qi[1 + du:1 + du + nu, 1 + dv:1 + dv + nv]
+        m = (pi > 0) & (qk[1 + du:1 + du + nu, 1 + dv:1 + dv + nv] != 0)
+        if du or dv:  # the same pair as the centre's is already there
+            m &= b != center
         if m.any():
-            out.append(np.stack([pk[m], b[m]], axis=1))
-    if not out:
+            codes.append(pi[m] * m_uq + b[m])
+    if not codes:
         return np.zeros((0, 2), dtype=np.int64)
-    return np.unique(np.concatenate(out), axis=0)
+    c = np.concatenate(codes)
+    top = (int(p.max()) + 1) * m_uq
+    if top <= 1 << 22:
+        seen = np.zeros(top, dtype=bool)
+        seen[c] = True
+        c = np.flatnonzero(seen)
+    else:
+        c = np.unique(c)
+    return np.stack([_keys_of(c // m_uq, flat_lo), uq[c % m_uq]], axis=1)
+
+
+def _face_pairs(lo, hi, a, rims, flat_lo, flat_hi, flats, conns):
+    """The equivalences across the plane between chunk tasks lo and hi
+    (along axis a), one array of key pairs per labelling (conns: each
+    labelling's connectivity; rims[(du, dv)]: per labelling)."""
+    out = []
+    for i, conn in enumerate(conns):
+        nb = {s: r[i] for s, r in rims.items() if s in _shifts(conn)}
+        out.append(_plane_pairs(lo[1][i][3][a][1], hi[1][i][3][a][0], nb, a, flat_lo,
+                                flat_hi, flats, conn))
+    return out
 
 
 def _forest(*parts):
@@ -222,21 +288,26 @@ def _forest(*parts):
     return np.stack([ids, root[comp]], axis=1)
 
 
-def _tree(tasks, fanin=8):
-    """Tree reduction of forests by delayed _forest, fanin at a time."""
+def _forests(*parts):
+    """_forest per labelling of lists of pair arrays (one per labelling)."""
+    return [_forest(*[p[i] for p in parts]) for i in range(len(parts[0]))]
+
+
+def _tree(tasks, fanin=8, fn=_forest):
+    """Tree reduction of forests by delayed fn, fanin at a time."""
     level = list(tasks)
     if not level:
-        return dask.delayed(_forest)()
+        return dask.delayed(fn)()
     while len(level) > 1:
-        level = [dask.delayed(_forest, pure=True)(*level[i:i + fanin])
+        level = [dask.delayed(fn, pure=True)(*level[i:i + fanin])
                  for i in range(0, len(level), fanin)]
-    return dask.delayed(_forest, pure=True)(level[0]) if len(tasks) == 1 else level[0]
+    return dask.delayed(fn, pure=True)(level[0]) if len(tasks) == 1 else level[0]
 
 
 def _finish(summaries, forest, exclude_border):
-    """The final merge (one task, label-sized inputs only): global labels
-    (chunk base + local label, chunks in flat order) joined by the forest,
-    ranked in the in-memory order: a _Merged."""
+    """The final merge of one labelling (label-sized inputs only): global
+    labels (chunk base + local label, chunks in flat order) joined by the
+    forest, ranked in the in-memory order: a _Merged."""
     counts = np.array([s[0] for s in summaries], dtype=np.int64)
     bases = np.concatenate([[0], np.cumsum(counts)])
     total = int(bases[-1])
@@ -271,24 +342,46 @@ def _finish(summaries, forest, exclude_border):
     return _Merged(lut, bases, len(rank), csize[rank])
 
 
-def _merge_graph(arr, conn, background, order=True):
-    """The delayed global labelling of arr: each chunk labelled once (its
-    faces stay on the workers), per pair of neighbouring chunks a task of
-    label equivalences, a tree reduction of union-find forests and one
-    final task: a delayed _Merged."""
-    starts = _starts(arr.chunks)
+def _finish_all(summaries, forests, backgrounds, sums):
+    """The final task of a graph: the chunks' measure sums added up (None
+    when there are none) and a _Merged per labelling."""
+    total = _add_sums(sums) if sums else None
+    return total, [_finish([s[i] for s in summaries], forests[i], bg)
+                   for i, bg in enumerate(backgrounds)]
+
+
+def _merge_graph(arr, specs, order=True, measure=False):
+    """The delayed global labellings of arr, one per (conn, background) of
+    specs, in one graph: one task per chunk (read once; with measure its
+    part of the measure sums too, and a small task per chunk that adds what
+    crosses its high sides), its faces kept on the workers; per pair of
+    neighbouring chunks a task of label equivalences of every labelling; a
+    tree reduction of union-find forests and one final task: a delayed
+    (sums or None, [_Merged])."""
+    starts, grid = _starts(arr.chunks), _grid(arr)
     blocks = arr.to_delayed()
-    grid = blocks.shape
     flat = {idx: i for i, idx in enumerate(np.ndindex(*grid))}
-    label, summ, rims = {}, [], {}
+    conns = [c for c, _ in specs]
+    reach = max(conns, key=lambda c: len(_shifts(c)))
+    chunk, summ, rims = {}, [], {}
     for idx in np.ndindex(*grid):
         off = [int(starts[a][idx[a]]) for a in range(3)]
-        label[idx] = dask.delayed(_label_block, pure=True)(blocks[idx], conn, background, off,
-                                                           arr.shape, order)
-        border = [(background and idx[a] == 0, background and idx[a] == grid[a] - 1)
-                  for a in range(3)]
-        summ.append(dask.delayed(_label_summary, pure=True)(label[idx], flat[idx], border))
-        rims[idx] = dask.delayed(_rims, pure=True)(label[idx])
+        chunk[idx] = dask.delayed(_label_chunk, pure=True)(blocks[idx], specs, off,
+                                                           arr.shape, order, measure)
+        borders = [[(bg and idx[a] == 0, bg and idx[a] == grid[a] - 1) for a in range(3)]
+                   for _, bg in specs]
+        summ.append(dask.delayed(_chunk_summary, pure=True)(chunk[idx], flat[idx], borders))
+        rims[idx] = dask.delayed(_chunk_rims, pure=True)(chunk[idx])
+    sums = []
+    for idx in np.ndindex(*grid) if measure else ():
+        nbrs = {}
+        for e in np.ndindex(2, 2, 2):
+            j = tuple(idx[a] + e[a] for a in range(3))
+            if any(e) and all(j[a] < grid[a] for a in range(3)):
+                nbrs[e] = chunk[j]
+        core = [int(arr.chunks[a][idx[a]]) for a in range(3)]
+        off = [int(starts[a][idx[a]]) for a in range(3)]
+        sums.append(dask.delayed(_halo_sums, pure=True)(chunk[idx], nbrs, core, off))
     pairs = []
     for idx in np.ndindex(*grid):
         for a in range(3):
@@ -298,7 +391,7 @@ def _merge_graph(arr, conn, background, order=True):
             hi[a] += 1
             o = [i for i in range(3) if i != a]
             nb, nf = {}, {}
-            for du, dv in _shifts(conn):
+            for du, dv in _shifts(reach):
                 if not du and not dv:
                     continue
                 j = list(hi)
@@ -307,9 +400,10 @@ def _merge_graph(arr, conn, background, order=True):
                 if 0 <= j[o[0]] < grid[o[0]] and 0 <= j[o[1]] < grid[o[1]]:
                     nb[(du, dv)], nf[(du, dv)] = rims[tuple(j)], flat[tuple(j)]
             pairs.append(dask.delayed(_face_pairs, pure=True)(
-                label[idx], label[tuple(hi)], a, nb, flat[idx], flat[tuple(hi)], nf, conn))
-    forest = _tree(pairs)
-    return dask.delayed(_finish, pure=True)(summ, forest, background)
+                chunk[idx], chunk[tuple(hi)], a, nb, flat[idx], flat[tuple(hi)], nf, conns))
+    forests = _tree(pairs, fn=_forests) if pairs else [np.zeros((0, 2), dtype=np.int64)] * \
+        len(specs)
+    return dask.delayed(_finish_all, pure=True)(summ, forests, [bg for _, bg in specs], sums)
 
 
 class _Merged:
@@ -335,6 +429,10 @@ def _relabel_block(block, merged, conn, background, block_info=None):
     return part[labels]
 
 
+def _first_merged(res):
+    return res[1][0]
+
+
 def components(arr, conn=26):
     """(labels, n): labels a lazy uint32 Dask array with the chunks of arr
     (0 background, i + 1 for component i, largest first, ties by the first
@@ -346,7 +444,8 @@ def components(arr, conn=26):
     per voxel in the workers' memory."""
     arr = _check3(arr)
     conn = _conn(conn)
-    merged, = dask.persist(_merge_graph(arr, conn, False))
+    merged = dask.delayed(_first_merged, pure=True)(_merge_graph(arr, [(conn, False)]))
+    merged, = dask.persist(merged)
     n = int(dask.compute(dask.delayed(getattr)(merged, "n"))[0])
     labels = arr.map_blocks(_relabel_block, merged, conn, False, dtype=np.uint32)
     return labels, n
@@ -363,11 +462,90 @@ def _set_i128(dst, v):
     dst.lo = v & 0xFFFFFFFFFFFFFFFF
 
 
-def _measure_block(block, core, off):
+def _measure_sums(vol, core, off):
     s = ffi.new("bvox_measure_sums *")
-    check(lib.bvox_measure_part(_vol(block)._p, core, off, s))
+    check(lib.bvox_measure_part(vol._p, core, off, s))
     return (int(s.count), [_i128(s.s[a]) for a in range(3)], [_i128(s.ss[k]) for k in range(6)],
             list(s.bbox), int(s.euler), list(s.trans))
+
+
+def _add_sums(parts):
+    total = [0, [0] * 3, [0] * 6, None, 0, [0] * 7]
+    for c, s, ss, bb, eu, tr in parts:
+        total[0] += c
+        total[1] = [x + y for x, y in zip(total[1], s)]
+        total[2] = [x + y for x, y in zip(total[2], ss)]
+        total[4] += eu
+        total[5] = [x + y for x, y in zip(total[5], tr)]
+        if c:
+            total[3] = bb if total[3] is None else (
+                [min(x, y) for x, y in zip(total[3][:3], bb[:3])]
+                + [max(x, y) for x, y in zip(total[3][3:], bb[3:])])
+    return total
+
+
+def _sub_sums(a, b):
+    return (a[0] - b[0], [x - y for x, y in zip(a[1], b[1])],
+            [x - y for x, y in zip(a[2], b[2])], a[3], a[4] - b[4],
+            [x - y for x, y in zip(a[5], b[5])])
+
+
+# Why a chunk needs no halo read: bvox_measure_part of the chunk P with its
+# one-voxel overlap on the high sides is linear in scans of boxes (see
+# measure_part.c), and every box but the first (all of P) lies in the shell
+# of P: its overlap planes and the chunk's own last planes. Splitting that
+# first scan along x, y, z (scan(A u B) = scan(A) + scan(B) - scan(A n B)
+# for boxes sharing a plane) leaves scan(core) plus boxes in the shell. So
+# with P~ = P with the core's inside (all but its last planes) cleared,
+# part(P) = part(P~) + scan(core) - scan(core~): the chunk task gives the
+# difference and its six boundary planes, and a small task per chunk builds
+# P~ from its own last planes and the neighbours' first planes. The chunks'
+# voxels are released when their task ends; only planes wait for the
+# neighbours (a halo read held each whole chunk until its neighbours on the
+# high sides were read, at 2048^3 a plane of chunks per worker).
+
+def _chunk_scan(v, b, off):
+    """A chunk's part of the measure sums apart from its halo: (scan(core)
+    - scan(core with its inside cleared), with core's bbox; its first and
+    last planes along x, y, z)."""
+    core = list(v.shape)
+    sc = _measure_sums(v, core, off)
+    d = (0, [0] * 3, [0] * 6, sc[3] if sc[0] else None, 0, [0] * 7)
+    if all(c > 1 for c in core):
+        t = v.copy()
+        t.fill_box((0, 0, 0), [c - 2 for c in core], False)
+        d = _sub_sums(sc, _measure_sums(t, core, off))
+        d = d[:3] + (sc[3] if sc[0] else None,) + d[4:]
+    firsts = (b[0] != 0, b[:, 0] != 0, b[:, :, 0] != 0)
+    lasts = (b[-1] != 0, b[:, -1] != 0, b[:, :, -1] != 0)
+    return d, firsts, lasts
+
+
+def _halo_sums(own, nbrs, core, off):
+    """A chunk's measure sums: P~ (its last planes, and the first planes of
+    its neighbours on the high sides: nbrs[(ex, ey, ez)] their chunk tasks)
+    through bvox_measure_part, plus the chunk's own difference."""
+    d, _, lasts = own[0]
+    over = [any(e[a] for e in nbrs) for a in range(3)]
+    p = np.zeros([core[a] + over[a] for a in range(3)], dtype=bool)
+    c0, c1, c2 = core
+    p[c0 - 1, :c1, :c2] = lasts[0]
+    p[:c0, c1 - 1, :c2] = lasts[1]
+    p[:c0, :c1, c2 - 1] = lasts[2]
+    for e, r in nbrs.items():
+        a0 = e.index(1)  # the neighbour's first plane across axis a0
+        plane = r[0][1][a0]
+        sub = tuple(0 if e[x] else slice(0, core[x]) for x in range(3) if x != a0)
+        p[tuple(core[x] if e[x] else slice(0, core[x]) for x in range(3))] = plane[sub]
+    h = _measure_sums(_vol(p), core, off)
+    return (h[0] + d[0], [x + y for x, y in zip(h[1], d[1])],
+            [x + y for x, y in zip(h[2], d[2])], d[3] or [0] * 6, h[4] + d[4],
+            [x + y for x, y in zip(h[5], d[5])])
+
+
+def _topology(res):
+    """What measure needs of the final task: the sums and three counts."""
+    return res[0], [m.n for m in res[1]]
 
 
 def _geometry(spacing, unit, origin):
@@ -388,33 +566,22 @@ def _geometry(spacing, unit, origin):
     return g
 
 
+# measure's topology, as bvox_measure's: 26-components, 6-connected cavities
+# (background components off the border) and 26-connected ones
+_MEASURE_SPECS = [(26, False), (6, True), (26, True)]
+
+
 def measure(arr, spacing=None, unit=None, origin=None):
     """The dict of Volume.measure() (keys of `bvox measure --json`) of the
-    whole array with that geometry, from chunk sums that add up exactly."""
+    whole array with that geometry. One graph: each chunk read once (with a
+    one-voxel overlap on its high sides) gives the exact integer sums of
+    what lies on its side of the border and its three labellings (object
+    26, background 6 and 26); the merges need only counts, no first voxels."""
     from ._measure import measures_dict
     arr = _check3(arr)
     geom = _geometry(spacing, unit, origin)
-    starts, grid = _starts(arr.chunks), _grid(arr)
-    parts = []
-    for idx in np.ndindex(*grid):
-        blk, off = _halo_block(arr, starts, idx, 0, 1)
-        core = [int(arr.chunks[a][idx[a]]) for a in range(3)]
-        parts.append(dask.delayed(_measure_block, pure=True)(blk, core, off))
-    # only the counts are needed: no first voxels
-    ns = [dask.delayed(getattr)(_merge_graph(arr, conn, bg, False), "n")
-          for conn, bg in ((26, False), (6, True), (26, True))]
-    res = dask.compute(parts, *ns)
-    total = [0, [0] * 3, [0] * 6, None, 0, [0] * 7]
-    for c, s, ss, bb, eu, tr in res[0]:
-        total[0] += c
-        total[1] = [x + y for x, y in zip(total[1], s)]
-        total[2] = [x + y for x, y in zip(total[2], ss)]
-        total[4] += eu
-        total[5] = [x + y for x, y in zip(total[5], tr)]
-        if c:
-            total[3] = bb if total[3] is None else (
-                [min(x, y) for x, y in zip(total[3][:3], bb[:3])]
-                + [max(x, y) for x, y in zip(total[3][3:], bb[3:])])
+    total, ns = dask.compute(dask.delayed(_topology, pure=True)(
+        _merge_graph(arr, _MEASURE_SPECS, order=False, measure=True)))[0]
     sums = ffi.new("bvox_measure_sums *")
     sums.count = total[0]
     for a in range(3):
@@ -427,12 +594,9 @@ def measure(arr, spacing=None, unit=None, origin=None):
     m = ffi.new("bvox_measures *")
     check(lib.bvox_measure_from_sums(sums, geom, m))
     if m.count:
-        # as bvox_measure's topology: 26-components, 6-connected cavities
-        # (background components off the border), cavities_26 only when
-        # there are 6-connected ones
-        n = res[1:]
-        m.components, m.cavities = n[0], n[1]
-        m.cavities_26 = n[2] if n[1] > 0 else 0
+        # cavities_26 only when there are 6-connected ones (as in memory)
+        m.components, m.cavities = ns[0], ns[1]
+        m.cavities_26 = ns[2] if ns[1] > 0 else 0
     m.tunnels = m.components + m.cavities - m.euler
     return measures_dict(arr.shape, geom[0], m)
 

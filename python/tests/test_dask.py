@@ -244,3 +244,51 @@ def test_forest_tree_reduction():
     for c in np.unique(comp):
         members = u[comp == c]
         assert set(forest[comp == c, 1]) == {members.min()}  # one root: the smallest key
+
+
+def cavities_case():
+    """Cavities that the chunked merge must get right, with chunks of 10:
+    a hollow cube whose cavity spans the chunk corner (10, 10, 10); two
+    hollow boxes with walls one voxel thick whose inside meets the outside
+    only diagonally, across the chunk corner (30, 30, 30) (a removed corner
+    voxel: a 6-cavity, no 26-cavity) and across the chunk edge x = y = 30
+    (a removed edge voxel: likewise); and two pockets open only at the
+    array's border, at x = 0 and at the last z, each reaching into the
+    next chunk (not cavities: the chunk touching the border must tell the
+    other)."""
+    m = np.zeros((40, 45, 47), dtype=bool)
+    m[4:16, 4:16, 4:16] = True
+    m[6:14, 6:14, 6:14] = False                     # A: cavity across a chunk corner
+    m[22:31, 22:31, 22:31] = True
+    m[23:30, 23:30, 23:30] = False
+    m[30, 30, 30] = False                           # B: corner contact to the outside
+    m[22:31, 22:31, 2:11] = True
+    m[23:30, 23:30, 3:10] = False
+    m[30, 30, 6] = False                            # C: edge contact to the outside
+    m[0:14, 32:40, 32:40] = True
+    m[0:12, 34:38, 34:38] = False                   # D: open at x = 0, into chunk x 10..
+    m[32:40, 2:10, 33:47] = True
+    m[34:38, 4:8, 35:47] = False                    # E: open at z = 46, into chunk z 30..
+    return m
+
+
+@pytest.mark.parametrize("chunks", [(10, 10, 10), (7, 9, 11), (40, 45, 47)])
+def test_measure_cavities_across_chunks(client, chunks):
+    m = cavities_case()
+    want = bvox.Volume.from_numpy(m).measure()
+    # the case is what it claims: A, B and C are 6-cavities, only A a 26-one
+    assert (want["cavities"], want["cavities_26"], want["components"]) == (3, 1, 5)
+    same_measure(bd.measure(da.from_array(m, chunks=chunks)), want)
+    # the complement: the pockets become objects, the border background one
+    same_measure(bd.measure(da.from_array(~m, chunks=chunks)),
+                 bvox.Volume.from_numpy(~m).measure())
+
+
+def test_measure_thin_chunks(client):
+    # chunks one and two voxels thick: a chunk's own last planes are then
+    # all of it (no inside to clear), and the planes of the neighbours across
+    # its faces, edges and corner make its whole overlap
+    m = random_vol(11, shape=(20, 21, 22), p=0.5)
+    want = bvox.Volume.from_numpy(m).measure()
+    for chunks in [((1, 2, 17), (10, 1, 10), (2, 1, 19)), ((1,) * 20, (21,), (2,) * 11)]:
+        same_measure(bd.measure(da.from_array(m, chunks=chunks)), want)

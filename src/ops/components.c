@@ -501,6 +501,47 @@ void bvox_components_labels(const bvox_components *c, uint32_t *dst)
     }
 }
 
+bvox_status bvox_components_labels_box(const bvox_components *c, bvox_box box, uint32_t *dst)
+{
+    if (box.x0 < 0 || box.y0 < 0 || box.z0 < 0 || box.x1 > c->dims.nx || box.y1 > c->dims.ny ||
+        box.z1 > c->dims.nz || box.x0 >= box.x1 || box.y0 >= box.y1 || box.z0 >= box.z1)
+        return bvox__fail(BVOX_EINVAL, "label box [%d,%d) x [%d,%d) x [%d,%d) is empty or outside "
+                          "the %d x %d x %d volume", box.x0, box.x1, box.y0, box.y1, box.z0, box.z1,
+                          c->dims.nx, c->dims.ny, c->dims.nz);
+    const bvox__labelruns *R = &c->runs;
+    size_t bx = (size_t)(box.x1 - box.x0), by = (size_t)(box.y1 - box.y0);
+    size_t plane = bx * by, g = (size_t)R->g;
+    memset(dst, 0, plane * (size_t)(box.z1 - box.z0) * sizeof *dst);
+    size_t k1 = (size_t)(box.z1 - 1) / 64;
+    /* Per column of the box: its group's run starts are counted from z = 0
+     * (a run's number is its group's first plus the starts before it), the
+     * column's bits in [z0, z1) get their run's rank. Only the words up to
+     * z1 are read: a face of the volume costs one plane of columns. */
+    for (int32_t y = box.y0; y < box.y1; y++)
+        for (int32_t x = box.x0; x < box.x1; x++) {
+            size_t grp = (size_t)y / g * R->gx + (size_t)x / g;
+            uint32_t run = R->grp_start[grp];
+            if (run == R->grp_start[grp + 1]) continue;
+            const uint64_t *u = bvox__labelruns_group(R, grp);
+            const uint64_t *w = c->words + ((size_t)y * (size_t)c->dims.nx + (size_t)x) * c->wpc;
+            uint32_t *out = dst + (size_t)(y - box.y0) * bx + (size_t)(x - box.x0);
+            uint64_t carry = 0;
+            for (size_t k = 0; k <= k1; k++) {
+                uint64_t starts = bvox__run_starts(u[k], carry);
+                carry = u[k] >> 63;
+                if ((int64_t)(k + 1) * 64 > box.z0)
+                    for (uint64_t bits = w[k] & range_mask(k, box.z0, box.z1); bits;
+                         bits &= bits - 1) {
+                        unsigned p = (unsigned)__builtin_ctzll(bits);
+                        uint32_t r = run + (uint32_t)__builtin_popcountll(starts & upto(p)) - 1;
+                        out[((size_t)k * 64 + p - (size_t)box.z0) * plane] = c->rank[r] + 1;
+                    }
+                run += (uint32_t)__builtin_popcountll(starts);
+            }
+        }
+    return BVOX_OK;
+}
+
 int64_t bvox_components_index_at(const bvox_components *c, int32_t x, int32_t y, int32_t z)
 {
     if (x < 0 || y < 0 || z < 0 || x >= c->dims.nx || y >= c->dims.ny || z >= c->dims.nz)

@@ -329,3 +329,64 @@ TEST(ties_ranked_by_first_voxel_in_column_order)
     }
     return 0;
 }
+
+/* bvox_components_labels_box equals the box's part of the whole label
+ * image: random boxes (single planes, the volume's faces, boxes that start
+ * and end inside a word or across words) on odd sizes, every connectivity;
+ * bad boxes are refused. */
+TEST(labels_box_equals_the_whole_labels_cut)
+{
+    static const int sizes[][3] = {{7, 5, 1}, {9, 6, 63}, {5, 7, 130}, {16, 16, 16}};
+    const int conns[3] = {6, 18, 26};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+        const int *s = sizes[si];
+        voxref *r = voxref_create(s[0], s[1], s[2]);
+        voxref_random(r, 2, 5, harness_rand);
+        bvox_volume *v = voxref_to_volume(r);
+        size_t n = (size_t)s[0] * s[1] * s[2];
+        uint32_t *all = malloc(n * sizeof *all), *part = malloc(n * sizeof *part);
+        for (int c = 0; c < 3; c++) {
+            bvox_components *comps;
+            CHECK_OK(bvox_components_find(v, conns[c], &comps));
+            bvox_components_labels(comps, all);
+            for (int t = 0; t < 40; t++) {
+                bvox_box b;
+                if (t < 6) { /* the six faces */
+                    b = (bvox_box){0, 0, 0, s[0], s[1], s[2]};
+                    int a = t / 2, hi = t % 2;
+                    int32_t *lo_ = a == 0 ? &b.x0 : a == 1 ? &b.y0 : &b.z0;
+                    int32_t *hi_ = a == 0 ? &b.x1 : a == 1 ? &b.y1 : &b.z1;
+                    if (hi) *lo_ = *hi_ - 1;
+                    else *hi_ = 1;
+                } else {
+                    int32_t lo[3], hi[3];
+                    for (int a = 0; a < 3; a++) {
+                        lo[a] = (int32_t)(harness_rand() % (uint64_t)s[a]);
+                        hi[a] = lo[a] + 1 + (int32_t)(harness_rand() % (uint64_t)(s[a] - lo[a]));
+                    }
+                    b = (bvox_box){lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
+                }
+                CHECK_OK(bvox_components_labels_box(comps, b, part));
+                size_t i = 0;
+                for (int32_t z = b.z0; z < b.z1; z++)
+                    for (int32_t y = b.y0; y < b.y1; y++)
+                        for (int32_t x = b.x0; x < b.x1; x++, i++)
+                            CHECK_EQ(part[i], all[((size_t)z * s[1] + y) * s[0] + x]);
+            }
+            part[0] = 12345;
+            CHECK_EQ(bvox_components_labels_box(comps, (bvox_box){0, 0, 0, s[0] + 1, 1, 1}, part),
+                     BVOX_EINVAL);
+            CHECK_EQ(bvox_components_labels_box(comps, (bvox_box){1, 0, 0, 1, 1, 1}, part),
+                     BVOX_EINVAL);
+            CHECK_EQ(bvox_components_labels_box(comps, (bvox_box){0, 0, -1, 1, 1, 1}, part),
+                     BVOX_EINVAL);
+            CHECK_EQ(part[0], 12345u);
+            bvox_components_destroy(comps);
+        }
+        free(all);
+        free(part);
+        bvox_volume_destroy(v);
+        voxref_destroy(r);
+    }
+    return 0;
+}
