@@ -63,6 +63,9 @@ bvox_set_progress bvox_set_progress_interval""".split()
 FUNCS += "bvox_measure_part bvox_measure_from_sums".split()
 # bvox.render_objects: several volumes in one picture
 FUNCS += ["bvox_render_objects"]
+# bvox.dask.mesh(path=...): a mesh file written row of chunks by row
+PROLOGUE += "typedef struct bvox_mesh_writer bvox_mesh_writer;\n"
+FUNCS += "bvox_mesh_writer_open bvox_mesh_writer_add bvox_mesh_writer_counts bvox_mesh_writer_close".split()
 
 
 def generate():
