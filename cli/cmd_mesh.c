@@ -175,7 +175,7 @@ int cmd_mesh(int argc, char **argv)
         }
         /* written slab by slab as it is made: the mesh is never held whole */
         bvox_mesh_info mi;
-        st = bvox__stream_mesh_write(&src, out, fmt, a.ascii, &mi);
+        st = bvox__stream_mesh_write(&src, out, fmt, a.ascii, &mi, a.json);
         bvox__slab_source_close(&src);
         if (st) return cli_fail();
         if (a.json) print_json(&mi, in, out, fmt ? fmt : bvox_mesh_format_for_path(out), &mo);

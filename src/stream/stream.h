@@ -100,13 +100,17 @@ bvox_status bvox__stream_csg(const bvox__slab_source *a, const bvox__slab_source
  * end of each slab. The volume is summed from the centre of the volume's
  * box (not the mesh's): equal but for rounding. */
 typedef struct bvox__mesh_tally bvox__mesh_tally;
-bvox_status bvox__mesh_tally_begin(const bvox__slab_source *src, bvox__mesh_tally **out);
+/* edges false: no edge counts (edges, boundary, nonmanifold, inconsistent
+ * and watertight stay 0), which cost 48 bytes per triangle of a slab. */
+bvox_status bvox__mesh_tally_begin(const bvox__slab_source *src, bool edges,
+                                   bvox__mesh_tally **out);
 void bvox__mesh_tally_vertex(bvox__mesh_tally *t, const double p[3]);
 bvox_status bvox__mesh_tally_triangle(bvox__mesh_tally *t, const int64_t idx[3],
                                       const double *const p[3], const bool top[3]);
-/* Room for a slab of up to ntriangles before it is handed over, so that a
- * slab too large for the budget fails before anything of it is written. */
-bvox_status bvox__mesh_tally_reserve(bvox__mesh_tally *t, int64_t ntriangles);
+/* Room for a slab's ncur half-edges counted at its end and ncarry carried
+ * to the next slab (both ends in the seam), before it is handed over, so
+ * that a slab too large for the budget fails before anything is written. */
+bvox_status bvox__mesh_tally_reserve(bvox__mesh_tally *t, int64_t ncur, int64_t ncarry);
 bvox_status bvox__mesh_tally_slab_done(bvox__mesh_tally *t, bool last);
 bvox_status bvox__mesh_tally_finish(bvox__mesh_tally *t, bvox_mesh_info *info);
 void bvox__mesh_tally_release(bvox__mesh_tally *t); /* NULL accepted */
@@ -136,8 +140,10 @@ bvox_status bvox__stream_mesh(const bvox__slab_source *src, bvox_mesh **out);
 /* The same into the file path (format as bvox_mesh_write's, NULL: by the
  * extension; ascii for STL and PLY), written as it is made (mesh_sink.h):
  * atomic, nothing left on failure. info (NULL: not wanted) gets what
- * bvox_mesh_measure would say of the mesh. */
+ * bvox_mesh_measure would say of the mesh, the edge counts and watertight
+ * only with edges. */
 bvox_status bvox__stream_mesh_write(const bvox__slab_source *src, const char *path,
-                                    const char *format, int ascii, bvox_mesh_info *info);
+                                    const char *format, int ascii, bvox_mesh_info *info,
+                                    bool edges);
 
 #endif /* BVOX_STREAM_STREAM_H */

@@ -85,10 +85,12 @@ static int64_t seam_get(const seam *s, const double p[3])
     return s->n ? s->slot[seam_find(s, p)].g1 - 1 : -1;
 }
 
-static bvox_status seam_put(seam *s, const double p[3], int64_t g)
+/* Room for n entries in all (so that seam_put does not allocate). */
+static bvox_status seam_reserve(seam *s, size_t n)
 {
-    if ((s->n + 1) * 2 > s->cap) {
-        size_t cap = s->cap ? s->cap * 2 : 1 << 12;
+    if ((n + 1) * 2 > s->cap) {
+        size_t cap = s->cap ? s->cap : 1 << 12;
+        while ((n + 1) * 2 > cap) cap *= 2;
         bvox_status st;
         seam_slot *slot = bvox__alloc(cap * sizeof *slot, true, "mesh seam", &st);
         if (!slot) return st;
@@ -99,6 +101,13 @@ static bvox_status seam_put(seam *s, const double p[3], int64_t g)
             if (old.slot[i].g1) s->slot[seam_find(s, old.slot[i].p)] = old.slot[i];
         seam_release(&old); /* s->n stays */
     }
+    return BVOX_OK;
+}
+
+static bvox_status seam_put(seam *s, const double p[3], int64_t g)
+{
+    bvox_status st = seam_reserve(s, s->n + 1);
+    if (st) return st;
     size_t h = seam_find(s, p);
     if (!s->slot[h].g1) {
         memcpy(s->slot[h].p, p, sizeof s->slot[h].p);
@@ -171,6 +180,32 @@ static bvox_status hand_on(run *r, const bvox_mesh *part, int64_t *map, int32_t 
     return st;
 }
 
+/* Room, before anything of the slab is handed on, for what handing it on
+ * adds: its vertices in the seam plane z1 - 1 and the edges of its kept
+ * triangles (not those of the caps the slab's mesh has where it is cut). */
+static bvox_status reserve(run *r, const bvox_mesh *part, int32_t r0, int32_t z0, int32_t z1)
+{
+    const int32_t nz = r->src->dims.nz;
+    /* the seam plane in the slab's z (none above the last slab) */
+    const double top = z1 < nz ? z1 - 1 - r0 : -2;
+    int64_t ntop = 0;
+    for (int64_t i = 0; i < part->nvertices; i++) ntop += part->vertices[3 * i + 2] == top;
+    bvox_status st = seam_reserve(&r->above, (size_t)ntop);
+    if (st || !r->tally) return st;
+    int64_t ncur = 0, ncarry = 0;
+    for (int64_t k = 0; k < part->ntriangles; k++) {
+        if (!owned(part, k, r0, z0, z1, nz)) continue;
+        const int32_t *t = &part->triangles[3 * k];
+        for (int i = 0; i < 3; i++) {
+            bool both = part->vertices[3 * t[i] + 2] == top &&
+                        part->vertices[3 * t[(i + 1) % 3] + 2] == top;
+            ncarry += both;
+            ncur += !both;
+        }
+    }
+    return bvox__mesh_tally_reserve(r->tally, ncur, ncarry);
+}
+
 /* Mesh slices z0..z1-1's cells and hand them on. BVOX_ETOOBIG before
  * anything was handed on means: try a thinner slab. */
 static bvox_status slab(run *r, int32_t z0, int32_t z1, bool *handed)
@@ -190,7 +225,7 @@ static bvox_status slab(run *r, int32_t z0, int32_t z1, bool *handed)
     bvox_volume_destroy(v);
     size_t map_bytes = (size_t)(part && part->nvertices ? part->nvertices : 1) * sizeof(int64_t);
     int64_t *map = st ? NULL : bvox__alloc(map_bytes, false, "mesh vertex map", &st);
-    if (!st && r->tally) st = bvox__mesh_tally_reserve(r->tally, part->ntriangles);
+    if (!st) st = reserve(r, part, r0, z0, z1);
     if (!st) {
         memset(map, 0xff, map_bytes); /* -1 */
         *handed = true;
@@ -281,13 +316,14 @@ static bvox_status file_triangle(void *ctx, const int64_t idx[3], const double *
 }
 
 bvox_status bvox__stream_mesh_write(const bvox__slab_source *src, const char *path,
-                                    const char *format, int ascii, bvox_mesh_info *info)
+                                    const char *format, int ascii, bvox_mesh_info *info,
+                                    bool edges)
 {
     bvox__mesh_sink *sink = NULL;
     bvox_status st = bvox__mesh_sink_open(path, format, ascii, &sink);
     if (st) return st;
     bvox__mesh_tally *tally = NULL;
-    if (info) st = bvox__mesh_tally_begin(src, &tally);
+    if (info) st = bvox__mesh_tally_begin(src, edges, &tally);
     bvox__mesh_emit e = {file_vertex, file_triangle, sink, BVOX__MESH_SINK_BYTES};
     if (!st) st = bvox__stream_mesh_emit(src, &e, tally);
     if (!st && info) st = bvox__mesh_tally_finish(tally, info);

@@ -34,6 +34,7 @@ struct bvox__mesh_tally {
     bvox_mesh_info info;
     double o[3];
     double vol, area;
+    bool want_edges;
     edges cur, carry; /* counted at the slab's end / carried to the next slab */
 };
 
@@ -43,11 +44,12 @@ static void edges_release(edges *a)
     memset(a, 0, sizeof *a);
 }
 
-static bvox_status edges_grow(edges *a, size_t want)
+static bvox_status edges_grow(edges *a, size_t want, bool exact)
 {
     if (want > a->cap) {
         size_t cap = a->cap ? a->cap : 1 << 12;
         while (cap < want) cap *= 2;
+        if (exact) cap = want;
         bvox_status st;
         half_edge *e = bvox__alloc(cap * sizeof *e, false, "mesh edge tally", &st);
         if (!e) return st;
@@ -64,7 +66,7 @@ static bvox_status edges_grow(edges *a, size_t want)
 static bvox_status edges_push(edges *a, int64_t u, int64_t v)
 {
     if (a->n == a->cap) {
-        bvox_status st = edges_grow(a, a->n + 1);
+        bvox_status st = edges_grow(a, a->n + 1, false);
         if (st) return st;
     }
     half_edge *h = &a->e[a->n++];
@@ -81,10 +83,12 @@ static int cmp_edge(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-bvox_status bvox__mesh_tally_begin(const bvox__slab_source *src, bvox__mesh_tally **out)
+bvox_status bvox__mesh_tally_begin(const bvox__slab_source *src, bool want_edges,
+                                   bvox__mesh_tally **out)
 {
     *out = bvox__mem_zalloc(1, sizeof **out);
     if (!*out) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    (*out)->want_edges = want_edges;
     const int32_t n[3] = {src->dims.nx, src->dims.ny, src->dims.nz};
     for (int k = 0; k < 3; k++)
         (*out)->o[k] = src->geom.origin[k] + src->geom.spacing[k] * 0.5 * (double)n[k];
@@ -114,7 +118,7 @@ bvox_status bvox__mesh_tally_triangle(bvox__mesh_tally *t, const int64_t idx[3],
     double ux = bx - ax, uy = by - ay, uz = bz - az, wx = cx - ax, wy = cy - ay, wz = cz - az;
     double nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
     t->area += 0.5 * sqrt(nx * nx + ny * ny + nz * nz);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; t->want_edges && k < 3; k++) {
         int l = (k + 1) % 3;
         edges *to = top[k] && top[l] ? &t->carry : &t->cur;
         bvox_status st = edges_push(to, idx[k], idx[l]);
@@ -123,9 +127,11 @@ bvox_status bvox__mesh_tally_triangle(bvox__mesh_tally *t, const int64_t idx[3],
     return BVOX_OK;
 }
 
-bvox_status bvox__mesh_tally_reserve(bvox__mesh_tally *t, int64_t ntriangles)
+bvox_status bvox__mesh_tally_reserve(bvox__mesh_tally *t, int64_t ncur, int64_t ncarry)
 {
-    return edges_grow(&t->cur, t->cur.n + 3 * (size_t)ntriangles);
+    if (!t->want_edges) return BVOX_OK;
+    bvox_status st = edges_grow(&t->cur, t->cur.n + (size_t)ncur, true);
+    return st ? st : edges_grow(&t->carry, t->carry.n + (size_t)ncarry, true);
 }
 
 bvox_status bvox__mesh_tally_slab_done(bvox__mesh_tally *t, bool last)
@@ -157,7 +163,7 @@ bvox_status bvox__mesh_tally_finish(bvox__mesh_tally *t, bvox_mesh_info *info)
     *info = t->info;
     info->volume = t->vol / 6.0;
     info->area = t->area;
-    info->watertight = info->triangles > 0 && info->boundary_edges == 0 &&
+    info->watertight = t->want_edges && info->triangles > 0 && info->boundary_edges == 0 &&
                        info->nonmanifold_edges == 0 && info->degenerate_triangles == 0;
     return BVOX_OK;
 }

@@ -150,7 +150,7 @@ TEST(file_equals_in_memory_every_format)
         for (size_t cp = 0; cp < sizeof caps / sizeof caps[0]; cp++) {
             bvox__stream_set_depth_cap(caps[cp]);
             bvox_mesh_info gi;
-            CHECK_OK(bvox__stream_mesh_write(&src, ps, NULL, formats[f].ascii, &gi));
+            CHECK_OK(bvox__stream_mesh_write(&src, ps, NULL, formats[f].ascii, &gi, true));
             if (same_mesh_files(pm, ps)) {
                 fprintf(stderr, "%s, slabs of %d\n", str, caps[cp]);
                 return 1;
@@ -199,7 +199,7 @@ TEST(seam_vertices_written_once)
     CHECK_OK(bvox__slab_source_memory(v, &src));
     const char *p = harness_path("seam.ply");
     bvox__stream_set_depth_cap(1);
-    CHECK_OK(bvox__stream_mesh_write(&src, p, NULL, 0, NULL));
+    CHECK_OK(bvox__stream_mesh_write(&src, p, NULL, 0, NULL, false));
     bvox__stream_set_depth_cap(0);
     bvox_mesh *m;
     CHECK_OK(bvox_mesh_read(p, NULL, &m));
@@ -232,7 +232,7 @@ TEST(mesh_over_budget_streams)
     CHECK_STATUS(bvox_mesh_from_volume(v, NULL, &m), BVOX_ETOOBIG);
     const char *p = harness_path("big.ply");
     bvox_mesh_info gi;
-    bvox_status st = bvox__stream_mesh_write(&src, p, NULL, 0, &gi);
+    bvox_status st = bvox__stream_mesh_write(&src, p, NULL, 0, &gi, true);
     bvox_set_memory_budget(old);
     CHECK_OK(st);
     CHECK_OK(bvox_mesh_from_volume(v, NULL, &m));
@@ -260,7 +260,7 @@ TEST(failures_leave_nothing)
     size_t base = bvox_memory_in_use();
     for (long n = 1; n <= 3; n++) { /* the faces, the vertices, the faces appended */
         bvox__sink_fail_after(n);
-        bvox_status st = bvox__stream_mesh_write(&src, p, NULL, 1, NULL);
+        bvox_status st = bvox__stream_mesh_write(&src, p, NULL, 1, NULL, false);
         bvox__sink_fail_after(0);
         CHECK_STATUS(st, BVOX_EIO);
         CHECK_EQ(harness_count_entries(harness_tmpdir()), 0);
@@ -270,7 +270,7 @@ TEST(failures_leave_nothing)
     int done = 0;
     for (long n = 1; !done && n < 100000; n++) {
         bvox__alloc_fail_after(n);
-        bvox_status st = bvox__stream_mesh_write(&src, p, "off", 0, &mi);
+        bvox_status st = bvox__stream_mesh_write(&src, p, "off", 0, &mi, true);
         done = bvox__alloc_fail_pending() > 0;
         bvox__alloc_fail_after(0);
         if (done) {
@@ -295,7 +295,7 @@ TEST(unknown_format_refused)
     bvox_volume *v = specimen(10, 10, 10);
     bvox__slab_source src;
     CHECK_OK(bvox__slab_source_memory(v, &src));
-    CHECK_STATUS(bvox__stream_mesh_write(&src, harness_path("x.vtk"), NULL, 0, NULL),
+    CHECK_STATUS(bvox__stream_mesh_write(&src, harness_path("x.vtk"), NULL, 0, NULL, false),
                  BVOX_EINVAL);
     CHECK(strstr(bvox_errmsg(), "x.vtk") != NULL);
     CHECK_EQ(harness_count_entries(harness_tmpdir()), 0);
