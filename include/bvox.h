@@ -1199,6 +1199,12 @@ BVOX_API bvox_status bvox_normal_cache_create(size_t entries, bvox_normal_cache 
 /* Forget every entry: call it when the volume's voxels change (a volume of
  * other dimensions, or another radius, clears the cache by itself). */
 BVOX_API void bvox_normal_cache_clear(bvox_normal_cache *cache);
+/* Forget only what an edit inside `box` (voxel indices, upper bounds
+ * exclusive) can change: the voxels whose smooth ball reaches into it. An
+ * editor calls this after a brush stroke instead of clearing everything, so
+ * the next frame recomputes a few thousand moments, not the whole view's.
+ * A NULL cache or box, or an empty box, does nothing. */
+BVOX_API void bvox_normal_cache_clear_box(bvox_normal_cache *cache, const bvox_box *box);
 BVOX_API void bvox_normal_cache_destroy(bvox_normal_cache *cache);
 /* bvox_shade_codes_volume through cache (NULL: none): the same codes, the
  * smooth mode's moments taken from the cache and added to it. One call at a

@@ -62,13 +62,15 @@ static bvox_status set_disp_center(vw_state *s)
 
 static bvox_status update_display(vw_state *s)
 {
-    bvox_normal_cache_clear(s->normals); /* the displayed voxels change */
-    /* only edits inside a known box, no cut: update the surface in place */
+    /* only edits inside a known box, no cut: update the surface in place,
+     * and forget only the smooth normals the edit can reach */
     if (s->dirty_state == 1 && !s->cut && s->surf && !s->surf_of_cut &&
         bvox_surface_update(s->surf, s->model, s->dirty) == BVOX_OK) {
         s->dirty_state = 0;
+        bvox_normal_cache_clear_box(s->normals, &s->dirty);
         return set_disp_center(s);
     }
+    bvox_normal_cache_clear(s->normals); /* the displayed voxels change */
     s->dirty_state = 0;
     bvox_volume_destroy(s->cut_copy);
     s->cut_copy = NULL;

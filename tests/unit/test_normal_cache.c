@@ -4,8 +4,12 @@
  * nearest voxel), at every smooth radius, after the volume's voxels change
  * and the caller clears it, for a volume of other dimensions (it rebinds by
  * itself) and for a long one (keys of many bits in the smallest cache); and
- * both are the bins of the per-pixel normals (bvox_preimage_normals). */
+ * both are the bins of the per-pixel normals (bvox_preimage_normals). After
+ * an edit, clearing only the edited box (grown by the radius) is enough: the
+ * codes equal the uncached ones, while a cache left as it was does not, and
+ * entries far from the box are kept. */
 #include "harness.h"
+#include "render/normal_cache.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -105,6 +109,70 @@ TEST(cached_codes_equal_uncached)
     bvox_normal_cache_destroy(NULL);
     bvox_normal_cache_clear(NULL);
     CHECK_STATUS(bvox_normal_cache_create(0, NULL), BVOX_EINVAL);
+    bvox_volume_destroy(v);
+    return 0;
+}
+
+/* Entries of the cache that hold a voxel (valid bit set). */
+static long valid_entries(const bvox_normal_cache *c)
+{
+    long n = 0;
+    for (size_t i = 0; i < ((size_t)1 << c->slot_bits); i++)
+        n += (atomic_load_explicit(&c->slot[i], memory_order_relaxed) >> 63) != 0;
+    return n;
+}
+
+TEST(clear_box_forgets_what_an_edit_reaches)
+{
+    bvox_volume *v = sphere(48, 19.5);
+    CHECK(v != NULL);
+    bvox_normal_cache *kept = NULL, *boxed = NULL;
+    CHECK_OK(bvox_normal_cache_create(1 << 18, &kept)); /* big: no collisions */
+    CHECK_OK(bvox_normal_cache_create(1 << 18, &boxed));
+    long hits = 0;
+    for (int r = 1; r <= 3; r++) {
+        bvox_normal_cache_clear(kept), bvox_normal_cache_clear(boxed);
+        for (int k = 0; k < 12; k++) { /* warm both with a whole turn */
+            CHECK_EQ(compare_view(v, kept, 30 * k, 1.7, r, &hits), 0);
+            CHECK_EQ(compare_view(v, boxed, 30 * k, 1.7, r, &hits), 0);
+        }
+        long before = valid_entries(boxed);
+        /* a brush-like edit: a small block dug out of the surface at +x */
+        bvox_box e = {38, 20, 20, 44, 27, 27};
+        bvox_volume_fill_box(v, e, 0);
+        bvox_normal_cache_clear_box(boxed, &e);
+        long after = valid_entries(boxed);
+        /* far entries kept, near ones forgotten: at most the bricks of the
+         * box grown by r (here 4 x 4 x 4 of them at r = 3), 64 slots each */
+        CHECK(after < before);
+        CHECK(before - after <= 4L * 4 * 4 * 64);
+        long stale = 0;
+        for (int k = 0; k < 12; k++) {
+            CHECK_EQ(compare_view(v, boxed, 30 * k, 1.7, r, &hits), 0);
+            long d = compare_view(v, kept, 30 * k, 1.7, r, &hits);
+            CHECK(d >= 0);
+            stale += d;
+        }
+        CHECK(stale > 0); /* the test sees stale entries when they are kept */
+        bvox_volume_fill_box(v, e, 1); /* restore, then forget again */
+        bvox_normal_cache_clear_box(boxed, &e);
+        for (int k = 0; k < 12; k += 3) CHECK_EQ(compare_view(v, boxed, 30 * k, 1.7, r, &hits), 0);
+    }
+    /* edits at the volume's faces and corners (the cache holds -1 .. n) */
+    bvox_box corner = {0, 0, 0, 3, 3, 3}, face = {45, 0, 10, 48, 48, 20}, empty = {5, 5, 5, 5, 9, 9};
+    bvox_normal_cache_clear_box(boxed, &corner);
+    bvox_normal_cache_clear_box(boxed, &face);
+    long n0 = valid_entries(boxed);
+    bvox_normal_cache_clear_box(boxed, &empty); /* empty: nothing forgotten */
+    CHECK_EQ(valid_entries(boxed), n0);
+    bvox_box far = {1000, 1000, 1000, 1010, 1010, 1010};
+    bvox_normal_cache_clear_box(boxed, &far); /* outside the volume */
+    CHECK_EQ(valid_entries(boxed), n0);
+    CHECK_EQ(compare_view(v, boxed, 45, 1.7, 3, &hits), 0);
+    bvox_normal_cache_clear_box(NULL, &corner);
+    bvox_normal_cache_clear_box(boxed, NULL);
+    bvox_normal_cache_destroy(kept);
+    bvox_normal_cache_destroy(boxed);
     bvox_volume_destroy(v);
     return 0;
 }
