@@ -138,7 +138,7 @@ bvox_status bvox__mesh_tally_slab_done(bvox__mesh_tally *t, bool last)
 {
     (void)last; /* the last slab carries nothing: no seam above it */
     edges *c = &t->cur;
-    qsort(c->e, c->n, sizeof *c->e, cmp_edge);
+    if (c->n) qsort(c->e, c->n, sizeof *c->e, cmp_edge);
     for (size_t s = 0; s < c->n;) {
         size_t r = s + 1;
         while (r < c->n && !cmp_edge(&c->e[r], &c->e[s])) r++;
