@@ -3,6 +3,8 @@
  * options, bvox_mesh_from_volume (marching cubes or cuberille, optional
  * Taubin smoothing), bvox_mesh_write in the format OUT's extension names
  * (STL, PLY, OBJ, OFF; binary unless --ascii). Prints one summary line.
+ * A .zarr over --max-memory is meshed by slabs and written as it goes
+ * (bvox__stream_mesh_write): the whole mesh is never in memory.
  * With --labels, a label volume becomes one mesh per label in a folder, or
  * one .ply/.obj file with a coloured object per label (cli/mesh_labels.c).
  */
@@ -171,8 +173,16 @@ int cmd_mesh(int argc, char **argv)
             bvox__slab_source_close(&src);
             return cli_ooc_refuse(cmd, in, what);
         }
-        st = bvox__stream_mesh(&src, &m);
+        /* written slab by slab as it is made: the mesh is never held whole */
+        bvox_mesh_info mi;
+        st = bvox__stream_mesh_write(&src, out, fmt, a.ascii, &mi, a.json);
         bvox__slab_source_close(&src);
+        if (st) return cli_fail();
+        if (a.json) print_json(&mi, in, out, fmt ? fmt : bvox_mesh_format_for_path(out), &mo);
+        else
+            printf("%s: %lld vertices, %lld triangles (marching cubes)\n", out,
+                   (long long)mi.vertices, (long long)mi.triangles);
+        return CLI_OK;
     } else {
         bvox_volume *vol = NULL;
         if (cli_read_volume(in, &a.ra, &vol)) return cli_fail();

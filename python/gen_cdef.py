@@ -65,6 +65,9 @@ FUNCS += "bvox_measure_part bvox_measure_from_sums".split()
 FUNCS += ["bvox_render_objects"]
 # bvox.dask: labels of a chunk's faces only (no whole label array)
 FUNCS += ["bvox_components_labels_box"]
+# bvox.dask.mesh(path=...): a mesh file written row of chunks by row
+PROLOGUE += "typedef struct bvox_mesh_writer bvox_mesh_writer;\n"
+FUNCS += "bvox_mesh_writer_open bvox_mesh_writer_add bvox_mesh_writer_counts bvox_mesh_writer_close".split()
 
 
 def generate():

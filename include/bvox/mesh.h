@@ -109,6 +109,35 @@ BVOX_API const char *bvox_mesh_format_for_path(const char *path);
 BVOX_API bvox_status bvox_mesh_write(const char *path, const bvox_mesh *mesh, const char *format,
                                      int ascii);
 
+/* A mesh file written piece by piece, for a mesh too large to hold at once
+ * (e.g. one row of chunks after another): the same formats and records as
+ * bvox_mesh_write, the counts the header needs filled in at the end (PLY,
+ * OBJ and OFF headers are padded with spaces where readers ignore them;
+ * PLY's and OFF's faces wait in a temporary file beside path until the
+ * end). Atomic: the file appears at close(commit) or not at all.
+ * open: format NULL: by path's extension; BVOX_EINVAL, BVOX_EIO,
+ * BVOX_ENOTFOUND. *out is released by bvox_mesh_writer_close only.
+ * add: a piece of nvertices vertices (x, y, z each) and ntriangles
+ * triangles (indices into the piece). global[i] (NULL: all -1) is the index
+ * in the file of piece vertex i when an earlier piece wrote it (a vertex
+ * two pieces share), or -1: written now, taking the next index in piece
+ * order. BVOX_EINVAL for a bad index (nothing of the piece written),
+ * BVOX_ETOOBIG past the format's indices (PLY: 2^31 vertices; binary STL
+ * 2^32 - 1 triangles), BVOX_EIO.
+ * close: commit != 0 completes the file and renames it into place (after an
+ * earlier failure it fails); 0 removes everything. Frees w (NULL accepted).
+ * A writer is used by one thread at a time. */
+typedef struct bvox_mesh_writer bvox_mesh_writer;
+BVOX_API bvox_status bvox_mesh_writer_open(const char *path, const char *format, int ascii,
+                                           bvox_mesh_writer **out);
+BVOX_API bvox_status bvox_mesh_writer_add(bvox_mesh_writer *w, const double *vertices,
+                                          int64_t nvertices, const int64_t *global,
+                                          const int32_t *triangles, int64_t ntriangles);
+/* Vertices and triangles written so far. */
+BVOX_API void bvox_mesh_writer_counts(const bvox_mesh_writer *w, int64_t *nvertices,
+                                      int64_t *ntriangles);
+BVOX_API bvox_status bvox_mesh_writer_close(bvox_mesh_writer *w, int commit);
+
 /* ------------------------------------------------------- mesh -> volume */
 
 typedef struct bvox_voxelize_opts {

@@ -4,6 +4,7 @@ typedef struct bvox_volume bvox_volume;
 typedef struct bvox_components bvox_components;
 typedef struct bvox_preimage bvox_preimage;
 typedef int (*bvox_csg_loader)(void *ctx, const char *name, bvox_volume **out);
+typedef struct bvox_mesh_writer bvox_mesh_writer;
 
 typedef enum bvox_status {
     BVOX_OK = 0,
@@ -510,3 +511,7 @@ bvox_status bvox_measure_part(const bvox_volume *part, const int32_t core[3], co
 bvox_status bvox_measure_from_sums(const bvox_measure_sums *sums, const bvox_geometry *geom, bvox_measures *out);
 bvox_status bvox_render_objects(const bvox_volume *const *vols, const uint8_t (*colors)[3], int n, const bvox_render_opts *opts, bvox_image **out);
 bvox_status bvox_components_labels_box(const bvox_components *comps, bvox_box box, uint32_t *dst);
+bvox_status bvox_mesh_writer_open(const char *path, const char *format, int ascii, bvox_mesh_writer **out);
+bvox_status bvox_mesh_writer_add(bvox_mesh_writer *w, const double *vertices, int64_t nvertices, const int64_t *global, const int32_t *triangles, int64_t ntriangles);
+void bvox_mesh_writer_counts(const bvox_mesh_writer *w, int64_t *nvertices, int64_t *ntriangles);
+bvox_status bvox_mesh_writer_close(bvox_mesh_writer *w, int commit);

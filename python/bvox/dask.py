@@ -33,16 +33,19 @@ joined here:
 - csg: chunk by chunk;
 - mesh: marching cubes per chunk with a one-voxel halo on each side, each
   cell kept by the one chunk whose core holds its upper corner plane, and
-  vertices welded by position: the triangles of the in-memory mesh.
+  vertices welded by position: the triangles of the in-memory mesh. With
+  path=, written to a file one row of chunks along z at a time (welded
+  against the previous row's top plane), never held whole.
 """
 import math
+import os
 
 import numpy as np
 
 import dask
 import dask.array as da
 
-from ._lib import check, ffi, lib
+from ._lib import check, cstr, ffi, lib
 from ._volume import Volume, _conn
 
 __all__ = ["count", "measure", "components", "dilate", "erode", "dilate_ball", "erode_ball",
@@ -697,29 +700,87 @@ def _mesh_block(block, off, core0, core1, last, shape):
     return _vkey(g[used], shape), inv.reshape(-1, 3).astype(np.int32)
 
 
-def mesh(arr, spacing=None, origin=None):
-    """(vertices, faces) of the marching-cubes surface of the whole array,
-    meshed chunk by chunk and welded: the same triangles (up to order) as
-    Volume.mesh("mc") of a volume with that spacing and origin, and a closed
-    surface across chunk borders. The weld (one sort of the chunks' vertex
-    keys) and the mesh are on the client."""
-    arr = _check3(arr)
-    starts, grid = _starts(arr.chunks), _grid(arr)
+def _mesh_tasks(arr, starts, grid, idxs):
     tasks = []
-    for idx in np.ndindex(*grid):
+    for idx in idxs:
         blk, off = _halo_block(arr, starts, idx, 1, 1)
         core0 = [int(starts[a][idx[a]]) for a in range(3)]
         core1 = [int(starts[a][idx[a] + 1]) for a in range(3)]
         last = [idx[a] == grid[a] - 1 for a in range(3)]
         tasks.append(dask.delayed(_mesh_block, pure=True)(blk, off, core0, core1, last,
                                                           arr.shape))
-    parts = dask.compute(*tasks)
+    return tasks
+
+
+def _weld(parts, shape, spacing, origin):
+    """The chunks' parts welded by key: sorted unique keys, their positions,
+    and the faces as indices into them."""
     keys = np.concatenate([p[0] for p in parts])
     base = np.concatenate([[0], np.cumsum([len(p[0]) for p in parts])])
     faces = np.concatenate([p[1].astype(np.int64) + b for p, b in zip(parts, base)])
     uniq, inv = np.unique(keys, return_inverse=True)
-    my, mz = 2 * arr.shape[1] + 4, 2 * arr.shape[2] + 4
+    my, mz = 2 * shape[1] + 4, 2 * shape[2] + 4
     g2 = np.stack([uniq // (my * mz) - 2, uniq // mz % my - 2, uniq % mz - 2], axis=1)
     g = _geometry(spacing, None, origin)[0]
     verts = g2.astype(np.float64) / 2.0 * np.array(list(g.spacing)) + np.array(list(g.origin))
-    return verts, inv[faces].astype(np.int32)
+    return uniq, g2, verts, inv.reshape(-1)[faces].astype(np.int32)
+
+
+def mesh(arr, spacing=None, origin=None, path=None, format=None, ascii=False):
+    """(vertices, faces) of the marching-cubes surface of the whole array,
+    meshed chunk by chunk and welded: the same triangles (up to order) as
+    Volume.mesh("mc") of a volume with that spacing and origin, and a closed
+    surface across chunk borders. The weld (one sort of the chunks' vertex
+    keys) and the mesh are on the client.
+
+    With path, the mesh goes to that file instead (STL, PLY, OBJ or OFF by
+    the extension unless format; ascii for STL and PLY) and is never held
+    whole: the rows of chunks along z are computed one after the other,
+    each row welded within itself and against the vertices the row before
+    left in their shared plane, written, and forgotten. The client holds one
+    row's meshes. The file appears complete or not at all. Returns
+    (number of vertices, number of triangles)."""
+    arr = _check3(arr)
+    starts, grid = _starts(arr.chunks), _grid(arr)
+    if path is None:
+        parts = dask.compute(*_mesh_tasks(arr, starts, grid, np.ndindex(*grid)))
+        _, _, verts, faces = _weld(parts, arr.shape, spacing, origin)
+        return verts, faces
+    out = ffi.new("bvox_mesh_writer **")
+    check(lib.bvox_mesh_writer_open(os.fsencode(path), cstr(format) if format else ffi.NULL,
+                                    1 if ascii else 0, out))
+    w, commit = out[0], 0
+    try:
+        seam_keys, seam_g = np.zeros(0, np.int64), np.zeros(0, np.int64)
+        nv = 0
+        for kz in range(grid[2]):
+            idxs = [(i, j, kz) for i in range(grid[0]) for j in range(grid[1])]
+            parts = dask.compute(*_mesh_tasks(arr, starts, grid, idxs))
+            uniq, g2, verts, faces = _weld(parts, arr.shape, spacing, origin)
+            del parts
+            z0, z1 = int(starts[2][kz]), int(starts[2][kz + 1])
+            # the row's vertices in the plane z0 - 1 were written by the row below
+            glob = np.full(len(uniq), -1, dtype=np.int64)
+            low = np.nonzero(g2[:, 2] == 2 * (z0 - 1))[0]
+            if len(low) and len(seam_keys):
+                pos = np.minimum(np.searchsorted(seam_keys, uniq[low]), len(seam_keys) - 1)
+                hit = seam_keys[pos] == uniq[low]
+                glob[low[hit]] = seam_g[pos[hit]]
+            new = glob < 0
+            given = glob.copy()  # the file's index of every row vertex
+            given[new] = nv + np.arange(int(new.sum()), dtype=np.int64)
+            check(lib.bvox_mesh_writer_add(
+                w, ffi.from_buffer("double[]", np.ascontiguousarray(verts)), len(verts),
+                ffi.from_buffer("int64_t[]", glob), ffi.from_buffer("int32_t[]", faces),
+                len(faces)))
+            nv += int(new.sum())
+            top = g2[:, 2] == 2 * (z1 - 1)  # shared with the next row
+            seam_keys, seam_g = uniq[top], given[top]
+        counts = ffi.new("int64_t[2]")
+        lib.bvox_mesh_writer_counts(w, counts, counts + 1)
+        result = (int(counts[0]), int(counts[1]))
+        commit = 1
+    finally:
+        st = lib.bvox_mesh_writer_close(w, commit)
+    check(st)
+    return result

@@ -182,6 +182,41 @@ def test_mesh(client):
         assert info["boundary_edges"] == 0
 
 
+@pytest.mark.parametrize("ext,ascii", [("ply", False), ("ply", True), ("stl", False),
+                                       ("obj", False), ("off", False)])
+def test_mesh_to_file(client, tmp_path, ext, ascii):
+    """path=: written row of chunks by row, the same file content (up to
+    order) as the in-memory mesh written whole; z chunks of 25 and 13 so
+    that rows meet inside objects and at odd planes."""
+    s = structured()[10:80, 60:120, 40:140]
+    spacing, origin = (0.5, 1.0, 2.0), (3.0, -1.0, 0.5)
+    v0, f0 = bvox.Volume.from_numpy(s, spacing=spacing, origin=origin).mesh("mc")
+    want = str(tmp_path / ("want." + ext))
+    bvox.write_mesh(want, v0, f0, ascii=ascii)
+    wv, wf = bvox.read_mesh(want)
+    for chunks in ((27, 40, 25), (70, 60, 13)):
+        got = str(tmp_path / ("got." + ext))
+        n = bd.mesh(da.from_array(s, chunks=chunks), spacing=spacing, origin=origin, path=got,
+                    ascii=ascii)
+        assert n == (len(v0), len(f0))
+        gv, gf = bvox.read_mesh(got)
+        assert len(gv) == len(wv) and len(gf) == len(wf)
+        assert _triangle_set(gv, gf) == _triangle_set(wv, wf)
+        info = bvox.mesh_info(gv, gf)
+        assert info["watertight"] and info["inconsistent_edges"] == 0
+    # only the two files: the faces' temporary file is gone
+    assert sorted(os.listdir(tmp_path)) == sorted(["want." + ext, "got." + ext])
+
+
+def test_mesh_to_file_failure_leaves_nothing(client, tmp_path):
+    s = structured()[10:40, 60:90, 40:80]
+    with pytest.raises(ValueError):
+        bd.mesh(da.from_array(s, chunks=(15, 15, 20)), path=str(tmp_path / "x.vtk"))
+    with pytest.raises(bvox.Error):
+        bd.mesh(da.from_array(s, chunks=(15, 15, 20)), path=str(tmp_path / "no" / "x.ply"))
+    assert os.listdir(tmp_path) == []
+
+
 def test_from_zarr(client, tmp_path):
     zarr = pytest.importorskip("zarr")
     s = structured()

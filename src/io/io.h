@@ -114,6 +114,9 @@ bvox_status bvox__sink_compress(bvox__sink *s, int mode);
 bvox_status bvox__sink_commit(bvox__sink *s);
 /* Close and remove the temporary file; releases s. Safe after a failed open. */
 void bvox__sink_abort(bvox__sink *s);
+/* Overwrite size bytes at offset of what was written (an uncompressed sink):
+ * a header whose counts are known only at the end (streamed meshes). */
+bvox_status bvox__sink_pwrite(bvox__sink *s, uint64_t offset, const void *data, size_t size);
 /* Test hook: make the n-th following bvox__sink_write fail (1: the next). */
 void bvox__sink_fail_after(long n);
 /* Test hook: how many times a folder was fsync'ed after a rename into it. */

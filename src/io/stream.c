@@ -456,6 +456,23 @@ bvox_status bvox__sink_commit(bvox__sink *s)
     return st;
 }
 
+bvox_status bvox__sink_pwrite(bvox__sink *s, uint64_t offset, const void *data, size_t size)
+{
+    if (s->failed) return s->status;
+    if (s->gz) return bvox__fail(BVOX_EINVAL, "%s: cannot overwrite compressed output", s->name);
+    if (fflush(s->file) != 0) return write_failed(s);
+    const uint8_t *p = data;
+    while (size) {
+        ssize_t k = pwrite(fileno(s->file), p, size, (off_t)offset);
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0) return write_failed(s);
+        p += k;
+        offset += (uint64_t)k;
+        size -= (size_t)k;
+    }
+    return BVOX_OK;
+}
+
 void bvox__sink_abort(bvox__sink *s)
 {
     if (s->file) {

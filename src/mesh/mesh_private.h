@@ -227,7 +227,32 @@ void bvox__mesh_out_printf(bvox__mesh_out *o, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 void bvox__mesh_out_le32(bvox__mesh_out *o, uint32_t v);
 void bvox__mesh_out_f64(bvox__mesh_out *o, double d);
+/* Hand the buffered bytes to the sink (errors kept in st). */
+void bvox__mesh_out_flush(bvox__mesh_out *o);
 /* Flush and commit (commit false, or an earlier failure: remove); frees. */
 bvox_status bvox__mesh_out_close(bvox__mesh_out *o, bool commit);
+
+/* ---- the formats one element at a time (mesh_write.c), shared by
+ * bvox_mesh_write and the streamed writer (mesh_sink.c). kind: 0 STL,
+ * 1 PLY, 2 OBJ, 3 OFF (bvox__mesh_format_kind: from format, else path's
+ * extension; BVOX_EINVAL naming what is wrong). ---- */
+bvox_status bvox__mesh_format_kind(const char *path, const char *format, int *kind);
+void bvox__mesh_out_stl_header(bvox__mesh_out *o, uint32_t ntriangles, int ascii);
+void bvox__mesh_out_stl_triangle(bvox__mesh_out *o, const double *const p[3], int ascii);
+/* PLY's (ascii or binary) and OFF's (ascii) vertex and face records. */
+void bvox__mesh_out_vertex(bvox__mesh_out *o, const double *p, int ascii);
+void bvox__mesh_out_face(bvox__mesh_out *o, int64_t a, int64_t b, int64_t c, int ascii);
+void bvox__mesh_out_obj_vertex(bvox__mesh_out *o, const double *p);
+void bvox__mesh_out_obj_face(bvox__mesh_out *o, int64_t a, int64_t b, int64_t c);
+/* The header of PLY, OBJ (its first comment line) or OFF (kind 1, 2, 3)
+ * for nv vertices and nt triangles into buf, with pad spaces (at most
+ * BVOX__MESH_HEADER_PAD) where readers ignore them: the end of PLY's
+ * comment, OBJ's comment, OFF's count line. A streamed file reserves the
+ * header with the widest counts and writes the real one, padded to the same
+ * length, at the end. Returns the length (snprintf's). */
+#define BVOX__MESH_HEADER_PAD 64
+#define BVOX__MESH_HEADER_MAX 512
+int bvox__mesh_header(char *buf, size_t size, int kind, int64_t nv, int64_t nt, int ascii,
+                      size_t pad);
 
 #endif

@@ -18,7 +18,7 @@
 #define BLOCK BVOX__MESH_OUT_BLOCK
 typedef bvox__mesh_out out;
 
-static void flush(out *o)
+void bvox__mesh_out_flush(out *o)
 {
     if (o->n && !o->st) o->st = bvox__sink_write(&o->sink, o->buf, o->n);
     o->n = 0;
@@ -26,7 +26,7 @@ static void flush(out *o)
 
 void bvox__mesh_out_put(out *o, const void *p, size_t n)
 {
-    if (o->n + n > BLOCK) flush(o);
+    if (o->n + n > BLOCK) bvox__mesh_out_flush(o);
     memcpy(o->buf + o->n, p, n);
     o->n += n;
 }
@@ -34,7 +34,7 @@ void bvox__mesh_out_put(out *o, const void *p, size_t n)
 
 void bvox__mesh_out_printf(out *o, const char *fmt, ...)
 {
-    if (o->n + 256 > BLOCK) flush(o);
+    if (o->n + 256 > BLOCK) bvox__mesh_out_flush(o);
     va_list ap;
     va_start(ap, fmt);
     int k = vsnprintf(o->buf + o->n, BLOCK - o->n, fmt, ap);
@@ -80,7 +80,7 @@ bvox_status bvox__mesh_out_open(out *o, const char *path)
 
 bvox_status bvox__mesh_out_close(out *o, bool commit)
 {
-    flush(o);
+    bvox__mesh_out_flush(o);
     bvox__free(o->buf, BLOCK);
     o->buf = NULL;
     if (o->st || !commit) {
@@ -90,11 +90,9 @@ bvox_status bvox__mesh_out_close(out *o, bool commit)
     return bvox__sink_commit(&o->sink);
 }
 
-static void normal(const bvox_mesh *m, int64_t t, double n[3])
+/* The unit normal of triangle a b c (zeros when degenerate). */
+static void normal(const double *a, const double *b, const double *c, double n[3])
 {
-    const double *a = m->vertices + 3 * m->triangles[3 * t],
-                 *b = m->vertices + 3 * m->triangles[3 * t + 1],
-                 *c = m->vertices + 3 * m->triangles[3 * t + 2];
     double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     n[0] = u[1] * w[2] - u[2] * w[1];
@@ -104,93 +102,133 @@ static void normal(const bvox_mesh *m, int64_t t, double n[3])
     for (int k = 0; k < 3; k++) n[k] = l > 0 ? n[k] / l : 0;
 }
 
-static void write_stl(out *o, const bvox_mesh *m, int ascii)
+/* ---- one element at a time: what the whole-mesh writers below and the
+ * streamed writer (mesh_sink.c) both write ---- */
+
+void bvox__mesh_out_stl_triangle(out *o, const double *const p[3], int ascii)
+{
+    double n[3];
+    normal(p[0], p[1], p[2], n);
+    if (ascii) {
+        putf(o, "  facet normal %.9g %.9g %.9g\n    outer loop\n", n[0], n[1], n[2]);
+        for (int k = 0; k < 3; k++)
+            putf(o, "      vertex %.9g %.9g %.9g\n", (double)(float)p[k][0],
+                 (double)(float)p[k][1], (double)(float)p[k][2]);
+        putf(o, "    endloop\n  endfacet\n");
+        return;
+    }
+    for (int k = 0; k < 3; k++) put_f32(o, (float)n[k]);
+    for (int k = 0; k < 3; k++)
+        for (int j = 0; j < 3; j++) put_f32(o, (float)p[k][j]);
+    uint8_t attr[2] = {0, 0};
+    put(o, attr, 2);
+}
+
+void bvox__mesh_out_stl_header(out *o, uint32_t ntriangles, int ascii)
 {
     if (ascii) {
         putf(o, "solid bvox\n");
-        for (int64_t t = 0; t < m->ntriangles; t++) {
-            double n[3];
-            normal(m, t, n);
-            putf(o, "  facet normal %.9g %.9g %.9g\n    outer loop\n", n[0], n[1], n[2]);
-            for (int k = 0; k < 3; k++) {
-                const double *p = m->vertices + 3 * m->triangles[3 * t + k];
-                putf(o, "      vertex %.9g %.9g %.9g\n", (double)(float)p[0], (double)(float)p[1],
-                     (double)(float)p[2]);
-            }
-            putf(o, "    endloop\n  endfacet\n");
-        }
-        putf(o, "endsolid bvox\n");
         return;
     }
     char header[80];
     memset(header, 0, sizeof header);
     snprintf(header, sizeof header, "binary STL written by bvox %s", bvox_version());
     put(o, header, 80);
-    put_le32(o, (uint32_t)m->ntriangles);
-    for (int64_t t = 0; t < m->ntriangles; t++) {
-        double n[3];
-        normal(m, t, n);
-        for (int k = 0; k < 3; k++) put_f32(o, (float)n[k]);
-        for (int k = 0; k < 3; k++) {
-            const double *p = m->vertices + 3 * m->triangles[3 * t + k];
-            for (int j = 0; j < 3; j++) put_f32(o, (float)p[j]);
-        }
-        uint8_t attr[2] = {0, 0};
-        put(o, attr, 2);
+    put_le32(o, ntriangles);
+}
+
+/* "x y z" of PLY (ASCII) and OFF, or PLY's three little-endian doubles. */
+void bvox__mesh_out_vertex(out *o, const double *p, int ascii)
+{
+    if (ascii) putf(o, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    else
+        for (int k = 0; k < 3; k++) put_f64(o, p[k]);
+}
+
+/* "3 a b c" of PLY (ASCII) and OFF, or PLY's binary list of int. */
+void bvox__mesh_out_face(out *o, int64_t a, int64_t b, int64_t c, int ascii)
+{
+    if (ascii) {
+        putf(o, "3 %lld %lld %lld\n", (long long)a, (long long)b, (long long)c);
+        return;
+    }
+    uint8_t three = 3;
+    put(o, &three, 1);
+    put_le32(o, (uint32_t)a);
+    put_le32(o, (uint32_t)b);
+    put_le32(o, (uint32_t)c);
+}
+
+int bvox__mesh_header(char *buf, size_t size, int kind, int64_t nv, int64_t nt, int ascii,
+                      size_t pad)
+{
+    char sp[BVOX__MESH_HEADER_PAD + 1];
+    if (pad > BVOX__MESH_HEADER_PAD) pad = BVOX__MESH_HEADER_PAD;
+    memset(sp, ' ', pad);
+    sp[pad] = 0;
+    switch (kind) {
+    case 1:
+        return snprintf(buf, size,
+                        "ply\nformat %s 1.0\ncomment written by bvox %s%s\nelement vertex %lld\n"
+                        "property double x\nproperty double y\nproperty double z\n"
+                        "element face %lld\nproperty list uchar int vertex_indices\nend_header\n",
+                        ascii ? "ascii" : "binary_little_endian", bvox_version(), sp,
+                        (long long)nv, (long long)nt);
+    case 2:
+        return snprintf(buf, size, "# written by bvox %s: %lld vertices, %lld triangles%s\n",
+                        bvox_version(), (long long)nv, (long long)nt, sp);
+    default:
+        return snprintf(buf, size, "OFF\n%lld %lld 0%s\n", (long long)nv, (long long)nt, sp);
     }
 }
 
-static void write_ply(out *o, const bvox_mesh *m, int ascii)
+static void put_header(out *o, int kind, const bvox_mesh *m, int ascii)
 {
-    putf(o,
-         "ply\nformat %s 1.0\ncomment written by bvox %s\nelement vertex %lld\n"
-         "property double x\nproperty double y\nproperty double z\nelement face %lld\n"
-         "property list uchar int vertex_indices\nend_header\n",
-         ascii ? "ascii" : "binary_little_endian", bvox_version(), (long long)m->nvertices,
-         (long long)m->ntriangles);
-    for (int64_t v = 0; v < m->nvertices; v++) {
-        const double *p = m->vertices + 3 * v;
-        if (ascii) putf(o, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
-        else
-            for (int k = 0; k < 3; k++) put_f64(o, p[k]);
+    char h[BVOX__MESH_HEADER_MAX];
+    int n = bvox__mesh_header(h, sizeof h, kind, m->nvertices, m->ntriangles, ascii, 0);
+    put(o, h, (size_t)n);
+}
+
+static void write_stl(out *o, const bvox_mesh *m, int ascii)
+{
+    bvox__mesh_out_stl_header(o, (uint32_t)m->ntriangles, ascii);
+    for (int64_t t = 0; t < m->ntriangles; t++) {
+        const double *p[3];
+        for (int k = 0; k < 3; k++) p[k] = m->vertices + 3 * m->triangles[3 * t + k];
+        bvox__mesh_out_stl_triangle(o, p, ascii);
     }
+    if (ascii) putf(o, "endsolid bvox\n");
+}
+
+/* PLY (kind 1) and OFF (kind 3, always text): header, vertices, faces. */
+static void write_ply_off(out *o, const bvox_mesh *m, int kind, int ascii)
+{
+    put_header(o, kind, m, ascii);
+    for (int64_t v = 0; v < m->nvertices; v++) bvox__mesh_out_vertex(o, m->vertices + 3 * v, ascii);
     for (int64_t t = 0; t < m->ntriangles; t++) {
         const int32_t *tr = m->triangles + 3 * t;
-        if (ascii) {
-            putf(o, "3 %d %d %d\n", tr[0], tr[1], tr[2]);
-        } else {
-            uint8_t three = 3;
-            put(o, &three, 1);
-            for (int k = 0; k < 3; k++) put_le32(o, (uint32_t)tr[k]);
-        }
+        bvox__mesh_out_face(o, tr[0], tr[1], tr[2], ascii);
     }
+}
+
+void bvox__mesh_out_obj_vertex(out *o, const double *p)
+{
+    putf(o, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+}
+
+/* a, b, c 0-based */
+void bvox__mesh_out_obj_face(out *o, int64_t a, int64_t b, int64_t c)
+{
+    putf(o, "f %lld %lld %lld\n", (long long)a + 1, (long long)b + 1, (long long)c + 1);
 }
 
 static void write_obj(out *o, const bvox_mesh *m)
 {
-    putf(o, "# written by bvox %s: %lld vertices, %lld triangles\n", bvox_version(),
-         (long long)m->nvertices, (long long)m->ntriangles);
-    for (int64_t v = 0; v < m->nvertices; v++) {
-        const double *p = m->vertices + 3 * v;
-        putf(o, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
-    }
+    put_header(o, 2, m, 0);
+    for (int64_t v = 0; v < m->nvertices; v++) bvox__mesh_out_obj_vertex(o, m->vertices + 3 * v);
     for (int64_t t = 0; t < m->ntriangles; t++) {
         const int32_t *tr = m->triangles + 3 * t;
-        putf(o, "f %lld %lld %lld\n", (long long)tr[0] + 1, (long long)tr[1] + 1,
-             (long long)tr[2] + 1);
-    }
-}
-
-static void write_off(out *o, const bvox_mesh *m)
-{
-    putf(o, "OFF\n%lld %lld 0\n", (long long)m->nvertices, (long long)m->ntriangles);
-    for (int64_t v = 0; v < m->nvertices; v++) {
-        const double *p = m->vertices + 3 * v;
-        putf(o, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
-    }
-    for (int64_t t = 0; t < m->ntriangles; t++) {
-        const int32_t *tr = m->triangles + 3 * t;
-        putf(o, "3 %d %d %d\n", tr[0], tr[1], tr[2]);
+        bvox__mesh_out_obj_face(o, tr[0], tr[1], tr[2]);
     }
 }
 
@@ -235,21 +273,29 @@ static int64_t shared_positions(const bvox_mesh *m)
     return n;
 }
 
-bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *format, int ascii)
+bvox_status bvox__mesh_format_kind(const char *path, const char *format, int *kind)
 {
-    BVOX_CHECK_MESH(m);
-    bvox__clear_error();
-    if (!path || !m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_write: NULL argument");
     const char *f = format ? format : bvox_mesh_format_for_path(path);
     if (!f)
         return bvox__fail(BVOX_EINVAL,
                           "%s: cannot tell the mesh format from the name (use .stl, .ply, "
                           ".obj or .off)",
                           path);
-    int kind = !strcmp(f, "stl") ? 0 : !strcmp(f, "ply") ? 1 : !strcmp(f, "obj") ? 2
+    *kind = !strcmp(f, "stl") ? 0 : !strcmp(f, "ply") ? 1 : !strcmp(f, "obj") ? 2
              : !strcmp(f, "off") ? 3 : -1;
-    if (kind < 0)
+    if (*kind < 0)
         return bvox__fail(BVOX_EINVAL, "unknown mesh format '%s' (stl, ply, obj, off)", f);
+    return BVOX_OK;
+}
+
+bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *format, int ascii)
+{
+    BVOX_CHECK_MESH(m);
+    bvox__clear_error();
+    if (!path || !m) return bvox__fail(BVOX_EINVAL, "bvox_mesh_write: NULL argument");
+    int kind;
+    bvox_status st = bvox__mesh_format_kind(path, format, &kind);
+    if (st) return st;
     if (kind == 0 && m->ntriangles > UINT32_MAX)
         return bvox__fail(BVOX_ETOOBIG, "%s: too many triangles for STL", path);
     for (int64_t i = 0; i < 3 * m->ntriangles; i++)
@@ -264,13 +310,13 @@ bvox_status bvox_mesh_write(const char *path, const bvox_mesh *m, const char *fo
                        path, (long long)shared);
     }
     out o;
-    bvox_status st = bvox__mesh_out_open(&o, path);
+    st = bvox__mesh_out_open(&o, path);
     if (st) return st;
     switch (kind) {
     case 0: write_stl(&o, m, ascii); break;
-    case 1: write_ply(&o, m, ascii); break;
+    case 1: write_ply_off(&o, m, 1, ascii); break;
     case 2: write_obj(&o, m); break;
-    default: write_off(&o, m); break;
+    default: write_ply_off(&o, m, 3, 1); break;
     }
     return bvox__mesh_out_close(&o, true);
 }

@@ -15,7 +15,9 @@
  *   stream_map.c      morphology and CSG: each slab with the halo the
  *                     operation reaches, cut back to its core, written out;
  *   stream_mesh.c     marching cubes: each cell's triangles from one slab,
- *                     vertices welded across the seams.
+ *                     vertices welded across the seams, handed on (to a
+ *                     file) slab by slab; stream_mesh_info.c measures the
+ *                     mesh as it passes.
  */
 #ifndef BVOX_STREAM_STREAM_H
 #define BVOX_STREAM_STREAM_H
@@ -90,11 +92,58 @@ bvox_status bvox__stream_morph(const bvox__slab_source *src, bvox__stream_morph_
 bvox_status bvox__stream_csg(const bvox__slab_source *a, const bvox__slab_source *b,
                              bvox_csg_op op, bvox__slab_sink *sink);
 
+/* ---- stream_mesh_info.c ---- */
+
+/* bvox_mesh_measure's answers for a mesh handed over slab by slab: each
+ * vertex once, each triangle with its vertices' positions and whether each
+ * lies in the slab's top seam plane (shared with the next slab); then the
+ * end of each slab. The volume is summed from the centre of the volume's
+ * box (not the mesh's): equal but for rounding. */
+typedef struct bvox__mesh_tally bvox__mesh_tally;
+/* edges false: no edge counts (edges, boundary, nonmanifold, inconsistent
+ * and watertight stay 0), which cost 48 bytes per triangle of a slab. */
+bvox_status bvox__mesh_tally_begin(const bvox__slab_source *src, bool edges,
+                                   bvox__mesh_tally **out);
+void bvox__mesh_tally_vertex(bvox__mesh_tally *t, const double p[3]);
+bvox_status bvox__mesh_tally_triangle(bvox__mesh_tally *t, const int64_t idx[3],
+                                      const double *const p[3], const bool top[3]);
+/* Room for a slab's ncur half-edges counted at its end and ncarry carried
+ * to the next slab (both ends in the seam), before it is handed over, so
+ * that a slab too large for the budget fails before anything is written. */
+bvox_status bvox__mesh_tally_reserve(bvox__mesh_tally *t, int64_t ncur, int64_t ncarry);
+bvox_status bvox__mesh_tally_slab_done(bvox__mesh_tally *t, bool last);
+bvox_status bvox__mesh_tally_finish(bvox__mesh_tally *t, bvox_mesh_info *info);
+void bvox__mesh_tally_release(bvox__mesh_tally *t); /* NULL accepted */
+
 /* ---- stream_mesh.c ---- */
 
+/* Where the slabs' vertices and triangles go, in order: vertex i is the
+ * i-th vertex handed on; a triangle refers to vertices handed on before it
+ * and comes with their positions. */
+typedef struct bvox__mesh_emit {
+    bvox_status (*vertex)(void *ctx, const double p[3]);
+    bvox_status (*triangle)(void *ctx, const int64_t idx[3], const double *const p[3]);
+    void *ctx;
+    size_t bytes; /* what it holds of the budget (buffers), for the slab depth */
+} bvox__mesh_emit;
+
 /* The marching-cubes mesh of the source (bvox_mesh_from_volume with the
- * default options), slab by slab: the same triangles and vertices as in
- * memory, up to their order. Needs the identity direction. */
+ * default options), slab by slab, handed to emit as each slab is done (and
+ * to tally when not NULL): the same triangles and vertices as in memory, up
+ * to their order. Holds one slab's mesh and one seam's vertices; a slab
+ * whose mesh is over the budget is retried thinner. Needs the identity
+ * direction. */
+bvox_status bvox__stream_mesh_emit(const bvox__slab_source *src, const bvox__mesh_emit *emit,
+                                   bvox__mesh_tally *tally);
+/* The same into a mesh in memory. */
 bvox_status bvox__stream_mesh(const bvox__slab_source *src, bvox_mesh **out);
+/* The same into the file path (format as bvox_mesh_write's, NULL: by the
+ * extension; ascii for STL and PLY), written as it is made (mesh_sink.h):
+ * atomic, nothing left on failure. info (NULL: not wanted) gets what
+ * bvox_mesh_measure would say of the mesh, the edge counts and watertight
+ * only with edges. */
+bvox_status bvox__stream_mesh_write(const bvox__slab_source *src, const char *path,
+                                    const char *format, int ascii, bvox_mesh_info *info,
+                                    bool edges);
 
 #endif /* BVOX_STREAM_STREAM_H */
