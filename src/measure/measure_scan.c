@@ -37,7 +37,7 @@
  * starts, P(m) = sum_{z<m} z^k in closed form, so a run costs two terms
  * however long it is, and starts/ends are found 64 at a time.
  */
-#include "measure/measure.h"
+#include "measure/measure_scan.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -45,9 +45,6 @@
 #if defined(__x86_64__) && defined(__GNUC__)
 #define HAVE_POPCNT_CLONE 1
 #endif
-
-typedef void (*cells_fn)(const uint64_t *A, const uint64_t *B, const uint64_t *C,
-                         const uint64_t *D, size_t wpc, bool extra, bvox__scan *s);
 
 typedef void (*moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
                            bvox__scan *s);
@@ -57,65 +54,63 @@ typedef struct scan_job {
     const uint64_t *zero; /* a zero column standing for columns outside */
     int64_t nblocks;
     bvox__scan *parts;    /* one per block, reduced in block order */
-    cells_fn cells;
+    bvox__cells_row_fn cells;
     moments_fn moments;
 } scan_job;
 
-/* The windows of one vertex column. extra: nz is a multiple of 64, so the
- * top vertex z = nz lies in one more word (hi = 0, lo = the top voxel).
- * hw: use the POPCNT instruction (only inlined into a clone built for it). */
+/* The windows of one vertex row, a word of 4 columns at a time (the
+ * portable reference of the vector kernels). hw: use the POPCNT
+ * instruction (only inlined into a clone built for it). */
 static inline __attribute__((always_inline)) void
-cells_body(const uint64_t *A, const uint64_t *B, const uint64_t *C, const uint64_t *D, size_t wpc,
-           bool extra, bvox__scan *s, bool hw)
+cells_body(const uint64_t *prev, const uint64_t *cur, size_t nx, size_t wpc, bool extra,
+           const uint64_t *zero, bvox__scan *s, bool hw)
 {
-#define pc(w) ((int64_t)(hw ? (unsigned)__builtin_popcountll(w) : bvox__popcount64(w)))
-    uint64_t ca = 0, cb = 0, cc = 0, cd = 0; /* top bits of the previous words */
     int64_t eul = 0, t[BVOX__NDIR] = {0};
     size_t nw = wpc + (extra ? 1 : 0);
-    for (size_t k = 0; k < nw; k++) {
-        uint64_t ah = 0, bh = 0, ch = 0, dh = 0;
-        if (k < wpc) ah = A[k], bh = B[k], ch = C[k], dh = D[k];
-        uint64_t al = (ah << 1) | ca, bl = (bh << 1) | cb, cl = (ch << 1) | cc, dl = (dh << 1) | cd;
-        ca = ah >> 63, cb = bh >> 63, cc = ch >> 63, cd = dh >> 63;
-        uint64_t any = ah | bh | ch | dh | al | bl | cl | dl;
-        if (!any || (ah & bh & ch & dh & al & bl & cl & dl) == ~0ull) continue;
-        eul += pc(any)                                                       /* V */
-               - pc(ah | bh | ch | dh) - pc(bh | bl | dh | dl) - pc(ch | cl | dh | dl) /* E */
-               + pc(dl | dh) + pc(ch | dh) + pc(bh | dh)                    /* F */
-               - pc(dh);                                                     /* C */
-        t[BVOX__DIR_X] += pc(ch ^ dh);
-        t[BVOX__DIR_Y] += pc(bh ^ dh);
-        t[BVOX__DIR_Z] += pc(dl ^ dh);
-        t[BVOX__DIR_XY] += pc(ah ^ dh) + pc(bh ^ ch);
-        t[BVOX__DIR_XZ] += pc(cl ^ dh) + pc(ch ^ dl);
-        t[BVOX__DIR_YZ] += pc(bl ^ dh) + pc(bh ^ dl);
-        t[BVOX__DIR_XYZ] += pc(al ^ dh) + pc(bl ^ ch) + pc(cl ^ bh) + pc(dl ^ ah);
+    for (size_t x = 0; x <= nx; x++) {
+        const uint64_t *col[4];
+        bvox__cells_cols(prev, cur, x, nx, wpc, zero, col);
+        const uint64_t *A = col[0], *B = col[1], *C = col[2], *D = col[3];
+        uint64_t ca = 0, cb = 0, cc = 0, cd = 0; /* top bits of the previous words */
+        for (size_t k = 0; k < nw; k++) {
+            uint64_t ah = 0, bh = 0, ch = 0, dh = 0;
+            if (k < wpc) ah = A[k], bh = B[k], ch = C[k], dh = D[k];
+            uint64_t al = (ah << 1) | ca, bl = (bh << 1) | cb, cl = (ch << 1) | cc,
+                     dl = (dh << 1) | cd;
+            ca = ah >> 63, cb = bh >> 63, cc = ch >> 63, cd = dh >> 63;
+            bvox__cells_word(ah, bh, ch, dh, al, bl, cl, dl, &eul, t, hw);
+        }
     }
     s->euler += eul;
     for (int i = 0; i < BVOX__NDIR; i++) s->trans[i] += t[i];
-#undef pc
 }
 
-static void cells_generic(const uint64_t *A, const uint64_t *B, const uint64_t *C,
-                          const uint64_t *D, size_t wpc, bool extra, bvox__scan *s)
+static void cells_generic(const uint64_t *prev, const uint64_t *cur, size_t nx, size_t wpc,
+                          bool extra, const uint64_t *zero, bvox__scan *s)
 {
-    cells_body(A, B, C, D, wpc, extra, s, false);
+    cells_body(prev, cur, nx, wpc, extra, zero, s, false);
 }
 
 #ifdef HAVE_POPCNT_CLONE
 __attribute__((target("popcnt"))) static void
-cells_popcnt(const uint64_t *A, const uint64_t *B, const uint64_t *C, const uint64_t *D,
-             size_t wpc, bool extra, bvox__scan *s)
+cells_popcnt(const uint64_t *prev, const uint64_t *cur, size_t nx, size_t wpc, bool extra,
+             const uint64_t *zero, bvox__scan *s)
 {
-    cells_body(A, B, C, D, wpc, extra, s, true);
+    cells_body(prev, cur, nx, wpc, extra, zero, s, true);
 }
 #endif
 
-static cells_fn choose_cells(void)
+static bvox__cells_row_fn choose_cells(void)
 {
 #ifdef HAVE_POPCNT_CLONE
-    if (bvox_simd_active() != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt"))
-        return cells_popcnt;
+    bvox_simd level = bvox_simd_active();
+    /* the flags cmake/simd.cmake gives *_avx512.c files */
+    if (level >= BVOX_SIMD_AVX512 && bvox__cells_row_avx512 &&
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vpopcntdq") &&
+        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
+        return bvox__cells_row_avx512;
+    if (level != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt")) return cells_popcnt;
 #endif
     return cells_generic;
 }
@@ -217,14 +212,10 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
         for (int64_t y = rows * b / j->nblocks; y < rows * (b + 1) / j->nblocks; y++) {
             const uint64_t *prev = y > 0 ? v->words + (size_t)(y - 1) * nx * wpc : NULL;
             const uint64_t *cur = y < v->ny ? v->words + (size_t)y * nx * wpc : NULL;
-            for (size_t x = 0; x <= nx; x++) {
-                const uint64_t *A = prev && x > 0 ? prev + (x - 1) * wpc : j->zero;
-                const uint64_t *B = prev && x < nx ? prev + x * wpc : j->zero;
-                const uint64_t *C = cur && x > 0 ? cur + (x - 1) * wpc : j->zero;
-                const uint64_t *D = cur && x < nx ? cur + x * wpc : j->zero;
-                j->cells(A, B, C, D, wpc, extra, s);
-                if (D != j->zero) j->moments(D, wpc, (int32_t)x, (int32_t)y, s);
-            }
+            j->cells(prev, cur, nx, wpc, extra, j->zero, s);
+            if (cur)
+                for (size_t x = 0; x < nx; x++)
+                    j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
         }
     }
 }
@@ -241,7 +232,7 @@ bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out)
         free(parts);
         return bvox__fail(BVOX_ENOMEM, "out of memory measuring a volume");
     }
-    cells_fn cells = choose_cells();
+    bvox__cells_row_fn cells = choose_cells();
     moments_fn moments = moments_generic;
 #ifdef HAVE_POPCNT_CLONE
     if (cells != cells_generic) moments = moments_popcnt;

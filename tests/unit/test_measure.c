@@ -455,7 +455,8 @@ TEST(threads_deterministic)
     return 0;
 }
 
-/* The POPCNT clone of the scan kernel against the portable one. */
+/* Every SIMD level this CPU runs (the POPCNT clone under avx2, the vector
+ * scan kernel under avx512) against the portable path, the whole measure. */
 TEST(simd_paths_agree)
 {
     voxref *r = voxref_create(37, 29, 129);
@@ -463,22 +464,136 @@ TEST(simd_paths_agree)
     bvox_volume *v = voxref_to_volume(r);
     voxref_destroy(r);
     bvox_simd saved = bvox_simd_active();
+    const bvox_simd levels[] = {BVOX_SIMD_AVX2, BVOX_SIMD_AVX512, BVOX_SIMD_AUTO};
     bvox_measures a, b;
     CHECK_OK(bvox_simd_set(BVOX_SIMD_GENERIC));
     CHECK_OK(bvox_measure(v, &a));
-    CHECK_OK(bvox_simd_set(BVOX_SIMD_AUTO));
-    CHECK_OK(bvox_measure(v, &b));
+    for (int l = 0; l < 3; l++) {
+        if (!bvox_simd_supported(levels[l])) continue;
+        CHECK_OK(bvox_simd_set(levels[l]));
+        CHECK_OK(bvox_measure(v, &b));
+        CHECK_EQ(a.euler, b.euler);
+        for (int i = 0; i < 3; i++) CHECK_EQ(a.faces[i], b.faces[i]);
+        CHECK(a.area == b.area);
+        /* the moments (run or popcount sums per word) and the topology too */
+        CHECK(memcmp(a.centroid, b.centroid, sizeof a.centroid) == 0);
+        CHECK(memcmp(a.covariance, b.covariance, sizeof a.covariance) == 0);
+        CHECK_EQ(a.components, b.components);
+        CHECK_EQ(a.cavities, b.cavities);
+        CHECK_EQ(a.cavities_26, b.cavities_26);
+    }
     CHECK_OK(bvox_simd_set(saved));
-    CHECK_EQ(a.euler, b.euler);
-    for (int i = 0; i < 3; i++) CHECK_EQ(a.faces[i], b.faces[i]);
-    CHECK(a.area == b.area);
-    /* the moments (run or popcount sums per word) and the topology too */
-    CHECK(memcmp(a.centroid, b.centroid, sizeof a.centroid) == 0);
-    CHECK(memcmp(a.covariance, b.covariance, sizeof a.covariance) == 0);
-    CHECK_EQ(a.components, b.components);
-    CHECK_EQ(a.cavities, b.cavities);
-    CHECK_EQ(a.cavities_26, b.cavities_26);
     bvox_volume_destroy(v);
+    return 0;
+}
+
+/* Every integer of two scans. */
+static int scans_equal(const bvox__scan *a, const bvox__scan *b)
+{
+    CHECK_EQ(a->count, b->count);
+    CHECK_EQ(a->euler, b->euler);
+    for (int i = 0; i < BVOX__NDIR; i++) CHECK_EQ(a->trans[i], b->trans[i]);
+    for (int i = 0; i < 3; i++) CHECK(a->s[i] == b->s[i]);
+    for (int i = 0; i < 6; i++) CHECK(a->ss[i] == b->ss[i]);
+    if (a->count) CHECK(memcmp(a->bbox, b->bbox, sizeof a->bbox) == 0);
+    return 0;
+}
+
+/* Scans the volume at every supported level; all must equal the generic
+ * scan, and that one (when r is given) the per-voxel reference's Euler
+ * number and transitions, so a mistake shared by the kernels cannot hide. */
+static int scan_levels_agree(const voxref *r, const bvox_volume *v)
+{
+    const bvox_simd levels[] = {BVOX_SIMD_AVX2, BVOX_SIMD_AVX512};
+    bvox_simd saved = bvox_simd_active();
+    bvox__scan g, o;
+    CHECK_OK(bvox_simd_set(BVOX_SIMD_GENERIC));
+    CHECK_OK(bvox__measure_scan(v, &g));
+    if (r) {
+        measref ref;
+        measref_compute(r, (const double[3]){1, 1, 1}, &ref);
+        CHECK_EQ(g.euler, ref.euler);
+        for (int c = 0; c < BVOX__NDIR; c++) CHECK_EQ(g.trans[c], ref.trans[c]);
+        CHECK_EQ(g.count, ref.count);
+    }
+    for (int l = 0; l < 2; l++) {
+        if (!bvox_simd_supported(levels[l])) continue;
+        CHECK_OK(bvox_simd_set(levels[l]));
+        CHECK_OK(bvox__measure_scan(v, &o));
+        if (scans_equal(&g, &o)) {
+            fprintf(stderr, "  level %s\n", bvox_simd_name(levels[l]));
+            bvox_simd_set(saved);
+            return 1;
+        }
+    }
+    CHECK_OK(bvox_simd_set(saved));
+    return 0;
+}
+
+/* The scan kernels' raw sums on random densities 0.01..0.99 at awkward
+ * sizes: nz < 64, nz a multiple of 64 (the extra top word) and not, wpc
+ * below, at and past the AVX-512 kernel's 8 words, thin and odd shapes. */
+TEST(scan_kernels_agree)
+{
+    static const int shapes[][3] = {{1, 1, 1},   {1, 1, 64},  {2, 1, 63},  {3, 2, 5},
+                                    {5, 7, 64},  {4, 3, 128}, {3, 4, 511}, {2, 3, 512},
+                                    {3, 2, 513}, {1, 9, 576}, {9, 1, 600}, {6, 5, 1024},
+                                    {2, 2, 1100}, {13, 11, 65}, {1, 1, 1088}};
+    const unsigned dens[] = {1, 10, 30, 50, 70, 90, 99}; /* of 100 */
+    for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
+        for (int d = 0; d < 7; d++) {
+            const int *sh = shapes[i];
+            voxref *r = voxref_create(sh[0], sh[1], sh[2]);
+            voxref_random(r, dens[d], 100, harness_rand);
+            bvox_volume *v = voxref_to_volume(r);
+            CHECK(v);
+            if (scan_levels_agree(r, v)) {
+                fprintf(stderr, "  size %dx%dx%d density %u/100\n", sh[0], sh[1], sh[2],
+                        dens[d]);
+                return 1;
+            }
+            bvox_volume_destroy(v);
+            voxref_destroy(r);
+        }
+    /* uniform words beside mixed ones: solid slabs, full and empty columns,
+     * a full volume (every group skipped but the borders) */
+    voxref *r = voxref_create(7, 6, 640);
+    voxref_fill_box(r, (bvox_box){0, 0, 0, 7, 6, 640}, 1);
+    bvox_volume *v = voxref_to_volume(r);
+    CHECK(!scan_levels_agree(r, v));
+    bvox_volume_destroy(v);
+    voxref_fill_box(r, (bvox_box){1, 1, 64, 6, 5, 577}, 0);
+    voxref_fill_box(r, (bvox_box){2, 2, 100, 4, 4, 300}, 1);
+    for (int k = 0; k < 200; k++)
+        *voxref_at(r, (int)(harness_rand() % 7), (int)(harness_rand() % 6),
+                   (int)(harness_rand() % 640)) ^= 1;
+    v = voxref_to_volume(r);
+    CHECK(!scan_levels_agree(r, v));
+    bvox_volume_destroy(v);
+    voxref_destroy(r);
+    return 0;
+}
+
+/* The AAL atlas (91 x 109 x 91: two words a column, against the reference)
+ * and the same shifted up in z into 512 and 600 voxels (8 words and the
+ * extra top word; 10 words), kernels against each other. */
+TEST(realdata_aal_scan_kernels_agree)
+{
+    bvox_volume *v = NULL;
+    bvox_read_opts ro = BVOX_READ_OPTS_INIT;
+    CHECK_OK(bvox_read("/usr/share/mricron/templates/aal.nii.gz", &ro, &v));
+    voxref *r = voxref_from_volume(v);
+    CHECK(!scan_levels_agree(r, v));
+    bvox_volume_destroy(v);
+    const int before[2][3] = {{0, 0, 400}, {0, 0, 7}}, after[2][3] = {{0, 0, 21}, {0, 0, 502}};
+    for (int i = 0; i < 2; i++) {
+        voxref *p = voxref_pad(r, before[i], after[i]);
+        v = voxref_to_volume(p);
+        CHECK(!scan_levels_agree(NULL, v));
+        bvox_volume_destroy(v);
+        voxref_destroy(p);
+    }
+    voxref_destroy(r);
     return 0;
 }
 

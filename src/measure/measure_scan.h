@@ -1,0 +1,59 @@
+/*
+ * measure_scan.h — the cells kernels of the measure scan (measure_scan.c,
+ * measure_scan_avx512.c): one row of vertex columns at a time, so that a
+ * vector kernel reduces its accumulators once per row, not once per column.
+ * The window geometry and the formulas are documented in measure_scan.c.
+ */
+#ifndef BVOX_MEASURE_SCAN_H
+#define BVOX_MEASURE_SCAN_H
+
+#include "measure/measure.h"
+
+/* Adds the Euler number and the transitions of the vertex row between voxel
+ * rows prev (y - 1) and cur (y) to s; either may be NULL (outside the
+ * volume). nx + 1 vertex columns; zero is a zero column of wpc words.
+ * extra: nz is a multiple of 64, so the top vertex z = nz lies in one more
+ * word (hi = 0, lo = the top voxel). */
+typedef void (*bvox__cells_row_fn)(const uint64_t *prev, const uint64_t *cur, size_t nx,
+                                   size_t wpc, bool extra, const uint64_t *zero, bvox__scan *s);
+
+/* The AVX-512 (F, BW, VL, VPOPCNTDQ) kernel, NULL where the build has none;
+ * the caller checks the CPU. */
+extern const bvox__cells_row_fn bvox__cells_row_avx512;
+
+/* The four voxel columns a = (x-1, y-1), b = (x, y-1), c = (x-1, y),
+ * d = (x, y) of vertex column x, zero where outside. */
+static inline void bvox__cells_cols(const uint64_t *prev, const uint64_t *cur, size_t x, size_t nx,
+                                    size_t wpc, const uint64_t *zero, const uint64_t *col[4])
+{
+    col[0] = prev && x > 0 ? prev + (x - 1) * wpc : zero;
+    col[1] = prev && x < nx ? prev + x * wpc : zero;
+    col[2] = cur && x > 0 ? cur + (x - 1) * wpc : zero;
+    col[3] = cur && x < nx ? cur + x * wpc : zero;
+}
+
+/* The 64 windows of one word: hi words ah..dh, lo words al..dl. Uniform
+ * windows (all 0 or all 1) add nothing, so all-uniform words are skipped.
+ * hw: use the POPCNT instruction (only inlined into code built for it). */
+static inline __attribute__((always_inline)) void
+bvox__cells_word(uint64_t ah, uint64_t bh, uint64_t ch, uint64_t dh, uint64_t al, uint64_t bl,
+                 uint64_t cl, uint64_t dl, int64_t *eul, int64_t t[BVOX__NDIR], bool hw)
+{
+#define pc(w) ((int64_t)(hw ? (unsigned)__builtin_popcountll(w) : bvox__popcount64(w)))
+    uint64_t any = ah | bh | ch | dh | al | bl | cl | dl;
+    if (!any || (ah & bh & ch & dh & al & bl & cl & dl) == ~0ull) return;
+    *eul += pc(any)                                                          /* V */
+            - pc(ah | bh | ch | dh) - pc(bh | bl | dh | dl) - pc(ch | cl | dh | dl) /* E */
+            + pc(dl | dh) + pc(ch | dh) + pc(bh | dh)                       /* F */
+            - pc(dh);                                                        /* C */
+    t[BVOX__DIR_X] += pc(ch ^ dh);
+    t[BVOX__DIR_Y] += pc(bh ^ dh);
+    t[BVOX__DIR_Z] += pc(dl ^ dh);
+    t[BVOX__DIR_XY] += pc(ah ^ dh) + pc(bh ^ ch);
+    t[BVOX__DIR_XZ] += pc(cl ^ dh) + pc(ch ^ dl);
+    t[BVOX__DIR_YZ] += pc(bl ^ dh) + pc(bh ^ dl);
+    t[BVOX__DIR_XYZ] += pc(al ^ dh) + pc(bl ^ ch) + pc(cl ^ bh) + pc(dl ^ ah);
+#undef pc
+}
+
+#endif
