@@ -28,9 +28,11 @@
  * whose 64 windows are all uniform (the inside and outside of an object) are
  * skipped after one OR and one AND.
  *
- * The popcounts dominate; on x86-64 a clone of the kernel compiled for the
- * POPCNT instruction is used unless BVOX_SIMD=generic (the portable one stays
- * the reference, and the tests compare the two).
+ * The popcounts dominate. On x86-64 BVOX_SIMD=avx512 (the default on CPUs
+ * with AVX512F/BW/VL and VPOPCNTDQ) uses measure_scan_avx512.c's kernels,
+ * eight z-words of the four columns at once; avx2 a clone of the portable
+ * kernels compiled for the POPCNT instruction; generic the portable ones,
+ * the reference: the tests compare every integer of the scan at each level.
  *
  * Moments come from runs along z: a column's sums over its 1-voxels of 1, z
  * and z^2 are sums over run ends of prefix sums P(end) minus the same over run
@@ -46,16 +48,13 @@
 #define HAVE_POPCNT_CLONE 1
 #endif
 
-typedef void (*moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
-                           bvox__scan *s);
-
 typedef struct scan_job {
     const bvox_volume *v;
     const uint64_t *zero; /* a zero column standing for columns outside */
     int64_t nblocks;
     bvox__scan *parts;    /* one per block, reduced in block order */
     bvox__cells_row_fn cells;
-    moments_fn moments;
+    bvox__moments_fn moments;
 } scan_job;
 
 /* The windows of one vertex row, a word of 4 columns at a time (the
@@ -119,11 +118,6 @@ static bvox__cells_row_fn choose_cells(void)
 static inline int64_t p1(int64_t m) { return m * (m - 1) / 2; }
 static inline int64_t p2(int64_t m) { return (m - 1) * m * (2 * m - 1) / 6; }
 
-/* Bit t of a word is in mask b when bit b of t is 1. */
-static const uint64_t bit_of_index[6] = {0xaaaaaaaaaaaaaaaaull, 0xccccccccccccccccull,
-                                         0xf0f0f0f0f0f0f0f0ull, 0xff00ff00ff00ff00ull,
-                                         0xffff0000ffff0000ull, 0xffffffff00000000ull};
-
 /* Count, sums and z range of the 1-voxels of one voxel column. Each word is
  * summed on its own: a word of few runs (the usual case) by its run
  * boundaries, P(end) - P(start); a word of many runs (a noisy volume has 16)
@@ -157,37 +151,22 @@ moments_body(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *
         }
         int64_t c = pc(w), t1 = 0, t2 = 0;
         for (int b = 0; b < 6; b++) {
-            uint64_t wb = w & bit_of_index[b];
+            uint64_t wb = w & bvox__bit_of_index[b];
             int64_t cb = pc(wb);
             t1 += cb << b;
             t2 += cb << (2 * b);
-            for (int d = b + 1; d < 6; d++) t2 += pc(wb & bit_of_index[d]) << (b + d + 1);
+            for (int d = b + 1; d < 6; d++) t2 += pc(wb & bvox__bit_of_index[d]) << (b + d + 1);
         }
         n += c;
         sz += base * c + t1;
         szz += base * base * c + 2 * base * t1 + t2;
     }
 #undef pc
-    if (!n) return;
-    if (!s->count) {
-        s->bbox[0] = s->bbox[3] = x;
-        s->bbox[1] = s->bbox[4] = y;
-        s->bbox[2] = zlo;
-        s->bbox[5] = zhi;
-    }
-    if (x < s->bbox[0]) s->bbox[0] = x;
-    if (x + 1 > s->bbox[3]) s->bbox[3] = x + 1;
-    if (y + 1 > s->bbox[4]) s->bbox[4] = y + 1; /* rows come in increasing y */
-    if (zlo < s->bbox[2]) s->bbox[2] = zlo;
-    if (zhi > s->bbox[5]) s->bbox[5] = zhi;
-    s->count += n;
-    bvox__wide X = x, Y = y;
-    s->s[0] += X * n, s->s[1] += Y * n, s->s[2] += sz;
-    s->ss[0] += X * X * n, s->ss[1] += Y * Y * n, s->ss[2] += szz;
-    s->ss[3] += X * Y * n, s->ss[4] += X * sz, s->ss[5] += Y * sz;
+    bvox__moments_add(s, x, y, n, sz, szz, zlo, zhi);
 }
 
-static void moments_generic(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *s)
+static void moments_generic(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
+                            bvox__scan *s)
 {
     moments_body(col, wpc, x, y, s, false);
 }
@@ -233,9 +212,10 @@ bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out)
         return bvox__fail(BVOX_ENOMEM, "out of memory measuring a volume");
     }
     bvox__cells_row_fn cells = choose_cells();
-    moments_fn moments = moments_generic;
+    bvox__moments_fn moments = moments_generic;
 #ifdef HAVE_POPCNT_CLONE
-    if (cells != cells_generic) moments = moments_popcnt;
+    if (cells == bvox__cells_row_avx512) moments = bvox__moments_avx512;
+    else if (cells != cells_generic) moments = moments_popcnt;
 #endif
     scan_job job = {vol, zero, nblocks, parts, cells, moments};
     /* Threads only pay off from about 64K words each. */

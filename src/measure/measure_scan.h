@@ -1,8 +1,9 @@
 /*
- * measure_scan.h — the cells kernels of the measure scan (measure_scan.c,
- * measure_scan_avx512.c): one row of vertex columns at a time, so that a
- * vector kernel reduces its accumulators once per row, not once per column.
- * The window geometry and the formulas are documented in measure_scan.c.
+ * measure_scan.h — the kernels of the measure scan (measure_scan.c, the
+ * portable reference, and measure_scan_avx512.c): the cells of one row of
+ * vertex columns at a time, so that a vector kernel reduces its accumulators
+ * once per row, not once per column; the moments of one voxel column. The
+ * window geometry and the formulas are documented in measure_scan.c.
  */
 #ifndef BVOX_MEASURE_SCAN_H
 #define BVOX_MEASURE_SCAN_H
@@ -17,9 +18,15 @@
 typedef void (*bvox__cells_row_fn)(const uint64_t *prev, const uint64_t *cur, size_t nx,
                                    size_t wpc, bool extra, const uint64_t *zero, bvox__scan *s);
 
-/* The AVX-512 (F, BW, VL, VPOPCNTDQ) kernel, NULL where the build has none;
- * the caller checks the CPU. */
+/* Adds count, sums and z range of the 1-voxels of the voxel column (x, y)
+ * of wpc words to s; columns come in increasing y. */
+typedef void (*bvox__moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
+                                 bvox__scan *s);
+
+/* The AVX-512 (F, BW, VL, VPOPCNTDQ) kernels, NULL where the build has
+ * none; the caller checks the CPU. */
 extern const bvox__cells_row_fn bvox__cells_row_avx512;
+extern const bvox__moments_fn bvox__moments_avx512;
 
 /* The four voxel columns a = (x-1, y-1), b = (x, y-1), c = (x-1, y),
  * d = (x, y) of vertex column x, zero where outside. */
@@ -54,6 +61,37 @@ bvox__cells_word(uint64_t ah, uint64_t bh, uint64_t ch, uint64_t dh, uint64_t al
     t[BVOX__DIR_YZ] += pc(bl ^ dh) + pc(bh ^ dl);
     t[BVOX__DIR_XYZ] += pc(al ^ dh) + pc(bl ^ ch) + pc(cl ^ bh) + pc(dl ^ ah);
 #undef pc
+}
+
+/* Bit t of a word is in mask b when bit b of t is 1: the moments' sums of
+ * the bit indices t and t^2 over a word are popcounts of the word ANDed
+ * with these. */
+static const uint64_t bvox__bit_of_index[6] = {0xaaaaaaaaaaaaaaaaull, 0xccccccccccccccccull,
+                                               0xf0f0f0f0f0f0f0f0ull, 0xff00ff00ff00ff00ull,
+                                               0xffff0000ffff0000ull, 0xffffffff00000000ull};
+
+/* One column's count n, sums sz and szz of z and z^2, and z range
+ * [zlo, zhi) added to s (nothing when n = 0). */
+static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_t n, int64_t sz,
+                                     int64_t szz, int32_t zlo, int32_t zhi)
+{
+    if (!n) return;
+    if (!s->count) {
+        s->bbox[0] = s->bbox[3] = x;
+        s->bbox[1] = s->bbox[4] = y;
+        s->bbox[2] = zlo;
+        s->bbox[5] = zhi;
+    }
+    if (x < s->bbox[0]) s->bbox[0] = x;
+    if (x + 1 > s->bbox[3]) s->bbox[3] = x + 1;
+    if (y + 1 > s->bbox[4]) s->bbox[4] = y + 1; /* rows come in increasing y */
+    if (zlo < s->bbox[2]) s->bbox[2] = zlo;
+    if (zhi > s->bbox[5]) s->bbox[5] = zhi;
+    s->count += n;
+    bvox__wide X = x, Y = y;
+    s->s[0] += X * n, s->s[1] += Y * n, s->s[2] += sz;
+    s->ss[0] += X * X * n, s->ss[1] += Y * Y * n, s->ss[2] += szz;
+    s->ss[3] += X * Y * n, s->ss[4] += X * sz, s->ss[5] += Y * sz;
 }
 
 #endif
