@@ -30,9 +30,10 @@
  *
  * The popcounts dominate. On x86-64 BVOX_SIMD=avx512 (the default on CPUs
  * with AVX512F/BW/VL and VPOPCNTDQ) uses measure_scan_avx512.c's kernels,
- * eight z-words of the four columns at once; avx2 a clone of the portable
- * kernels compiled for the POPCNT instruction; generic the portable ones,
- * the reference: the tests compare every integer of the scan at each level.
+ * eight z-words of the four columns at once; avx2 measure_scan_avx2.c's
+ * cells kernel (four words) and a clone of the portable moments compiled for
+ * the POPCNT instruction; generic the portable ones, the reference: the
+ * tests compare every integer of the scan at each level.
  *
  * Moments come from runs along z: a column's sums over its 1-voxels of 1, z
  * and z^2 are sums over run ends of prefix sums P(end) minus the same over run
@@ -109,6 +110,9 @@ static bvox__cells_row_fn choose_cells(void)
         __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vpopcntdq") &&
         __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
         return bvox__cells_row_avx512;
+    if (level >= BVOX_SIMD_AVX2 && bvox__cells_row_avx2 && __builtin_cpu_supports("avx2") &&
+        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
+        return bvox__cells_row_avx2;
     if (level != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt")) return cells_popcnt;
 #endif
     return cells_generic;

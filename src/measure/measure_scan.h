@@ -1,8 +1,9 @@
 /*
  * measure_scan.h — the kernels of the measure scan (measure_scan.c, the
- * portable reference, and measure_scan_avx512.c): the cells of one row of
- * vertex columns at a time, so that a vector kernel reduces its accumulators
- * once per row, not once per column; the moments of one voxel column. The
+ * portable reference; measure_scan_avx512.c; measure_scan_avx2.c): the
+ * cells of one row of vertex columns at a time, so that a vector kernel
+ * reduces its accumulators once per row, not once per column; the moments
+ * of one voxel column. The
  * window geometry and the formulas are documented in measure_scan.c.
  */
 #ifndef BVOX_MEASURE_SCAN_H
@@ -26,6 +27,7 @@ typedef void (*bvox__moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int
 /* The AVX-512 (F, BW, VL, VPOPCNTDQ) kernels, NULL where the build has
  * none; the caller checks the CPU. */
 extern const bvox__cells_row_fn bvox__cells_row_avx512;
+extern const bvox__cells_row_fn bvox__cells_row_avx2; /* AVX2 + POPCNT + BMI2 */
 extern const bvox__moments_fn bvox__moments_avx512;
 
 /* The four voxel columns a = (x-1, y-1), b = (x, y-1), c = (x-1, y),

@@ -1,0 +1,120 @@
+/*
+ * measure_scan_avx2.c — the cells kernel of the measure scan with AVX2,
+ * chosen at run time by measure_scan.c: measure_scan_avx512.c's kernel four
+ * z-words at a time. AVX2 has no popcount instruction, so the bits are
+ * counted per byte by two nibble look-ups (vpshufb); the byte counts of the
+ * terms that go into one sum (at most 4 x 8 = 32 a byte) are added first and
+ * widened to 64-bit lanes once (vpsadbw), 9 widenings for the 21 popcounts.
+ * The lo words: each lane takes the top bit of the lane below, lane 0 that
+ * of the previous group's last word (a qword rotation and a blend). The
+ * extra top word is counted by the scalar formula; all sums are exact.
+ */
+#include "measure/measure_scan.h"
+
+#if defined(__x86_64__) && defined(__AVX2__)
+#include <immintrin.h>
+
+/* Bit counts of each byte of w (0..8). */
+static inline __m256i pc8(__m256i w)
+{
+    const __m256i lut = _mm256_setr_epi8(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4, 0, 1, 1,
+                                         2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
+    const __m256i low = _mm256_set1_epi8(0x0f);
+    __m256i lo = _mm256_shuffle_epi8(lut, _mm256_and_si256(w, low));
+    __m256i hi = _mm256_shuffle_epi8(lut, _mm256_and_si256(_mm256_srli_epi16(w, 4), low));
+    return _mm256_add_epi8(lo, hi);
+}
+
+/* acc += the byte counts summed per 64-bit lane. */
+static inline __m256i widen(__m256i acc, __m256i bytes)
+{
+    return _mm256_add_epi64(acc, _mm256_sad_epu8(bytes, _mm256_setzero_si256()));
+}
+
+/* lo words: lane i gets (h[i] << 1) | (h[i-1] >> 63), lane 0 taking the top
+ * bit of prev[3]. */
+static inline __m256i lo_of(__m256i h, __m256i prev)
+{
+    __m256i rh = _mm256_permute4x64_epi64(h, 0x93);    /* h3 h0 h1 h2 */
+    __m256i rp = _mm256_permute4x64_epi64(prev, 0x93); /* p3 ... */
+    __m256i below = _mm256_blend_epi32(rh, rp, 0x03);  /* p3 h0 h1 h2 */
+    return _mm256_or_si256(_mm256_slli_epi64(h, 1), _mm256_srli_epi64(below, 63));
+}
+
+#define OR(a, b) _mm256_or_si256(a, b)
+#define XOR(a, b) _mm256_xor_si256(a, b)
+#define ADD8(a, b) _mm256_add_epi8(a, b)
+
+static inline __m256i load(const uint64_t *p, size_t n)
+{
+    if (n >= 4) return _mm256_loadu_si256((const __m256i *)p);
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    __m256i m = _mm256_cmpgt_epi64(_mm256_set1_epi64x((long long)n), lane);
+    return _mm256_maskload_epi64((const long long *)p, m);
+}
+
+static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size_t wpc,
+                      bool extra, const uint64_t *zero, bvox__scan *s)
+{
+    const __m256i ones = _mm256_set1_epi64x(-1), lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    __m256i vpos = _mm256_setzero_si256(), vneg = vpos;
+    __m256i t[BVOX__NDIR];
+    for (int i = 0; i < BVOX__NDIR; i++) t[i] = _mm256_setzero_si256();
+    int64_t eul = 0, ts[BVOX__NDIR] = {0}; /* the extra words, scalar */
+    for (size_t x = 0; x <= nx; x++) {
+        const uint64_t *col[4];
+        bvox__cells_cols(prev, cur, x, nx, wpc, zero, col);
+        const uint64_t *A = col[0], *B = col[1], *C = col[2], *D = col[3];
+        __m256i pa = _mm256_setzero_si256(), pb = pa, pc = pa, pd = pa;
+        for (size_t k = 0; k < wpc; k += 4) {
+            size_t n = wpc - k;
+            __m256i ah = load(A + k, n), bh = load(B + k, n), ch = load(C + k, n),
+                    dh = load(D + k, n);
+            __m256i al = lo_of(ah, pa), bl = lo_of(bh, pb), cl = lo_of(ch, pc), dl = lo_of(dh, pd);
+            if (n < 4) { /* lanes past the column's end: lo = 0 too */
+                __m256i m = _mm256_cmpgt_epi64(_mm256_set1_epi64x((long long)n), lane);
+                al = _mm256_and_si256(al, m), bl = _mm256_and_si256(bl, m);
+                cl = _mm256_and_si256(cl, m), dl = _mm256_and_si256(dl, m);
+            }
+            pa = ah, pb = bh, pc = ch, pd = dh;
+            __m256i hor = OR(OR(ah, bh), OR(ch, dh));
+            __m256i ddl = OR(dh, dl);
+            __m256i bdl = OR(OR(bh, bl), ddl), cdl = OR(OR(ch, cl), ddl);
+            __m256i any = OR(OR(hor, bdl), OR(cdl, al));
+            if (_mm256_testz_si256(any, any)) continue; /* all 0 */
+            __m256i all = _mm256_and_si256(_mm256_and_si256(_mm256_and_si256(ah, bh),
+                                                            _mm256_and_si256(ch, dh)),
+                                           _mm256_and_si256(_mm256_and_si256(al, bl),
+                                                            _mm256_and_si256(cl, dl)));
+            if (_mm256_testc_si256(all, ones)) continue; /* all 1 */
+            /* V - E + F - C, each side at most 4 x 8 a byte */
+            vpos = widen(vpos, ADD8(ADD8(pc8(any), pc8(ddl)),
+                                    ADD8(pc8(OR(ch, dh)), pc8(OR(bh, dh)))));
+            vneg = widen(vneg, ADD8(ADD8(pc8(hor), pc8(bdl)), ADD8(pc8(cdl), pc8(dh))));
+            t[BVOX__DIR_X] = widen(t[BVOX__DIR_X], pc8(XOR(ch, dh)));
+            t[BVOX__DIR_Y] = widen(t[BVOX__DIR_Y], pc8(XOR(bh, dh)));
+            t[BVOX__DIR_Z] = widen(t[BVOX__DIR_Z], pc8(XOR(dl, dh)));
+            t[BVOX__DIR_XY] = widen(t[BVOX__DIR_XY], ADD8(pc8(XOR(ah, dh)), pc8(XOR(bh, ch))));
+            t[BVOX__DIR_XZ] = widen(t[BVOX__DIR_XZ], ADD8(pc8(XOR(cl, dh)), pc8(XOR(ch, dl))));
+            t[BVOX__DIR_YZ] = widen(t[BVOX__DIR_YZ], ADD8(pc8(XOR(bl, dh)), pc8(XOR(bh, dl))));
+            t[BVOX__DIR_XYZ] =
+                widen(t[BVOX__DIR_XYZ], ADD8(ADD8(pc8(XOR(al, dh)), pc8(XOR(bl, ch))),
+                                             ADD8(pc8(XOR(cl, bh)), pc8(XOR(dl, ah)))));
+        }
+        if (extra)
+            bvox__cells_word(0, 0, 0, 0, A[wpc - 1] >> 63, B[wpc - 1] >> 63, C[wpc - 1] >> 63,
+                             D[wpc - 1] >> 63, &eul, ts, true);
+    }
+    int64_t lanes[4];
+    _mm256_storeu_si256((__m256i *)lanes, _mm256_sub_epi64(vpos, vneg));
+    s->euler += eul + lanes[0] + lanes[1] + lanes[2] + lanes[3];
+    for (int i = 0; i < BVOX__NDIR; i++) {
+        _mm256_storeu_si256((__m256i *)lanes, t[i]);
+        s->trans[i] += ts[i] + lanes[0] + lanes[1] + lanes[2] + lanes[3];
+    }
+}
+
+const bvox__cells_row_fn bvox__cells_row_avx2 = cells_row;
+#else
+const bvox__cells_row_fn bvox__cells_row_avx2 = NULL;
+#endif
