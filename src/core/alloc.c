@@ -80,11 +80,20 @@ bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status)
     size_t used = atomic_fetch_add(&in_use_bytes, bytes);
     if (bytes > budget || used > budget - bytes) {
         atomic_fetch_sub(&in_use_bytes, bytes);
-        char need[32], lim[32];
+        char need[32], lim[32], held[32];
         bvox__format_bytes(need, sizeof need, bytes);
         bvox__format_bytes(lim, sizeof lim, budget);
-        *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
-                             what, need, lim);
+        bvox__format_bytes(held, sizeof held, used);
+        /* say what else is held when the request alone would fit: "needs
+         * 1.2 MiB, over the budget of 8 MiB" reads as a contradiction */
+        if (bytes > budget)
+            *status = bvox__fail(BVOX_ETOOBIG, "the %s needs %s, over the memory budget of %s",
+                                 what, need, lim);
+        else
+            *status = bvox__fail(BVOX_ETOOBIG,
+                                 "the %s needs %s with %s already in use, over the memory "
+                                 "budget of %s",
+                                 what, need, held, lim);
         return false;
     }
     *status = BVOX_OK;

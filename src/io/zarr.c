@@ -57,9 +57,61 @@ bvox_status bvox__zarr_read_gray(const char *path, const bvox_read_opts *opts, b
     return BVOX_OK;
 }
 
+/* The binary volume read one row of chunks along z at a time through the
+ * streaming binariser: besides the volume's words only a row of samples is
+ * held (whole, the samples of a uint8 array take 8 times the words, so a
+ * volume the out-of-core path judged small enough to read whole would not
+ * fit the budget it was judged by). */
+static bvox_status zarr_read_rows(const char *path, const bvox_read_opts *opts,
+                                  bvox_volume **out)
+{
+    bvox__zarr *z;
+    bvox_status st = bvox__zarr_open_level(path, opts ? opts->zarr_level : 0, &z);
+    if (st) return st;
+    bvox_dims d = bvox__zarr_dims(z);
+    size_t wb;
+    if ((st = bvox__check_dims(d, path, &wb))) {
+        bvox__zarr_close(z);
+        return st;
+    }
+    int32_t ch[3];
+    bvox__zarr_chunk_shape(z, ch);
+    bvox__gray shape;
+    bvox__gray_init(&shape);
+    shape.dims = d;
+    shape.dtype = bvox__zarr_dtype(z);
+    shape.geom = *bvox__zarr_geometry(z);
+    bvox__bin_stream *bs = NULL;
+    st = bvox__bin_stream_begin(&shape, opts ? &opts->binarize : NULL, path, &bs);
+    size_t row_bytes = 0;
+    void *row = NULL;
+    if (!st && !bvox__mul_size(bvox__bin_stream_slice_bytes(bs), (size_t)ch[2], &row_bytes))
+        st = bvox__fail(BVOX_ETOOBIG, "%s: array size overflows", path);
+    if (!st) {
+        row = bvox__alloc(row_bytes, false, "Zarr row samples", &st);
+        if (!row) bvox__error_prefix(path);
+    }
+    for (int32_t k = 0; !st && k < d.nz;) {
+        int32_t ke = (k / ch[2] + 1) * ch[2];
+        if (ke > d.nz) ke = d.nz;
+        st = bvox__zarr_read_box_samples(z, 0, 0, k, d.nx, d.ny, ke - k, row);
+        if (!st) bvox__bin_stream_slices(bs, row, (size_t)(ke - k));
+        k = ke;
+    }
+    if (row) bvox__free(row, row_bytes);
+    bvox__zarr_close(z);
+    if (st) {
+        if (bs) bvox__bin_stream_abort(bs);
+        return st;
+    }
+    return bvox__bin_stream_finish(bs, out);
+}
+
 static bvox_status zarr_read_path(const char *path, const bvox_read_opts *opts, bvox_volume **out)
 {
     *out = NULL;
+    if (bvox__bin_stream_ok(opts ? &opts->binarize : NULL)) return zarr_read_rows(path, opts, out);
+    /* Otsu's threshold needs every sample first */
     bvox__gray g;
     bvox_status st = bvox__zarr_read_gray(path, opts, &g);
     if (st) return st;

@@ -116,4 +116,18 @@ if "$BVOX" csg "$tmp/a.zarr + $tmp/b.zarr@0,0,3" -o "$tmp/y.zarr" --max-memory $
 fi
 grep -q "placement offset" "$tmp/err" || fail "unclear offset refusal: $(cat "$tmp/err")"
 [ ! -e "$tmp/y.zarr" ] || fail "a refused csg left output"
+
+# a .zarr judged small enough to read whole (its words times the copies fit
+# 8M) whose uint8 samples alone (7.8 MiB) do not: read a row of chunks at a
+# time, it fits, and answers as with no budget
+for args in "measure --json" "components --json --conn 26"; do
+    # shellcheck disable=SC2086
+    "$BVOX" $args "$tmp/a.zarr" > "$tmp/mem.out" || fail "$args in memory"
+    # shellcheck disable=SC2086
+    "$BVOX" $args "$tmp/a.zarr" --max-memory 8M > "$tmp/whole.out" 2> "$tmp/err" ||
+        fail "$args read whole under 8M: $(cat "$tmp/err")"
+    cmp -s "$tmp/mem.out" "$tmp/whole.out" || fail "$args under 8M differs from memory"
+done
+"$BVOX" mesh "$tmp/a.zarr" -o "$tmp/w.stl" --max-memory 8M > /dev/null 2> "$tmp/err" ||
+    fail "mesh read whole under 8M: $(cat "$tmp/err")"
 echo ok
