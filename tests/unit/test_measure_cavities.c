@@ -40,8 +40,11 @@ static const int thread_counts[] = {1, 3, 16};
 
 /* bvox__cavity_flood_sweeps: the route chosen, the labelling alone, a flood
  * cut short after one sweep (the labelling takes over unless that settled
- * it), a flood that settles. */
-static const int routes[] = {-1, 0, 1, 1 << 20};
+ * it), a flood that settles; with bvox__cavity_flood26_sweeps (the flood's
+ * 26-cavities): by default (the 26-flood), and after a settled flood also by
+ * labelling K and by a 26-flood cut short after one sweep. */
+static const int routes[][2] = {{-1, -1}, {0, -1}, {1, -1}, {1 << 20, -1}, {1 << 20, 0}, {1 << 20, 1}};
+#define NROUTES (sizeof routes / sizeof *routes)
 
 /* bvox_measure at every SIMD level, thread count and route gives cav6 and
  * cav26 (and the components, and tunnels = components + cavities - euler). */
@@ -53,18 +56,19 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
         if (!bvox_simd_supported((bvox_simd)lv)) continue;
         CHECK_OK(bvox_simd_set((bvox_simd)lv));
         /* every thread count by every route */
-        for (size_t t = 0; t < 3 * 4 && !bad; t++) {
+        for (size_t t = 0; t < 3 * NROUTES && !bad; t++) {
             bvox_set_threads(thread_counts[t % 3]);
-            bvox__cavity_flood_sweeps = routes[t / 3];
+            bvox__cavity_flood_sweeps = routes[t / 3][0];
+            bvox__cavity_flood26_sweeps = routes[t / 3][1];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
             if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
                 m.tunnels != m.components + m.cavities - m.euler) {
                 fprintf(stderr,
-                        "  %dx%dx%d simd %s threads %d route %d: components %lld cavities "
+                        "  %dx%dx%d simd %s threads %d route %d (flood*100+flood26): components %lld cavities "
                         "%lld/%lld, expected %lld %lld/%lld\n",
                         v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t % 3],
-                        routes[t / 3],
+                        routes[t / 3][0] * 100 + routes[t / 3][1],
                         (long long)m.components, (long long)m.cavities,
                         (long long)m.cavities_26, (long long)comp, (long long)cav6,
                         (long long)cav26);
@@ -75,6 +79,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
     CHECK_OK(bvox_simd_set(saved));
     bvox_set_threads(threads);
     bvox__cavity_flood_sweeps = -1;
+    bvox__cavity_flood26_sweeps = -1;
     return bad;
 }
 
@@ -248,9 +253,9 @@ TEST(realdata_aal_whole_and_per_label)
     return 0;
 }
 
-/* Breadth-first reference of the flood: the background voxels 6-connected
- * to the border of r (x or y on the edge, z = 0 or nz - 1). */
-static uint8_t *reached_ref(const voxref *r)
+/* Breadth-first reference of the flood: the background voxels 6- (conn 6)
+ * or 26-connected to the border of r (x or y on the edge, z = 0 or nz - 1). */
+static uint8_t *reached_ref(const voxref *r, int conn)
 {
     size_t n = (size_t)r->nx * r->ny * r->nz;
     uint8_t *seen = calloc(n, 1);
@@ -266,10 +271,17 @@ static uint8_t *reached_ref(const voxref *r)
                 seen[i] = 1;
                 queue[tail * 3] = x, queue[tail * 3 + 1] = y, queue[tail * 3 + 2] = z, tail++;
             }
-    static const int d[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    int d[26][3], nd = 0;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int far = abs(dx) + abs(dy) + abs(dz);
+                if (far == 0 || (conn == 6 && far > 1)) continue;
+                d[nd][0] = dx, d[nd][1] = dy, d[nd][2] = dz, nd++;
+            }
     while (head < tail) {
         const int32_t *p = &queue[3 * head++];
-        for (int k = 0; k < 6; k++) {
+        for (int k = 0; k < nd; k++) {
             int x = p[0] + d[k][0], y = p[1] + d[k][1], z = p[2] + d[k][2];
             if (x < 0 || y < 0 || z < 0 || x >= r->nx || y >= r->ny || z >= r->nz) continue;
             size_t i = ((size_t)z * r->ny + y) * r->nx + x;
@@ -282,25 +294,37 @@ static uint8_t *reached_ref(const voxref *r)
     return seen;
 }
 
-/* bvox__flood_border on the complement of r's words: settled, the reached
- * set is the reference's bit for bit at 1, 3 and 16 threads; cut short at
- * max_short sweeps it must not settle (when short_settles is 0) and must be
- * a subset. */
-static int check_flood(const voxref *r, int max_short, int short_settles)
+/* The flood into got: bvox__flood_border (conn 6) or, from its settled
+ * result, bvox__flood_26 (conn 26), at most max_sweeps sweeps of the one
+ * tested; whether that settled. */
+static bool flood(const bvox_volume *v, int conn, int max_sweeps, uint64_t *got, int32_t *rows)
+{
+    memset(got, 0, v->nwords * sizeof *got);
+    size_t nx = (size_t)v->nx, ny = (size_t)v->ny;
+    if (conn == 6)
+        return bvox__flood_border(v->words, nx, ny, v->wpc, (size_t)v->nz, max_sweeps, got, rows);
+    if (!bvox__flood_border(v->words, nx, ny, v->wpc, (size_t)v->nz, 1 << 20, got, rows))
+        return false;
+    return bvox__flood_26(v->words, nx, ny, v->wpc, max_sweeps, got, rows);
+}
+
+/* bvox__flood_border (conn 6) or bvox__flood_26 (conn 26) on the
+ * complement of r's words: settled, the reached set is the reference's bit
+ * for bit at 1, 3 and 16 threads; cut short at max_short sweeps it must not
+ * settle (when short_settles is 0) and must be a subset. */
+static int check_flood(const voxref *r, int conn, int max_short, int short_settles)
 {
     bvox_volume *v = voxref_to_volume(r);
     CHECK(v);
     bvox_volume_complement(v);
-    uint8_t *want = reached_ref(r);
+    uint8_t *want = reached_ref(r, conn);
     size_t nw = v->nwords;
     uint64_t *got = calloc(nw, sizeof *got);
     int32_t *rows = calloc((size_t)v->ny, sizeof *rows);
     int threads = bvox_threads();
     for (size_t t = 0; t < 3; t++) {
         bvox_set_threads(thread_counts[t]);
-        memset(got, 0, nw * sizeof *got);
-        CHECK(bvox__flood_border(v->words, (size_t)v->nx, (size_t)v->ny, v->wpc, (size_t)v->nz,
-                                 1 << 20, got, rows));
+        CHECK(flood(v, conn, 1 << 20, got, rows));
         for (int z = 0; z < r->nz; z++)
             for (int y = 0; y < r->ny; y++)
                 for (int x = 0; x < r->nx; x++) {
@@ -308,9 +332,7 @@ static int check_flood(const voxref *r, int max_short, int short_settles)
                     int bit = (int)((got[w] >> (z % 64)) & 1);
                     CHECK_EQ(bit, want[((size_t)z * r->ny + y) * r->nx + x]);
                 }
-        memset(got, 0, nw * sizeof *got);
-        bool settled = bvox__flood_border(v->words, (size_t)v->nx, (size_t)v->ny, v->wpc,
-                                          (size_t)v->nz, max_short, got, rows);
+        bool settled = flood(v, conn, max_short, got, rows);
         if (!short_settles) CHECK(!settled);
         for (int z = 0; z < r->nz; z++)
             for (int y = 0; y < r->ny; y++)
@@ -337,7 +359,8 @@ TEST(flood_vs_breadth_first)
         for (unsigned d = 2; d <= 8; d += 2) {
             voxref *r = voxref_create(sizes[i][0], sizes[i][1], sizes[i][2]);
             voxref_random(r, d, 10, harness_rand);
-            CHECK(!check_flood(r, 1, 1));
+            CHECK(!check_flood(r, 6, 1, 1));
+            CHECK(!check_flood(r, 26, 1, 1));
             voxref_destroy(r);
         }
     /* a corridor that winds back and forth in x, open at its far end: each
@@ -350,9 +373,14 @@ TEST(flood_vs_breadth_first)
         if (y + 4 < 39) voxref_fill_box(r, (bvox_box){x, y, 2, x + 1, y + 5, 3}, 0);
     }
     voxref_fill_box(r, (bvox_box){27, 38, 2, 28, 41, 3}, 0); /* the open end */
-    CHECK(!check_flood(r, 3, 0));
+    CHECK(!check_flood(r, 6, 3, 0));
     CHECK(!check_ref(r)); /* and the cavities by every route */
     voxref_fill_box(r, (bvox_box){27, 40, 2, 28, 41, 3}, 1); /* closed: one long cavity */
+    CHECK(!check_ref(r));
+    /* open again only diagonally (to the border voxel (28, 40, 2)): a
+     * 6-cavity, no 26-cavity, and the 26-flood needs a sweep per turn */
+    vset(r, 28, 40, 2, 0);
+    CHECK(!check_flood(r, 26, 3, 0));
     CHECK(!check_ref(r));
     voxref_destroy(r);
     return 0;
