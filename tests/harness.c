@@ -176,3 +176,29 @@ int harness_count_entries(const char *dir)
     closedir(d);
     return n;
 }
+
+/* Triangles as sorted rows of 9 coordinates, each rotated (orientation
+ * kept) to start at its smallest vertex: equal meshes up to order. */
+static int cmp_doubles(const double *p, const double *q, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (p[i] != q[i]) return p[i] < q[i] ? -1 : 1;
+    return 0;
+}
+
+static int cmp9(const void *a, const void *b) { return cmp_doubles(a, b, 9); }
+
+double *harness_mesh_canon(const bvox_mesh *m)
+{
+    double *t = malloc((size_t)(m->ntriangles ? m->ntriangles : 1) * 9 * sizeof *t);
+    for (int64_t k = 0; k < m->ntriangles; k++) {
+        const double *v[3];
+        for (int i = 0; i < 3; i++) v[i] = &m->vertices[3 * m->triangles[3 * k + i]];
+        int s = 0;
+        for (int i = 1; i < 3; i++)
+            if (cmp_doubles(v[i], v[s], 3) < 0) s = i;
+        for (int i = 0; i < 3; i++) memcpy(&t[9 * k + 3 * i], v[(s + i) % 3], 3 * sizeof(double));
+    }
+    qsort(t, (size_t)m->ntriangles, 9 * sizeof *t, cmp9);
+    return t;
+}

@@ -104,4 +104,9 @@ int harness_golden_compare(bvox_image *img, const char *name, double max_mean, i
         }                                                                              \
     } while (0)
 
+/* The triangles of m as sorted rows of 9 coordinates, each rotated to start
+ * at its smallest vertex (orientation kept): two meshes are equal up to
+ * order when these rows are. Caller frees. */
+double *harness_mesh_canon(const bvox_mesh *m);
+
 #endif

@@ -362,38 +362,12 @@ TEST(zarr_sink_failure_leaves_nothing)
     return 0;
 }
 
-/* Triangles as sorted rows of 9 coordinates, each rotated (orientation kept)
- * to start at its smallest vertex: equal meshes up to order. */
-static int cmp_doubles(const double *p, const double *q, int n)
-{
-    for (int i = 0; i < n; i++)
-        if (p[i] != q[i]) return p[i] < q[i] ? -1 : 1;
-    return 0;
-}
-
-static int cmp9(const void *a, const void *b) { return cmp_doubles(a, b, 9); }
-
-static double *canon(const bvox_mesh *m)
-{
-    double *t = malloc((size_t)(m->ntriangles ? m->ntriangles : 1) * 9 * sizeof *t);
-    for (int64_t k = 0; k < m->ntriangles; k++) {
-        const double *v[3];
-        for (int i = 0; i < 3; i++) v[i] = &m->vertices[3 * m->triangles[3 * k + i]];
-        int s = 0;
-        for (int i = 1; i < 3; i++)
-            if (cmp_doubles(v[i], v[s], 3) < 0) s = i;
-        for (int i = 0; i < 3; i++) memcpy(&t[9 * k + 3 * i], v[(s + i) % 3], 3 * sizeof(double));
-    }
-    qsort(t, (size_t)m->ntriangles, 9 * sizeof *t, cmp9);
-    return t;
-}
-
 TEST(mesh_equal_in_memory)
 {
     bvox_volume *v = specimen(50, 110, 90, 1);
     bvox_mesh *want;
     CHECK_OK(bvox_mesh_from_volume(v, NULL, &want));
-    double *tw = canon(want);
+    double *tw = harness_mesh_canon(want);
     bvox__slab_source src;
     CHECK_OK(bvox__slab_source_memory(v, &src));
     for (size_t cp = 0; cp < sizeof caps / sizeof caps[0]; cp++) {
@@ -402,7 +376,7 @@ TEST(mesh_equal_in_memory)
         CHECK_OK(bvox__stream_mesh(&src, &got));
         CHECK_EQ(got->ntriangles, want->ntriangles);
         CHECK_EQ(got->nvertices, want->nvertices); /* welded as in memory */
-        double *tg = canon(got);
+        double *tg = harness_mesh_canon(got);
         CHECK(!memcmp(tg, tw, (size_t)want->ntriangles * 9 * sizeof *tg));
         free(tg);
         bvox_mesh_destroy(got);
