@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 static atomic_size_t budget_bytes;   /* 0 = not yet set: default */
@@ -102,6 +103,26 @@ bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status)
 
 void bvox__budget_refund(size_t bytes) { atomic_fetch_sub(&in_use_bytes, bytes); }
 
+/* Large buffers start on a 2 MiB boundary, span whole 2 MiB pages and ask
+ * for transparent huge pages. Debian's kernels give them only on request
+ * (THP "madvise"), and without them a fresh 16 MiB buffer costs 4096 page
+ * faults, each zeroing 4 KiB: measure on a 512^3 coin toss spent 9 % of its
+ * CPU time there (117 -> 104 ms a call with them). Smaller buffers would
+ * waste too much of their last page; where THP is off madvise fails and
+ * nothing changes. */
+#define HUGE_PAGE ((size_t)2 << 20)
+
+static void *aligned_buffer(size_t rounded)
+{
+    if (rounded < 4 * HUGE_PAGE) return aligned_alloc(64, rounded);
+    size_t n = (rounded + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
+    void *p = aligned_alloc(HUGE_PAGE, n);
+#ifdef MADV_HUGEPAGE
+    if (p) (void)madvise(p, n, MADV_HUGEPAGE);
+#endif
+    return p;
+}
+
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
 {
     if (!what) what = "buffer";
@@ -112,7 +133,7 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
     if (!bvox__budget_charge(bytes, what, status)) return NULL;
     size_t rounded = (bytes + 63) & ~(size_t)63;
     if (rounded == 0) rounded = 64;
-    void *p = aligned_alloc(64, rounded);
+    void *p = aligned_buffer(rounded);
     if (!p) {
         atomic_fetch_sub(&in_use_bytes, bytes);
         char need[32];
