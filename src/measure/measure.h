@@ -113,4 +113,23 @@ extern int bvox__cavity_flood_sweeps;
  * (the labelling of K takes over when it does not settle). */
 extern int bvox__cavity_flood26_sweeps;
 
+/* Test hook of measure_cavities.c: -1 (default) or 1, the labelling route
+ * labels only the background enclosed along z (measure_enclosed.c); 0, all
+ * of the box's background. */
+extern int bvox__cavity_hull;
+
+/* U: the background of vol's columns [x0, x0 + nx) x [y0, y0 + ny) strictly
+ * between the first and the last object voxel of each column (none in the
+ * box's ring of columns), nx * ny * wpc words; zr: per column that z range
+ * [lo, hi), 2 int32 each. measure_enclosed.c. */
+void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, size_t nx,
+                               size_t ny, uint64_t *u, int32_t *zr);
+
+/* touched[root] = 1 for the component of every run of r, the 6-labelling
+ * of U above (box at x0, y0, parents flattened), holding a 6-neighbour of
+ * the rest of the background. */
+struct bvox__labelruns;
+void bvox__enclosed_mark_exterior(const struct bvox__labelruns *r, const bvox_volume *vol,
+                                  size_t x0, size_t y0, const int32_t *zr, uint8_t *touched);
+
 #endif /* BVOX_MEASURE_H */

@@ -87,12 +87,30 @@ static inline uint64_t zdilate(uint64_t prev, uint64_t w, uint64_t next)
     return w | (w << 1) | (prev >> 63) | (w >> 1) | (next << 63);
 }
 
-/* K (the cavity voxels, box kb inside the labelled box lb, whose background
- * words are bg) and T = K & dilate26(bg & ~K) into t; kb has a ring of
- * empty columns so every neighbour column is inside it. */
+/* Where the exterior of the cavity voxels K is read from: the columns of
+ * the labelled box lb, column (x, y) of lb at w + ((y0 + y) * nx + x0 + x) *
+ * wpc; complement: w holds the object (bits beyond nz masked by tail), else
+ * the background voxels that may be exterior themselves. The exterior is
+ * that minus K. */
+typedef struct exterior_src {
+    const uint64_t *w;
+    size_t nx, x0, y0;
+    bool complement;
+    uint64_t tail;
+} exterior_src;
+
+static exterior_src plain_exterior(const uint64_t *bg, colbox lb)
+{
+    return (exterior_src){bg, lb.nx, 0, 0, false, ~0ull};
+}
+
+/* T = K & dilate26(exterior & ~K) into t (K the cavity voxels, box kb inside
+ * the labelled box; t zero where K is); kb has a ring of empty columns so
+ * every neighbour column is inside it. */
 typedef struct touch_job {
-    const uint64_t *bg, *k;
-    colbox lb, kb;
+    exterior_src ext;
+    const uint64_t *k;
+    colbox kb;
     size_t wpc;
     uint64_t *t;
 } touch_job;
@@ -100,8 +118,10 @@ typedef struct touch_job {
 static void touching_rows(void *ctx, int64_t begin, int64_t end)
 {
     const touch_job *j = ctx;
-    colbox lb = j->lb, kb = j->kb;
+    colbox kb = j->kb;
+    exterior_src ex = j->ext;
     size_t wpc = j->wpc;
+    uint64_t flip = ex.complement ? ~0ull : 0;
     for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
         for (size_t x = 1; x + 1 < kb.nx; x++) {
             const uint64_t *kc = j->k + (y * kb.nx + x) * wpc;
@@ -112,11 +132,15 @@ static void touching_rows(void *ctx, int64_t begin, int64_t end)
                 for (size_t dy = 0; dy < 3; dy++)
                     for (size_t dx = 0; dx < 3; dx++) {
                         size_t kcol = (y + dy - 1) * kb.nx + (x + dx - 1);
-                        size_t bcol = (kb.y0 + y + dy - 1) * lb.nx + (kb.x0 + x + dx - 1);
-                        const uint64_t *kk = j->k + kcol * wpc, *bb = j->bg + bcol * wpc;
-                        uint64_t e = bb[w] & ~kk[w];
-                        uint64_t ep = w ? bb[w - 1] & ~kk[w - 1] : 0;
-                        uint64_t en = w + 1 < wpc ? bb[w + 1] & ~kk[w + 1] : 0;
+                        size_t bcol = (ex.y0 + kb.y0 + y + dy - 1) * ex.nx +
+                                      (ex.x0 + kb.x0 + x + dx - 1);
+                        const uint64_t *kk = j->k + kcol * wpc, *bb = ex.w + bcol * wpc;
+                        uint64_t e = (bb[w] ^ flip) & (w + 1 == wpc ? ex.tail : ~0ull) & ~kk[w];
+                        uint64_t ep = w ? (bb[w - 1] ^ flip) & ~kk[w - 1] : 0;
+                        uint64_t en = w + 1 < wpc ? (bb[w + 1] ^ flip) &
+                                                        (w + 2 == wpc ? ex.tail : ~0ull) &
+                                                        ~kk[w + 1]
+                                                  : 0;
                         d |= zdilate(ep, e, en);
                     }
                 tc[w] = kc[w] & d;
@@ -124,11 +148,11 @@ static void touching_rows(void *ctx, int64_t begin, int64_t end)
         }
 }
 
-static void touching_exterior(const uint64_t *bg, colbox lb, const uint64_t *k, colbox kb,
-                              size_t wpc, uint64_t *t)
+static void touching_exterior(exterior_src ext, const uint64_t *k, colbox kb, size_t wpc,
+                              uint64_t *t)
 {
     if (kb.ny < 3) return;
-    touch_job j = {bg, k, lb, kb, wpc, t};
+    touch_job j = {ext, k, kb, wpc, t};
     bvox__parallel_for((int64_t)kb.ny - 2, 8, touching_rows, &j);
 }
 
@@ -163,12 +187,63 @@ static bvox_status count_k26(const uint64_t *k, const uint64_t *t, colbox kb, si
     return BVOX_OK;
 }
 
+/* K's columns (zeroed, the cavity runs filled) and T's (zeroed), a row of
+ * kb at a time: the runs of each column in order, starts and ends found a
+ * word at a time, the i-th start paired with the i-th end. */
+typedef struct fill_job {
+    const bvox__labelruns *r;
+    const uint64_t *words;
+    colbox lb, kb;
+    uint32_t outside;
+    uint64_t *k, *t;
+} fill_job;
+
+static void fill_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const fill_job *j = ctx;
+    const bvox__labelruns *r = j->r;
+    colbox lb = j->lb, kb = j->kb;
+    size_t wpc = r->wpc;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+        for (size_t x = 0; x < kb.nx; x++) {
+            uint64_t *dst = j->k + (y * kb.nx + x) * wpc;
+            memset(dst, 0, wpc * sizeof *dst);
+            memset(j->t + (y * kb.nx + x) * wpc, 0, wpc * sizeof *dst);
+            if (x == 0 || y == 0 || x + 1 == kb.nx || y + 1 == kb.ny) continue;
+            size_t col = (kb.y0 + y) * lb.nx + kb.x0 + x;
+            uint32_t run = r->grp_start[col];
+            if (run == r->grp_start[col + 1]) continue;
+            const uint64_t *src = j->words + col * wpc;
+            int32_t z0 = -1;
+            for (size_t w = 0; w < wpc; w++) {
+                uint64_t v = src[w];
+                if (!v) continue;
+                uint64_t lo = w ? src[w - 1] >> 63 : 0, hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
+                uint64_t s = bvox__run_starts(v, lo), e = v & ~((v >> 1) | (hi << 63));
+                /* starts and ends alternate along z: take them in order */
+                while (s | e) {
+                    unsigned ps = s ? (unsigned)__builtin_ctzll(s) : 64;
+                    unsigned pe = e ? (unsigned)__builtin_ctzll(e) : 64;
+                    if (ps <= pe && s) {
+                        z0 = (int32_t)(w * 64 + ps);
+                        s &= s - 1;
+                    } else {
+                        if (r->parent[run] != j->outside)
+                            bvox__column_fill(dst, z0, (int32_t)(w * 64 + pe) + 1, 1);
+                        run++;
+                        e &= e - 1;
+                    }
+                }
+            }
+        }
+}
+
 /* The 26-cavities, given the 6-labelling r of words (the background words
- * bg of box lb, or a part of them holding every cavity) whose parents have
+ * of box lb, or a part of them holding every cavity) whose parents have
  * been flattened (parent[i] is i's root): the runs not in outside's
- * component are the cavity voxels K. */
+ * component are the cavity voxels K; ext is where K's exterior is read. */
 static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *words,
-                                     const uint64_t *bg, colbox lb, int32_t nz, int64_t *out)
+                                     exterior_src ext, colbox lb, int64_t *out)
 {
     size_t wpc = r->wpc;
     uint32_t outside = r->parent[r->nruns];
@@ -189,41 +264,13 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *w
     colbox kb = {x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2};
     size_t nw = kb.nx * kb.ny * wpc;
     bvox_status st = BVOX_OK;
-    uint64_t *k = bvox__alloc(2 * nw * sizeof *k, true, "cavity voxels", &st);
+    uint64_t *k = bvox__alloc(2 * nw * sizeof *k, false, "cavity voxels", &st);
     if (!k) return st;
     uint64_t *t = k + nw;
-    int32_t *z0 = bvox__mem_alloc(((size_t)nz / 2 + 1) * sizeof *z0);
-    int32_t *z1 = bvox__mem_alloc(((size_t)nz / 2 + 1) * sizeof *z1);
-    if (!z0 || !z1) {
-        st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
-        goto done;
-    }
-    for (size_t y = 1; y + 1 < kb.ny; y++)
-        for (size_t x = 1; x + 1 < kb.nx; x++) {
-            size_t col = (kb.y0 + y) * lb.nx + kb.x0 + x;
-            uint32_t first = r->grp_start[col];
-            if (first == r->grp_start[col + 1]) continue;
-            const uint64_t *src = words + col * wpc;
-            uint64_t *dst = k + (y * kb.nx + x) * wpc;
-            /* runs of the column in order: starts and ends found a word at
-             * a time, the i-th start paired with the i-th end */
-            size_t ns = 0, ne = 0;
-            for (size_t w = 0; w < wpc; w++) {
-                uint64_t v = src[w];
-                if (!v) continue;
-                uint64_t lo = w ? src[w - 1] >> 63 : 0, hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
-                uint64_t s = bvox__run_starts(v, lo), e = v & ~((v >> 1) | (hi << 63));
-                for (; s; s &= s - 1) z0[ns++] = (int32_t)(w * 64) + __builtin_ctzll(s);
-                for (; e; e &= e - 1) z1[ne++] = (int32_t)(w * 64) + __builtin_ctzll(e) + 1;
-            }
-            for (size_t i = 0; i < ns; i++)
-                if (r->parent[first + i] != outside) bvox__column_fill(dst, z0[i], z1[i], 1);
-        }
-    touching_exterior(bg, lb, k, kb, wpc, t);
+    fill_job fj = {r, words, lb, kb, outside, k, t};
+    bvox__parallel_for((int64_t)kb.ny, 4, fill_rows, &fj);
+    touching_exterior(ext, k, kb, wpc, t);
     st = count_k26(k, t, kb, wpc, out);
-done:
-    free(z0);
-    free(z1);
     bvox__free(k, 2 * nw * sizeof *k);
     return st;
 }
@@ -297,7 +344,7 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
     }
     /* the exterior of K is R (r & ~K = R whatever the 26-flood added); K
      * has no voxel in the ring of border columns (reached whole) */
-    touching_exterior(r, lb, k, kb, wpc, t);
+    touching_exterior(plain_exterior(r, lb), k, kb, wpc, t);
     st = count_k26(k, t, kb, wpc, cav26);
 done:
     bvox__free(r, nr * sizeof *r);
@@ -322,6 +369,107 @@ static bool flood_pays(const bvox__scan *sc, colbox lb, int32_t nz, size_t wpc)
     return bg >= 0.31 * cols * nz && runs >= cols * (double)wpc;
 }
 
+/* The complement of the box's columns, nw words from the budget. */
+static uint64_t *background_words(const bvox_volume *vol, colbox lb, bvox_status *st)
+{
+    uint64_t *bg = bvox__alloc(lb.nx * lb.ny * vol->wpc * sizeof *bg, false, "background words", st);
+    if (!bg) return NULL;
+    extract_job ej = {vol, lb, bg};
+    bvox__parallel_for((int64_t)lb.ny, 16, extract_rows, &ej);
+    return bg;
+}
+
+/* Roots are the smallest run of their component and parent[i] <= i, so one
+ * pass in order makes every parent a root. */
+static void flatten(bvox__labelruns *r)
+{
+    uint32_t *parent = r->parent;
+    for (size_t i = 0; i <= r->nruns; i++) parent[i] = parent[parent[i]];
+}
+
+typedef struct outside_job {
+    uint32_t *parent;
+    const uint8_t *touched;
+    uint32_t outside;
+} outside_job;
+
+static void to_outside(void *ctx, int64_t begin, int64_t end)
+{
+    const outside_job *j = ctx;
+    for (int64_t i = begin; i < end; i++)
+        if (j->touched[j->parent[i]]) j->parent[i] = j->outside;
+}
+
+/* The hull route's join to outside: every run whose component touches the
+ * background outside U points at outside, the others at their root
+ * (flattened; all in parallel, no union-find). */
+static bvox_status join_exterior(bvox__labelruns *r, const bvox_volume *vol, colbox lb,
+                                 const int32_t *zr)
+{
+    uint8_t *touched = bvox__mem_zalloc(r->nruns + 1, 1);
+    if (!touched) return bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    flatten(r);
+    bvox__enclosed_mark_exterior(r, vol, lb.x0, lb.y0, zr, touched);
+    outside_job j = {r->parent, touched, (uint32_t)r->nruns};
+    bvox__parallel_for((int64_t)r->nruns, 1 << 16, to_outside, &j);
+    free(touched);
+    return BVOX_OK;
+}
+
+/* -1 (default) or 1: the labelling route labels only the background
+ * enclosed along z (measure_enclosed.c); 0: all of the box's background. */
+int bvox__cavity_hull = -1;
+
+/* Both counts by a 6-labelling: of all the box's background, joined to
+ * outside on the border, or (hull) of the background U enclosed along z
+ * alone, joined to outside where it touches the rest. */
+static bvox_status cavities_by_labelling(const bvox_volume *vol, colbox lb, bool hull,
+                                         int64_t *cav6, int64_t *cav26)
+{
+    size_t wpc = vol->wpc, ncol = lb.nx * lb.ny, nw = ncol * wpc;
+    bvox_status st = BVOX_OK;
+    uint64_t *words = NULL, *bg = NULL;
+    int32_t *zr = NULL;
+    if (hull) {
+        words = bvox__alloc(nw * sizeof *words, false, "enclosed background", &st);
+        if (words) zr = bvox__alloc(2 * ncol * sizeof *zr, false, "column hulls", &st);
+        if (zr) bvox__enclosed_background(vol, lb.x0, lb.y0, lb.nx, lb.ny, words, zr);
+    } else {
+        words = bg = background_words(vol, lb, &st);
+    }
+    bvox__labelruns r;
+    if (!st) st = bvox__labelruns_find(words, NULL, lb.nx, lb.ny, wpc, 6, 1, &r);
+    if (!st) {
+        uint32_t outside = (uint32_t)r.nruns, *parent = r.parent;
+        parent[outside] = outside;
+        if (hull) st = join_exterior(&r, vol, lb, zr);
+        else bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
+        *cav6 = count_inner(&r);
+        if (!st) st = bvox__progress(0.8);
+        if (st || *cav6 == 0) {
+            /* done */
+        } else if (*cav6 > 16384 && (size_t)*cav6 > r.nruns / 64) {
+            /* cavities everywhere (a coin toss): one labelling of all the
+             * background costs less than copying K and finding its contacts
+             * (small volumes take the K route whatever they hold: it is the
+             * one they test) */
+            if (!bg) bg = background_words(vol, lb, &st);
+            if (bg) st = label_all_26(bg, lb, wpc, vol->nz, cav26);
+        } else {
+            if (!hull) flatten(&r);
+            exterior_src ext = plain_exterior(bg, lb);
+            if (hull) ext = (exterior_src){vol->words, (size_t)vol->nx, lb.x0, lb.y0, true,
+                                           vol->tail_mask};
+            st = count_cavities_26(&r, words, ext, lb, cav26);
+        }
+        bvox__labelruns_free(&r);
+    }
+    if (words != bg) bvox__free(words, nw * sizeof *words);
+    bvox__free(bg, nw * sizeof *bg);
+    bvox__free(zr, 2 * ncol * sizeof *zr);
+    return st;
+}
+
 bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
                                    int64_t *cav26)
 {
@@ -333,44 +481,15 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
     colbox lb = {x0, y0, x1 - x0, y1 - y0};
     size_t wpc = vol->wpc, nw = lb.nx * lb.ny * wpc;
     bvox_status st = BVOX_OK;
-    uint64_t *bg = bvox__alloc(nw * sizeof *bg, false, "background words", &st);
-    if (!bg) return st;
-    extract_job ej = {vol, lb, bg};
-    bvox__parallel_for((int64_t)lb.ny, 16, extract_rows, &ej);
     int sweeps = bvox__cavity_flood_sweeps;
     if (sweeps < 0) sweeps = flood_pays(sc, lb, vol->nz, wpc) ? FLOOD_MAX_SWEEPS : 0;
     if (sweeps > 0) {
+        uint64_t *bg = background_words(vol, lb, &st);
+        if (!bg) return st;
         bool settled = false;
         st = cavities_by_flood(bg, lb, wpc, vol->nz, sweeps, &settled, cav6, cav26);
-        if (st || settled) {
-            bvox__free(bg, nw * sizeof *bg);
-            return st;
-        }
+        bvox__free(bg, nw * sizeof *bg);
+        if (st || settled) return st;
     }
-    bvox__labelruns r;
-    st = bvox__labelruns_find(bg, NULL, lb.nx, lb.ny, wpc, 6, 1, &r);
-    if (!st) {
-        uint32_t outside = (uint32_t)r.nruns, *parent = r.parent;
-        parent[outside] = outside;
-        bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
-        *cav6 = count_inner(&r);
-        st = bvox__progress(0.8);
-        if (st || *cav6 == 0) {
-            /* done */
-        } else if (*cav6 > 16384 && (size_t)*cav6 > r.nruns / 64) {
-            /* cavities everywhere (a coin toss): one labelling of all the
-             * background costs less than copying K and finding its contacts
-             * (small volumes take the K route whatever they hold: it is the
-             * one they test) */
-            st = label_all_26(bg, lb, wpc, vol->nz, cav26);
-        } else {
-            /* roots are the smallest run of their component and parent[i]
-             * <= i, so one pass in order makes every parent a root */
-            for (size_t i = 0; i <= r.nruns; i++) parent[i] = parent[parent[i]];
-            st = count_cavities_26(&r, bg, bg, lb, vol->nz, cav26);
-        }
-        bvox__labelruns_free(&r);
-    }
-    bvox__free(bg, nw * sizeof *bg);
-    return st;
+    return cavities_by_labelling(vol, lb, bvox__cavity_hull != 0, cav6, cav26);
 }

@@ -78,6 +78,11 @@ ALWAYS_INLINE void join_columns(const labeller *L, size_t ca, size_t cb, int wid
     uint64_t a_hi = 0, b_hi = 0, o_hi = 0, eb_hi = 0; /* bit 63 of the previous word */
     for (size_t k = 0; k < wpc; k++) {
         uint64_t a = A[k], b = B[k];
+        if (!(a | b)) {
+            /* nothing here (sparse background): no run goes on */
+            a_hi = b_hi = o_hi = eb_hi = 0;
+            continue;
+        }
         uint64_t sa = bvox__run_starts(a, a_hi), sb = bvox__run_starts(b, b_hi);
         uint64_t o = a & b;
         uint64_t contacts = bvox__run_starts(o, o_hi);
@@ -457,6 +462,24 @@ void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside
         }
         if (u[0] & 1) bvox__uf_unite(r->parent, r0, outside);
         if ((u[wpc - 1] >> last_bit) & 1) bvox__uf_unite(r->parent, r1 - 1, outside);
+    }
+}
+
+void bvox__labelruns_mark_group(const bvox__labelruns *r, size_t grp, const uint64_t *mask,
+                                uint8_t *touched)
+{
+    const uint64_t *u = bvox__labelruns_group(r, grp);
+    uint64_t carry = 0, u_hi = 0;
+    uint32_t run = r->grp_start[grp];
+    for (size_t k = 0; k < r->wpc; k++) {
+        uint64_t s = bvox__run_starts(u[k], u_hi);
+        for (uint64_t f = first_in_segments(mask[k], s, &carry); f; f &= f - 1) {
+            unsigned p = (unsigned)__builtin_ctzll(f);
+            uint32_t root = r->parent[run + bvox__popcount64(s & upto(p)) - 1];
+            __atomic_store_n(&touched[root], 1, __ATOMIC_RELAXED);
+        }
+        run += bvox__popcount64(s);
+        u_hi = u[k] >> 63;
     }
 }
 

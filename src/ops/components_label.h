@@ -60,6 +60,12 @@ void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside
  * ones) to node `outside` (an extra entry the caller initialised). */
 void bvox__labelruns_join_mask(bvox__labelruns *r, const uint64_t *mask, uint32_t outside);
 
+/* touched[root] = 1 for the root of every run of group grp holding a voxel
+ * of mask (wpc words); parent[] flattened (every entry a root). Safe from
+ * several threads at once (each store writes the same 1). */
+void bvox__labelruns_mark_group(const bvox__labelruns *r, size_t grp, const uint64_t *mask,
+                                uint8_t *touched);
+
 static inline uint64_t bvox__run_starts(uint64_t w, uint64_t carry)
 {
     return w & ~((w << 1) | carry);

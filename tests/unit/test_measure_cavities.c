@@ -42,8 +42,11 @@ static const int thread_counts[] = {1, 3, 16};
  * cut short after one sweep (the labelling takes over unless that settled
  * it), a flood that settles; with bvox__cavity_flood26_sweeps (the flood's
  * 26-cavities): by default (the 26-flood), and after a settled flood also by
- * labelling K and by a 26-flood cut short after one sweep. */
-static const int routes[][2] = {{-1, -1}, {0, -1}, {1, -1}, {1 << 20, -1}, {1 << 20, 0}, {1 << 20, 1}};
+ * labelling K and by a 26-flood cut short after one sweep; with
+ * bvox__cavity_hull, the labelling of the background enclosed along z (-1,
+ * the default) or of all of the box's background (0). */
+static const int routes[][3] = {{-1, -1, -1}, {0, -1, -1},     {0, -1, 0},      {1, -1, -1},
+                                {1, -1, 0},   {1 << 20, -1, -1}, {1 << 20, 0, -1}, {1 << 20, 1, -1}};
 #define NROUTES (sizeof routes / sizeof *routes)
 
 /* bvox_measure at every SIMD level, thread count and route gives cav6 and
@@ -60,15 +63,16 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
             bvox_set_threads(thread_counts[t % 3]);
             bvox__cavity_flood_sweeps = routes[t / 3][0];
             bvox__cavity_flood26_sweeps = routes[t / 3][1];
+            bvox__cavity_hull = routes[t / 3][2];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
             if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
                 m.tunnels != m.components + m.cavities - m.euler) {
                 fprintf(stderr,
-                        "  %dx%dx%d simd %s threads %d route %d (flood*100+flood26): components %lld cavities "
+                        "  %dx%dx%d simd %s threads %d route %d/%d (flood*100+flood26, hull): components %lld cavities "
                         "%lld/%lld, expected %lld %lld/%lld\n",
                         v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t % 3],
-                        routes[t / 3][0] * 100 + routes[t / 3][1],
+                        routes[t / 3][0] * 100 + routes[t / 3][1], routes[t / 3][2],
                         (long long)m.components, (long long)m.cavities,
                         (long long)m.cavities_26, (long long)comp, (long long)cav6,
                         (long long)cav26);
@@ -80,6 +84,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
     bvox_set_threads(threads);
     bvox__cavity_flood_sweeps = -1;
     bvox__cavity_flood26_sweeps = -1;
+    bvox__cavity_hull = -1;
     return bad;
 }
 
@@ -151,6 +156,18 @@ TEST(adversarial_vs_reference)
     voxref_fill_box(r, (bvox_box){10, 3, 30, 12, 5, 34}, 0);
     vset(r, 14, 10, 64, 0); /* a notch on the box's corner, open to the outside */
     vset(r, 13, 9, 63, 0);  /* its corner neighbour: enclosed for 6, not for 26 */
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+
+    /* pits open only along z, up or down, ending on a word boundary or not:
+     * never cavities, whatever their x-y neighbours hold; and one that is */
+    r = voxref_create(9, 9, 140);
+    voxref_fill_box(r, (bvox_box){1, 1, 1, 8, 8, 128}, 1);
+    voxref_fill_box(r, (bvox_box){4, 4, 100, 5, 5, 128}, 0); /* open upwards */
+    voxref_fill_box(r, (bvox_box){2, 2, 1, 3, 3, 64}, 0);    /* open downwards */
+    voxref_fill_box(r, (bvox_box){6, 6, 64, 7, 7, 128}, 0);  /* upwards, from a word boundary */
+    voxref_fill_box(r, (bvox_box){5, 4, 127, 6, 5, 128}, 0); /* beside the first pit's mouth */
+    voxref_fill_box(r, (bvox_box){2, 6, 30, 3, 7, 40}, 0);   /* a cavity */
     CHECK(!check_ref(r));
     voxref_destroy(r);
 
