@@ -80,6 +80,14 @@ static int64_t count_inner(const bvox__labelruns *r)
     return j.roots - 1;
 }
 
+/* Roots are the smallest run of their component and parent[i] <= i, so one
+ * pass in order makes every parent a root. */
+static void flatten(bvox__labelruns *r)
+{
+    uint32_t *parent = r->parent;
+    for (size_t i = 0; i <= r->nruns; i++) parent[i] = parent[parent[i]];
+}
+
 /* 64 z-neighbourhoods of a column word: w with its voxels at z - 1 and
  * z + 1 (prev/next: the words below and above, 0 outside). */
 static inline uint64_t zdilate(uint64_t prev, uint64_t w, uint64_t next)
@@ -104,58 +112,6 @@ static exterior_src plain_exterior(const uint64_t *bg, colbox lb)
     return (exterior_src){bg, lb.nx, 0, 0, false, ~0ull};
 }
 
-/* T = K & dilate26(exterior & ~K) into t (K the cavity voxels, box kb inside
- * the labelled box; t zero where K is); kb has a ring of empty columns so
- * every neighbour column is inside it. */
-typedef struct touch_job {
-    exterior_src ext;
-    const uint64_t *k;
-    colbox kb;
-    size_t wpc;
-    uint64_t *t;
-} touch_job;
-
-static void touching_rows(void *ctx, int64_t begin, int64_t end)
-{
-    const touch_job *j = ctx;
-    colbox kb = j->kb;
-    exterior_src ex = j->ext;
-    size_t wpc = j->wpc;
-    uint64_t flip = ex.complement ? ~0ull : 0;
-    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
-        for (size_t x = 1; x + 1 < kb.nx; x++) {
-            const uint64_t *kc = j->k + (y * kb.nx + x) * wpc;
-            uint64_t *tc = j->t + (y * kb.nx + x) * wpc;
-            for (size_t w = 0; w < wpc; w++) {
-                if (!kc[w]) continue;
-                uint64_t d = 0;
-                for (size_t dy = 0; dy < 3; dy++)
-                    for (size_t dx = 0; dx < 3; dx++) {
-                        size_t kcol = (y + dy - 1) * kb.nx + (x + dx - 1);
-                        size_t bcol = (ex.y0 + kb.y0 + y + dy - 1) * ex.nx +
-                                      (ex.x0 + kb.x0 + x + dx - 1);
-                        const uint64_t *kk = j->k + kcol * wpc, *bb = ex.w + bcol * wpc;
-                        uint64_t e = (bb[w] ^ flip) & (w + 1 == wpc ? ex.tail : ~0ull) & ~kk[w];
-                        uint64_t ep = w ? (bb[w - 1] ^ flip) & ~kk[w - 1] : 0;
-                        uint64_t en = w + 1 < wpc ? (bb[w + 1] ^ flip) &
-                                                        (w + 2 == wpc ? ex.tail : ~0ull) &
-                                                        ~kk[w + 1]
-                                                  : 0;
-                        d |= zdilate(ep, e, en);
-                    }
-                tc[w] = kc[w] & d;
-            }
-        }
-}
-
-static void touching_exterior(exterior_src ext, const uint64_t *k, colbox kb, size_t wpc,
-                              uint64_t *t)
-{
-    if (kb.ny < 3) return;
-    touch_job j = {ext, k, kb, wpc, t};
-    bvox__parallel_for((int64_t)kb.ny - 2, 8, touching_rows, &j);
-}
-
 /* The 26-cavities by labelling all of the box's background: cheaper than
  * going through K when the cavities are everywhere (a coin toss has a
  * million of them). */
@@ -172,30 +128,117 @@ static bvox_status label_all_26(const uint64_t *bg, colbox lb, size_t wpc, int32
     return BVOX_OK;
 }
 
-/* The 26-components of the cavity voxels k (box kb) none of whose runs
- * holds a voxel of t (those touching the exterior; NULL: none does). */
-static bvox_status count_k26(const uint64_t *k, const uint64_t *t, colbox kb, size_t wpc,
-                             int64_t *out)
+/* The 26-components of the cavity voxels K (words k, box kb inside the
+ * labelled box; its ring of columns empty) that touch no voxel of the
+ * exterior (ext minus K, ext in the labelled box's columns; ext.w NULL: no
+ * exterior). K is labelled 26-connected; then, a row of groups per task,
+ * each group's voxels of T = K & dilate26(exterior) mark the roots of their
+ * runs, and the unmarked roots are counted. */
+typedef struct mark26_job {
+    const bvox__labelruns *r;
+    exterior_src ext;
+    colbox kb;
+    uint8_t *touched;
+} mark26_job;
+
+/* T's word w of K's column (x, y) of kb (an inner column). */
+static inline uint64_t touching_word(const mark26_job *j, size_t x, size_t y, size_t w)
+{
+    const uint64_t *k = j->r->words;
+    colbox kb = j->kb;
+    exterior_src ex = j->ext;
+    size_t wpc = j->r->wpc;
+    uint64_t flip = ex.complement ? ~0ull : 0, d = 0;
+    for (size_t dy = 0; dy < 3; dy++)
+        for (size_t dx = 0; dx < 3; dx++) {
+            const uint64_t *kk = k + ((y + dy - 1) * kb.nx + (x + dx - 1)) * wpc;
+            const uint64_t *bb =
+                ex.w + ((ex.y0 + kb.y0 + y + dy - 1) * ex.nx + (ex.x0 + kb.x0 + x + dx - 1)) * wpc;
+            uint64_t e = (bb[w] ^ flip) & (w + 1 == wpc ? ex.tail : ~0ull) & ~kk[w];
+            uint64_t ep = w ? (bb[w - 1] ^ flip) & ~kk[w - 1] : 0;
+            uint64_t en =
+                w + 1 < wpc ? (bb[w + 1] ^ flip) & (w + 2 == wpc ? ex.tail : ~0ull) & ~kk[w + 1] : 0;
+            d |= zdilate(ep, e, en);
+        }
+    return k[(y * kb.nx + x) * wpc + w] & d;
+}
+
+static void mark26_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const mark26_job *j = ctx;
+    const bvox__labelruns *r = j->r;
+    size_t wpc = r->wpc;
+    uint64_t mask[(BVOX_MAX_DIM + 63) / 64];
+    for (size_t gy = (size_t)begin; gy < (size_t)end; gy++)
+        for (size_t gx = 0; gx < r->gx; gx++) {
+            size_t grp = gy * r->gx + gx;
+            if (r->grp_start[grp] == r->grp_start[grp + 1]) continue;
+            memset(mask, 0, wpc * sizeof *mask);
+            uint64_t any = 0;
+            for (size_t c = 0; c < 4; c++) {
+                size_t x = 2 * gx + c % 2, y = 2 * gy + c / 2;
+                if (x == 0 || y == 0 || x + 1 >= j->kb.nx || y + 1 >= j->kb.ny) continue;
+                const uint64_t *kc = r->words + (y * j->kb.nx + x) * wpc;
+                for (size_t w = 0; w < wpc; w++)
+                    if (kc[w]) {
+                        uint64_t t = touching_word(j, x, y, w);
+                        mask[w] |= t;
+                        any |= t;
+                    }
+            }
+            if (any) bvox__labelruns_mark_group(r, grp, mask, j->touched);
+        }
+}
+
+typedef struct unmarked_job {
+    const uint32_t *parent;
+    const uint8_t *touched;
+    int64_t roots;
+} unmarked_job;
+
+static void count_unmarked(void *ctx, int64_t begin, int64_t end)
+{
+    unmarked_job *j = ctx;
+    int64_t n = 0;
+    for (int64_t i = begin; i < end; i++) n += j->parent[i] == (uint32_t)i && !j->touched[i];
+    __atomic_fetch_add(&j->roots, n, __ATOMIC_RELAXED);
+}
+
+static bvox_status count_marked_26(const uint64_t *k, colbox kb, exterior_src ext, size_t wpc,
+                                   int64_t *out)
 {
     bvox__labelruns r26;
     bvox_status st = bvox__labelruns_find(k, NULL, kb.nx, kb.ny, wpc, 26, 1, &r26);
     if (st) return st;
     r26.parent[r26.nruns] = (uint32_t)r26.nruns;
-    if (t) bvox__labelruns_join_mask(&r26, t, (uint32_t)r26.nruns);
-    *out = count_inner(&r26);
+    uint8_t *touched = bvox__mem_zalloc(r26.nruns + 1, 1);
+    if (!touched) {
+        bvox__labelruns_free(&r26);
+        return bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    }
+    if (ext.w) {
+        flatten(&r26);
+        mark26_job mj = {&r26, ext, kb, touched};
+        bvox__parallel_for((int64_t)r26.gy, 4, mark26_rows, &mj);
+    }
+    unmarked_job uj = {r26.parent, touched, 0};
+    bvox__parallel_for((int64_t)r26.nruns, 1 << 16, count_unmarked, &uj);
+    *out = uj.roots;
+    free(touched);
     bvox__labelruns_free(&r26);
     return BVOX_OK;
 }
 
-/* K's columns (zeroed, the cavity runs filled) and T's (zeroed), a row of
- * kb at a time: the runs of each column in order, starts and ends found a
- * word at a time, the i-th start paired with the i-th end. */
+/* K, a row of kb at a time: each column of words copied into k with only
+ * its cavity runs (k != words: zeroed, then the runs filled), or with the
+ * other runs cleared in place (k == words). The runs of a column in order:
+ * starts and ends found a word at a time, alternating along z. */
 typedef struct fill_job {
     const bvox__labelruns *r;
-    const uint64_t *words;
+    uint64_t *words;
     colbox lb, kb;
     uint32_t outside;
-    uint64_t *k, *t;
+    uint64_t *k;
 } fill_job;
 
 static void fill_rows(void *ctx, int64_t begin, int64_t end)
@@ -204,49 +247,53 @@ static void fill_rows(void *ctx, int64_t begin, int64_t end)
     const bvox__labelruns *r = j->r;
     colbox lb = j->lb, kb = j->kb;
     size_t wpc = r->wpc;
+    bool in_place = j->k == j->words;
     for (size_t y = (size_t)begin; y < (size_t)end; y++)
         for (size_t x = 0; x < kb.nx; x++) {
-            uint64_t *dst = j->k + (y * kb.nx + x) * wpc;
-            memset(dst, 0, wpc * sizeof *dst);
-            memset(j->t + (y * kb.nx + x) * wpc, 0, wpc * sizeof *dst);
-            if (x == 0 || y == 0 || x + 1 == kb.nx || y + 1 == kb.ny) continue;
             size_t col = (kb.y0 + y) * lb.nx + kb.x0 + x;
+            uint64_t *dst = j->k + (y * kb.nx + x) * wpc;
+            if (!in_place) memset(dst, 0, wpc * sizeof *dst);
             uint32_t run = r->grp_start[col];
             if (run == r->grp_start[col + 1]) continue;
             const uint64_t *src = j->words + col * wpc;
             int32_t z0 = -1;
+            uint64_t lo = 0; /* the top bit of the word below, as it was */
             for (size_t w = 0; w < wpc; w++) {
                 uint64_t v = src[w];
-                if (!v) continue;
-                uint64_t lo = w ? src[w - 1] >> 63 : 0, hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
+                uint64_t hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
                 uint64_t s = bvox__run_starts(v, lo), e = v & ~((v >> 1) | (hi << 63));
-                /* starts and ends alternate along z: take them in order */
+                lo = v >> 63;
                 while (s | e) {
                     unsigned ps = s ? (unsigned)__builtin_ctzll(s) : 64;
                     unsigned pe = e ? (unsigned)__builtin_ctzll(e) : 64;
                     if (ps <= pe && s) {
                         z0 = (int32_t)(w * 64 + ps);
                         s &= s - 1;
-                    } else {
-                        if (r->parent[run] != j->outside)
-                            bvox__column_fill(dst, z0, (int32_t)(w * 64 + pe) + 1, 1);
-                        run++;
-                        e &= e - 1;
+                        continue;
                     }
+                    int32_t z1 = (int32_t)(w * 64 + pe) + 1;
+                    bool cavity = r->parent[run] != j->outside;
+                    if (in_place && !cavity) bvox__column_fill(dst, z0, z1, 0);
+                    if (!in_place && cavity) bvox__column_fill(dst, z0, z1, 1);
+                    run++;
+                    e &= e - 1;
                 }
             }
         }
 }
 
-/* The 26-cavities, given the 6-labelling r of words (the background words
- * of box lb, or a part of them holding every cavity) whose parents have
- * been flattened (parent[i] is i's root): the runs not in outside's
- * component are the cavity voxels K; ext is where K's exterior is read. */
-static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *words,
-                                     exterior_src ext, colbox lb, int64_t *out)
+/* The 26-cavities, given the 6-labelling r of words (the box's background
+ * or the part of it that holds every cavity, words of lb's columns, which
+ * this overwrites) whose parents have been flattened (parent[i] is i's
+ * root): the runs not in outside's component are the cavity voxels K; their
+ * exterior is the background of vol minus K. K is labelled where it lies:
+ * copied into the box of its columns when that is small, else in place. */
+static bvox_status count_cavities_26(const bvox__labelruns *r, uint64_t *words,
+                                     const bvox_volume *vol, colbox lb, int64_t *out)
 {
     size_t wpc = r->wpc;
     uint32_t outside = r->parent[r->nruns];
+    exterior_src ext = {vol->words, (size_t)vol->nx, lb.x0, lb.y0, true, vol->tail_mask};
     /* the columns holding cavity runs */
     size_t x0 = lb.nx, x1 = 0, y0 = lb.ny, y1 = 0;
     for (size_t col = 0; col < lb.nx * lb.ny; col++) {
@@ -262,16 +309,17 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, const uint64_t *w
     }
     /* never on the labelled box's border (joined to outside there) */
     colbox kb = {x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2};
+    bool in_place = 4 * kb.nx * kb.ny > lb.nx * lb.ny;
+    if (in_place) kb = (colbox){0, 0, lb.nx, lb.ny};
     size_t nw = kb.nx * kb.ny * wpc;
     bvox_status st = BVOX_OK;
-    uint64_t *k = bvox__alloc(2 * nw * sizeof *k, false, "cavity voxels", &st);
+    uint64_t *k = words;
+    if (!in_place) k = bvox__alloc(nw * sizeof *k, false, "cavity voxels", &st);
     if (!k) return st;
-    uint64_t *t = k + nw;
-    fill_job fj = {r, words, lb, kb, outside, k, t};
+    fill_job fj = {r, words, lb, kb, outside, k};
     bvox__parallel_for((int64_t)kb.ny, 4, fill_rows, &fj);
-    touching_exterior(ext, k, kb, wpc, t);
-    st = count_k26(k, t, kb, wpc, out);
-    bvox__free(k, 2 * nw * sizeof *k);
+    st = count_marked_26(k, kb, ext, wpc, out);
+    if (!in_place) bvox__free(k, nw * sizeof *k);
     return st;
 }
 
@@ -339,13 +387,12 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
         /* t = K & ~R26: whole 26-cavities, none touching the exterior */
         and_not_job cj = {t, k, r};
         bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &cj);
-        st = count_k26(t, NULL, kb, wpc, cav26);
+        st = count_marked_26(t, kb, (exterior_src){NULL, 0, 0, 0, false, 0}, wpc, cav26);
         goto done;
     }
     /* the exterior of K is R (r & ~K = R whatever the 26-flood added); K
      * has no voxel in the ring of border columns (reached whole) */
-    touching_exterior(plain_exterior(r, lb), k, kb, wpc, t);
-    st = count_k26(k, t, kb, wpc, cav26);
+    st = count_marked_26(k, kb, plain_exterior(r, lb), wpc, cav26);
 done:
     bvox__free(r, nr * sizeof *r);
     return st;
@@ -377,14 +424,6 @@ static uint64_t *background_words(const bvox_volume *vol, colbox lb, bvox_status
     extract_job ej = {vol, lb, bg};
     bvox__parallel_for((int64_t)lb.ny, 16, extract_rows, &ej);
     return bg;
-}
-
-/* Roots are the smallest run of their component and parent[i] <= i, so one
- * pass in order makes every parent a root. */
-static void flatten(bvox__labelruns *r)
-{
-    uint32_t *parent = r->parent;
-    for (size_t i = 0; i <= r->nruns; i++) parent[i] = parent[parent[i]];
 }
 
 typedef struct outside_job {
@@ -420,32 +459,54 @@ static bvox_status join_exterior(bvox__labelruns *r, const bvox_volume *vol, col
  * enclosed along z (measure_enclosed.c); 0: all of the box's background. */
 int bvox__cavity_hull = -1;
 
-/* Both counts by a 6-labelling: of all the box's background, joined to
- * outside on the border, or (hull) of the background U enclosed along z
- * alone, joined to outside where it touches the rest. */
-static bvox_status cavities_by_labelling(const bvox_volume *vol, colbox lb, bool hull,
-                                         int64_t *cav6, int64_t *cav26)
+/* Both counts from the background U enclosed along z alone (see
+ * measure_enclosed.c): its 6-components that do not touch the rest of the
+ * background are the 6-cavities, and their union K gives the 26-cavities
+ * (count_cavities_26; labelling all of U 26-connected instead, K being a
+ * few pockets of it, cost 1.4 x the whole call on the atlas). */
+static bvox_status cavities_in_hull(const bvox_volume *vol, colbox lb, int64_t *cav6,
+                                    int64_t *cav26)
 {
-    size_t wpc = vol->wpc, ncol = lb.nx * lb.ny, nw = ncol * wpc;
+    size_t ncol = lb.nx * lb.ny, nw = ncol * vol->wpc;
     bvox_status st = BVOX_OK;
-    uint64_t *words = NULL, *bg = NULL;
     int32_t *zr = NULL;
-    if (hull) {
-        words = bvox__alloc(nw * sizeof *words, false, "enclosed background", &st);
-        if (words) zr = bvox__alloc(2 * ncol * sizeof *zr, false, "column hulls", &st);
-        if (zr) bvox__enclosed_background(vol, lb.x0, lb.y0, lb.nx, lb.ny, words, zr);
-    } else {
-        words = bg = background_words(vol, lb, &st);
-    }
+    uint64_t *u = bvox__alloc(nw * sizeof *u, false, "enclosed background", &st);
+    if (u) zr = bvox__alloc(2 * ncol * sizeof *zr, false, "column hulls", &st);
     bvox__labelruns r;
-    if (!st) st = bvox__labelruns_find(words, NULL, lb.nx, lb.ny, wpc, 6, 1, &r);
-    if (!st) {
-        uint32_t outside = (uint32_t)r.nruns, *parent = r.parent;
-        parent[outside] = outside;
-        if (hull) st = join_exterior(&r, vol, lb, zr);
-        else bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
-        *cav6 = count_inner(&r);
+    if (zr) {
+        bvox__enclosed_background(vol, lb.x0, lb.y0, lb.nx, lb.ny, u, zr);
+        st = bvox__labelruns_find(u, NULL, lb.nx, lb.ny, vol->wpc, 6, 1, &r);
+    }
+    if (zr && !st) {
+        r.parent[r.nruns] = (uint32_t)r.nruns;
+        st = join_exterior(&r, vol, lb, zr);
+        if (!st) *cav6 = count_inner(&r);
         if (!st) st = bvox__progress(0.8);
+        if (!st && *cav6) st = count_cavities_26(&r, u, vol, lb, cav26);
+        bvox__labelruns_free(&r);
+    }
+    bvox__free(u, nw * sizeof *u);
+    bvox__free(zr, 2 * ncol * sizeof *zr);
+    return st;
+}
+
+/* Both counts by a 6-labelling of all the box's background, joined to
+ * outside on the border. */
+static bvox_status cavities_by_labelling(const bvox_volume *vol, colbox lb, int64_t *cav6,
+                                         int64_t *cav26)
+{
+    size_t wpc = vol->wpc, nw = lb.nx * lb.ny * wpc;
+    bvox_status st = BVOX_OK;
+    uint64_t *bg = background_words(vol, lb, &st);
+    if (!bg) return st;
+    bvox__labelruns r;
+    st = bvox__labelruns_find(bg, NULL, lb.nx, lb.ny, wpc, 6, 1, &r);
+    if (!st) {
+        uint32_t outside = (uint32_t)r.nruns;
+        r.parent[outside] = outside;
+        bvox__labelruns_join_border(&r, (size_t)vol->nz, outside);
+        *cav6 = count_inner(&r);
+        st = bvox__progress(0.8);
         if (st || *cav6 == 0) {
             /* done */
         } else if (*cav6 > 16384 && (size_t)*cav6 > r.nruns / 64) {
@@ -453,20 +514,14 @@ static bvox_status cavities_by_labelling(const bvox_volume *vol, colbox lb, bool
              * background costs less than copying K and finding its contacts
              * (small volumes take the K route whatever they hold: it is the
              * one they test) */
-            if (!bg) bg = background_words(vol, lb, &st);
-            if (bg) st = label_all_26(bg, lb, wpc, vol->nz, cav26);
+            st = label_all_26(bg, lb, wpc, vol->nz, cav26);
         } else {
-            if (!hull) flatten(&r);
-            exterior_src ext = plain_exterior(bg, lb);
-            if (hull) ext = (exterior_src){vol->words, (size_t)vol->nx, lb.x0, lb.y0, true,
-                                           vol->tail_mask};
-            st = count_cavities_26(&r, words, ext, lb, cav26);
+            flatten(&r);
+            st = count_cavities_26(&r, bg, vol, lb, cav26);
         }
         bvox__labelruns_free(&r);
     }
-    if (words != bg) bvox__free(words, nw * sizeof *words);
     bvox__free(bg, nw * sizeof *bg);
-    bvox__free(zr, 2 * ncol * sizeof *zr);
     return st;
 }
 
@@ -491,5 +546,6 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
         bvox__free(bg, nw * sizeof *bg);
         if (st || settled) return st;
     }
-    return cavities_by_labelling(vol, lb, bvox__cavity_hull != 0, cav6, cav26);
+    if (bvox__cavity_hull != 0) return cavities_in_hull(vol, lb, cav6, cav26);
+    return cavities_by_labelling(vol, lb, cav6, cav26);
 }

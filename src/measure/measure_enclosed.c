@@ -21,6 +21,7 @@
 #include "measure/measure.h"
 #include "ops/components_label.h"
 
+
 typedef struct enclosed_job {
     const bvox_volume *v;
     size_t x0, y0, nx, ny;
@@ -73,6 +74,8 @@ void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, siz
 static inline uint64_t exterior_word(const bvox_volume *v, const uint64_t *o, const int32_t *zr,
                                      size_t col, size_t k)
 {
+    int64_t base = (int64_t)k * 64;
+    if (zr[2 * col] <= base && zr[2 * col + 1] >= base + 64) return 0; /* inside the hull */
     uint64_t bg = ~o[k] & (k + 1 == v->wpc ? v->tail_mask : ~0ull);
     return bg & ~range_bits(zr[2 * col], zr[2 * col + 1], k);
 }
@@ -85,30 +88,39 @@ typedef struct mark_job {
     uint8_t *touched;
 } mark_job;
 
+/* T's words of U's column (x, y) of the box (inner), into t: U & the
+ * 6-neighbourhood of E across x and y (U's runs end on object voxels along
+ * z). */
+static uint64_t touching_column(const mark_job *j, size_t x, size_t y, uint64_t *t)
+{
+    const bvox__labelruns *r = j->r;
+    const bvox_volume *v = j->v;
+    size_t nx = r->nx, wpc = r->wpc, vnx = (size_t)v->nx, col = y * nx + x;
+    const uint64_t *u = r->words + col * wpc;
+    const uint64_t *o = v->words + ((j->y0 + y) * vnx + j->x0 + x) * wpc;
+    const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
+    const uint64_t *onb[4] = {o - wpc, o + wpc, o - vnx * wpc, o + vnx * wpc};
+    uint64_t any = 0;
+    for (size_t k = 0; k < wpc; k++) {
+        uint64_t e = 0;
+        if (u[k])
+            for (int i = 0; i < 4; i++) e |= exterior_word(v, onb[i], j->zr, nb[i], k);
+        t[k] = u[k] & e;
+        any |= t[k];
+    }
+    return any;
+}
+
 static void mark_rows(void *ctx, int64_t begin, int64_t end)
 {
     const mark_job *j = ctx;
     const bvox__labelruns *r = j->r;
-    const bvox_volume *v = j->v;
-    size_t nx = r->nx, wpc = r->wpc, vnx = (size_t)v->nx;
     uint64_t t[(BVOX_MAX_DIM + 63) / 64];
     for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
-        for (size_t x = 1; x + 1 < nx; x++) {
-            size_t col = y * nx + x;
+        for (size_t x = 1; x + 1 < r->nx; x++) {
+            size_t col = y * r->nx + x;
             if (r->grp_start[col] == r->grp_start[col + 1]) continue;
-            const uint64_t *u = r->words + col * wpc;
-            const uint64_t *o = v->words + ((j->y0 + y) * vnx + j->x0 + x) * wpc;
-            const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
-            const uint64_t *onb[4] = {o - wpc, o + wpc, o - vnx * wpc, o + vnx * wpc};
-            uint64_t any = 0;
-            for (size_t k = 0; k < wpc; k++) {
-                uint64_t e = 0;
-                if (u[k])
-                    for (int i = 0; i < 4; i++) e |= exterior_word(v, onb[i], j->zr, nb[i], k);
-                t[k] = u[k] & e;
-                any |= t[k];
-            }
-            if (any) bvox__labelruns_mark_group(r, col, t, j->touched);
+            if (touching_column(j, x, y, t)) bvox__labelruns_mark_group(r, col, t, j->touched);
         }
 }
 

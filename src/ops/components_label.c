@@ -37,7 +37,7 @@
  * (union by smaller index keeps every write inside the slab). Then one pass
  * joins each slab's first row to the row before it.
  *
- * Two copies of the row loop: without -mpopcnt (the library is built for any
+ * Two copies of the row loop (and of the run counting): without -mpopcnt (the library is built for any
  * x86-64) __builtin_popcountll is a library call, which took a third of the
  * time; the popcnt copy is used when the CPU has it (every CPU with AVX2
  * does), chosen through the SIMD level so tests can force either.
@@ -311,9 +311,8 @@ static void copy_group(const count_ctx *c, size_t grp)
         }
 }
 
-static void count_groups(void *ctx, int64_t begin, int64_t end)
+ALWAYS_INLINE void count_body(const count_ctx *c, int64_t begin, int64_t end, int hw)
 {
-    const count_ctx *c = ctx;
     bvox__labelruns *R = c->R;
     size_t wpc = R->wpc;
     for (int64_t grp = begin; grp < end; grp++) {
@@ -332,11 +331,31 @@ static void count_groups(void *ctx, int64_t begin, int64_t end)
         uint32_t n = 0;
         uint64_t carry = 0;
         for (size_t k = 0; k < wpc; k++) {
-            n += bvox__popcount64(bvox__run_starts(u[k], carry));
+            n += PC(bvox__run_starts(u[k], carry));
             carry = u[k] >> 63;
         }
         c->counts[grp + 1] = n;
     }
+}
+
+static void count_groups_portable(void *ctx, int64_t begin, int64_t end)
+{
+    count_body(ctx, begin, end, 0);
+}
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("popcnt"))) static void count_groups_popcnt(void *ctx, int64_t begin,
+                                                                  int64_t end)
+{
+    count_body(ctx, begin, end, 1);
+}
+#endif
+
+static bvox__range_fn choose_count_groups(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    if (bvox_simd_active() != BVOX_SIMD_GENERIC) return count_groups_popcnt;
+#endif
+    return count_groups_portable;
 }
 
 void bvox__labelruns_free(bvox__labelruns *r)
@@ -375,7 +394,7 @@ bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t n
      * that more than 2^32 runs is an error, not a wrap. */
     R->grp_start[0] = 0;
     count_ctx cc = {R, words, R->grp_start};
-    bvox__parallel_for((int64_t)R->ngrp, 4096 / (R->g * R->g), count_groups, &cc);
+    bvox__parallel_for((int64_t)R->ngrp, 4096 / (R->g * R->g), choose_count_groups(), &cc);
     uint64_t total = 0;
     for (size_t i = 0; i < R->ngrp; i++) {
         total += R->grp_start[i + 1];
