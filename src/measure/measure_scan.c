@@ -31,8 +31,9 @@
  * The popcounts dominate. On x86-64 BVOX_SIMD=avx512 (the default on CPUs
  * with AVX512F/BW/VL and VPOPCNTDQ) uses measure_scan_avx512.c's kernels,
  * eight z-words of the four columns at once; avx2 measure_scan_avx2.c's
- * cells kernel (four words) and a clone of the portable moments compiled for
- * the POPCNT instruction; generic the portable ones, the reference: the
+ * (four words, popcounts by nibble look-ups); generic the portable ones
+ * (a clone compiled for the POPCNT instruction where the CPU has it but not
+ * AVX2), the reference: the
  * tests compare every integer of the scan at each level.
  *
  * Moments come from runs along z: a column's sums over its 1-voxels of 1, z
@@ -219,6 +220,7 @@ bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out)
     bvox__moments_fn moments = moments_generic;
 #ifdef HAVE_POPCNT_CLONE
     if (cells == bvox__cells_row_avx512) moments = bvox__moments_avx512;
+    else if (cells == bvox__cells_row_avx2) moments = bvox__moments_avx2;
     else if (cells != cells_generic) moments = moments_popcnt;
 #endif
     scan_job job = {vol, zero, nblocks, parts, cells, moments};

@@ -29,6 +29,7 @@ typedef void (*bvox__moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int
 extern const bvox__cells_row_fn bvox__cells_row_avx512;
 extern const bvox__cells_row_fn bvox__cells_row_avx2; /* AVX2 + POPCNT + BMI2 */
 extern const bvox__moments_fn bvox__moments_avx512;
+extern const bvox__moments_fn bvox__moments_avx2;
 
 /* The four voxel columns a = (x-1, y-1), b = (x, y-1), c = (x-1, y),
  * d = (x, y) of vertex column x, zero where outside. */

@@ -8,6 +8,7 @@
  * The lo words: each lane takes the top bit of the lane below, lane 0 that
  * of the previous group's last word (a qword rotation and a blend). The
  * extra top word is counted by the scalar formula; all sums are exact.
+ * The moments kernel below counts by bytes the same way.
  */
 #include "measure/measure_scan.h"
 
@@ -114,7 +115,85 @@ static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size
     }
 }
 
+/* Nibble tables for the moments: bits set, sum of their indices i, sum of
+ * i^2 (i = 0..3), twice over for the two 128-bit halves. */
+#define NIB(a, b, c, d, e, f, g, h, i, j, k, l, m, n, o, p)                                  \
+    _mm256_setr_epi8(a, b, c, d, e, f, g, h, i, j, k, l, m, n, o, p, a, b, c, d, e, f, g, h, i, \
+                     j, k, l, m, n, o, p)
+
+/* 16-bit pair sums of a maddubs result gathered into their 64-bit lanes. */
+static inline __m256i lanes_of16(__m256i v)
+{
+    __m256i s32 = _mm256_madd_epi16(v, _mm256_set1_epi16(1));
+    return _mm256_add_epi64(_mm256_and_si256(s32, _mm256_set1_epi64x(0xffffffff)),
+                            _mm256_srli_epi64(s32, 32));
+}
+
+/* The moments of one column, four words at a time (the many-runs formula of
+ * measure_scan.c by bytes instead of bit masks): a byte j of a word with
+ * count p, index sum s1 and square sum s2 (of its bits' indices 0..7; by two
+ * nibble look-ups each) adds p to the word's count c, 8 j p + s1 to t1 and
+ * 64 j^2 p + 16 j s1 + s2 to t2; the j-weighted sums are vpmaddubsw's, the
+ * plain ones vpsadbw's. Then sz = sum 64 k c + t1, szz = sum 4096 k^2 c +
+ * 128 k t1 + t2 over the word index k (products fit 32 x 32 -> 64: k < 1024,
+ * c <= 64, t1 < 2^11). */
+static void moments(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *s)
+{
+    const __m256i tp = NIB(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
+    const __m256i ts1 = NIB(0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 4, 4, 5, 5, 6, 6);
+    const __m256i ts2 = NIB(0, 0, 1, 1, 4, 4, 5, 5, 9, 9, 10, 10, 13, 13, 14, 14);
+    const __m256i low = _mm256_set1_epi8(0x0f), zero = _mm256_setzero_si256();
+    const __m256i w1 = _mm256_set1_epi64x(0x0706050403020100ll);
+    const __m256i w2 = _mm256_set1_epi64x(0x3124191009040100ll);
+    const __m256i four = _mm256_set1_epi64x(4);
+    __m256i vn = zero, vsz = zero, vszz = zero, idx = _mm256_setr_epi64x(0, 1, 2, 3);
+    int32_t zlo = -1, zhi = -1;
+    for (size_t k = 0; k < wpc; k += 4, idx = _mm256_add_epi64(idx, four)) {
+        __m256i w = load(col + k, wpc - k);
+        __m256i isz = _mm256_cmpeq_epi64(w, zero);
+        unsigned nz = ~(unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(isz)) & 0xf;
+        if (!nz) continue;
+        size_t first = k + (size_t)__builtin_ctz(nz), last = k + 31 - (size_t)__builtin_clz(nz);
+        if (zlo < 0) zlo = (int32_t)(first * 64 + (size_t)__builtin_ctzll(col[first]));
+        zhi = (int32_t)(last * 64 + 64 - (size_t)__builtin_clzll(col[last]));
+        __m256i lo = _mm256_and_si256(w, low), hi = _mm256_and_si256(_mm256_srli_epi16(w, 4), low);
+        __m256i plo = _mm256_shuffle_epi8(tp, lo), phi = _mm256_shuffle_epi8(tp, hi);
+        __m256i s1hi = _mm256_shuffle_epi8(ts1, hi);
+        __m256i p = _mm256_add_epi8(plo, phi);
+        /* the high nibble's bits sit 4 higher: i + 4 */
+        __m256i s1 = _mm256_add_epi8(_mm256_add_epi8(_mm256_shuffle_epi8(ts1, lo), s1hi),
+                                     _mm256_slli_epi16(phi, 2));
+        __m256i s2 = _mm256_add_epi8(
+            _mm256_add_epi8(_mm256_shuffle_epi8(ts2, lo), _mm256_shuffle_epi8(ts2, hi)),
+            _mm256_add_epi8(_mm256_slli_epi16(s1hi, 3), _mm256_slli_epi16(phi, 4)));
+        __m256i c = _mm256_sad_epu8(p, zero);
+        __m256i jp = lanes_of16(_mm256_maddubs_epi16(p, w1));
+        __m256i jjp = lanes_of16(_mm256_maddubs_epi16(p, w2));
+        __m256i js1 = lanes_of16(_mm256_maddubs_epi16(s1, w1));
+        __m256i t1 = _mm256_add_epi64(_mm256_slli_epi64(jp, 3), _mm256_sad_epu8(s1, zero));
+        __m256i t2 = _mm256_add_epi64(_mm256_add_epi64(_mm256_slli_epi64(jjp, 6),
+                                                       _mm256_slli_epi64(js1, 4)),
+                                      _mm256_sad_epu8(s2, zero));
+        __m256i kc = _mm256_mul_epu32(idx, c);
+        __m256i kkc = _mm256_mul_epu32(_mm256_mul_epu32(idx, idx), c);
+        __m256i kt1 = _mm256_mul_epu32(idx, t1);
+        vn = _mm256_add_epi64(vn, c);
+        vsz = _mm256_add_epi64(vsz, _mm256_add_epi64(_mm256_slli_epi64(kc, 6), t1));
+        vszz = _mm256_add_epi64(vszz, _mm256_add_epi64(_mm256_slli_epi64(kkc, 12),
+                                                       _mm256_add_epi64(_mm256_slli_epi64(kt1, 7), t2)));
+    }
+    if (zlo < 0) return;
+    int64_t n[4], sz[4], szz[4];
+    _mm256_storeu_si256((__m256i *)n, vn);
+    _mm256_storeu_si256((__m256i *)sz, vsz);
+    _mm256_storeu_si256((__m256i *)szz, vszz);
+    bvox__moments_add(s, x, y, n[0] + n[1] + n[2] + n[3], sz[0] + sz[1] + sz[2] + sz[3],
+                      szz[0] + szz[1] + szz[2] + szz[3], zlo, zhi);
+}
+
 const bvox__cells_row_fn bvox__cells_row_avx2 = cells_row;
+const bvox__moments_fn bvox__moments_avx2 = moments;
 #else
 const bvox__cells_row_fn bvox__cells_row_avx2 = NULL;
+const bvox__moments_fn bvox__moments_avx2 = NULL;
 #endif
