@@ -9,22 +9,31 @@
  * so joining the box's border runs to "outside" is exact. z is kept whole so
  * that no word is shifted.
  *
+ * Of that background only the part U enclosed along z (between the first
+ * and the last object voxel of its column) can hold a cavity: the rest sees
+ * the border along z. U alone is labelled 6-connected, and a component is a
+ * cavity unless one of its voxels touches the rest across x or y
+ * (measure_enclosed.c; the roots of such components are marked in parallel,
+ * no union-find). bvox__cavity_hull = 0 labels all of the background
+ * instead, its border runs joined to "outside" (the route before U).
+ *
  * 26-connected cavities are unions of 6-connected ones (a background
  * component touching the border contains a 6-connected one that does), so
  * after the 6-connected labelling only the cavity voxels K are looked at
  * again: a 26-component of K is a 26-cavity unless one of its voxels is a
- * 26-neighbour of the exterior E (background minus K). K is usually a few
- * small pockets: it is copied into the box of its own columns (grown by
- * one), T = K & dilate26(E) is formed word by word where K has voxels, and
- * K is labelled 26-connected with the runs holding a T voxel joined to
- * "outside". This replaces a second labelling of the whole background,
- * except when the cavities are everywhere (see label_all_26).
+ * 26-neighbour of the exterior E (background minus K). K is cleared out of
+ * the labelled words in place (or, when its columns' box is small, copied
+ * into that box), labelled 26-connected, and the roots of the runs holding
+ * a voxel of T = K & dilate26(E), formed word by word where K has voxels,
+ * are marked; the unmarked roots are the 26-cavities. This replaces a
+ * second labelling of the whole background, except when the cavities are
+ * everywhere on the whole-background route (see label_all_26).
  *
  * When the background percolates with many runs (a coin toss: 34 million
  * runs at 512^3, nearly all in the component that reaches the border) even
  * the 6-labelling is too dear: the flood of measure_flood.c finds the
  * reached background R with whole-word sweeps, and K = bg & ~R is labelled
- * alone (cavities_by_flood, flood_pays). Both routes are exact; the
+ * alone (cavities_by_flood, flood_pays). All routes are exact; the
  * labelling stays for the rest and for a flood that does not settle.
  */
 #include "measure/measure.h"
