@@ -104,6 +104,16 @@ TEST(large_words_ask_for_huge_pages)
     }
     bvox_volume_destroy(v);
     CHECK_EQ(bvox_memory_in_use(), 0);
+    /* zeroed by the workers in 1 MiB pieces and a tail, also when the
+     * memory comes back dirty from the last buffer of the same size */
+    for (int round = 0; round < 2; round++) {
+        CHECK_OK(bvox_volume_create((bvox_dims){509, 301, 507}, &v)); /* 9.4 MiB + odd */
+        any = 0;
+        for (size_t i = 0; i < v->nwords; i++) any |= v->words[i];
+        CHECK_EQ(any, 0);
+        memset(v->words, 0xff, v->nwords * sizeof *v->words);
+        bvox_volume_destroy(v);
+    }
     /* a small buffer is left alone */
     CHECK_OK(bvox_volume_create((bvox_dims){64, 64, 64}, &v));
     CHECK_EQ((uintptr_t)v->words % 64, 0);
