@@ -414,16 +414,13 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
     /* R (zeroed) and the flood's row scratch; K and T, written whole
      * before they are read (zeroing them too took as long as the flood's
      * first sweep on a 2-core VM) */
-    size_t nr = nw + lb.ny / 2 + 1;
+    size_t nr = 3 * nw + lb.ny / 2 + 1;
     uint64_t *r = bvox__alloc(nr * sizeof *r, true, "reached background", &st);
     if (!r) return st;
-    uint64_t *k = NULL, *t = NULL;
-    int32_t *rows = (int32_t *)(r + nw);
+    uint64_t *k = r + nw, *t = k + nw;
+    int32_t *rows = (int32_t *)(t + nw);
     *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, (size_t)nz, max_sweeps, r, rows);
     if (!*settled) goto done;
-    k = bvox__alloc(2 * nw * sizeof *k, false, "cavity voxels", &st);
-    if (!k) goto done;
-    t = k + nw;
     and_not_job aj = {k, bg, r};
     bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &aj);
     /* the single-voxel cavities counted, the rest of K (into t, free until
@@ -451,7 +448,6 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
      * has no voxel in the ring of border columns (reached whole) */
     st = count_marked_26(k, kb, plain_exterior(r, lb), wpc, cav26);
 done:
-    bvox__free(k, 2 * nw * sizeof *k);
     bvox__free(r, nr * sizeof *r);
     return st;
 }
