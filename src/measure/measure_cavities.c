@@ -67,8 +67,11 @@ static void extract_rows(void *ctx, int64_t begin, int64_t end)
     }
 }
 
+/* Roots among parent[begin, end), those with touched[root] set left out
+ * (touched NULL: none is). */
 typedef struct root_job {
     const uint32_t *parent;
+    const uint8_t *touched;
     int64_t roots;
 } root_job;
 
@@ -76,7 +79,8 @@ static void count_roots(void *ctx, int64_t begin, int64_t end)
 {
     root_job *j = ctx;
     int64_t n = 0;
-    for (int64_t i = begin; i < end; i++) n += j->parent[i] == (uint32_t)i;
+    for (int64_t i = begin; i < end; i++)
+        n += j->parent[i] == (uint32_t)i && !(j->touched && j->touched[i]);
     __atomic_fetch_add(&j->roots, n, __ATOMIC_RELAXED);
 }
 
@@ -84,7 +88,7 @@ static void count_roots(void *ctx, int64_t begin, int64_t end)
  * outside's own not counted. */
 static int64_t count_inner(const bvox__labelruns *r)
 {
-    root_job j = {r->parent, 0};
+    root_job j = {r->parent, NULL, 0};
     bvox__parallel_for((int64_t)r->nruns + 1, 1 << 16, count_roots, &j);
     return j.roots - 1;
 }
@@ -199,20 +203,6 @@ static void mark26_rows(void *ctx, int64_t begin, int64_t end)
         }
 }
 
-typedef struct unmarked_job {
-    const uint32_t *parent;
-    const uint8_t *touched;
-    int64_t roots;
-} unmarked_job;
-
-static void count_unmarked(void *ctx, int64_t begin, int64_t end)
-{
-    unmarked_job *j = ctx;
-    int64_t n = 0;
-    for (int64_t i = begin; i < end; i++) n += j->parent[i] == (uint32_t)i && !j->touched[i];
-    __atomic_fetch_add(&j->roots, n, __ATOMIC_RELAXED);
-}
-
 static bvox_status count_marked_26(const uint64_t *k, colbox kb, exterior_src ext, size_t wpc,
                                    int64_t *out)
 {
@@ -230,9 +220,9 @@ static bvox_status count_marked_26(const uint64_t *k, colbox kb, exterior_src ex
         mark26_job mj = {&r26, ext, kb, touched};
         bvox__parallel_for((int64_t)r26.gy, 4, mark26_rows, &mj);
     }
-    unmarked_job uj = {r26.parent, touched, 0};
-    bvox__parallel_for((int64_t)r26.nruns, 1 << 16, count_unmarked, &uj);
-    *out = uj.roots;
+    root_job rj = {r26.parent, touched, 0};
+    bvox__parallel_for((int64_t)r26.nruns, 1 << 16, count_roots, &rj);
+    *out = rj.roots;
     free(touched);
     bvox__labelruns_free(&r26);
     return BVOX_OK;
