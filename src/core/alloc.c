@@ -127,26 +127,6 @@ static void *aligned_buffer(size_t rounded)
     return p;
 }
 
-/* Zeroing a large fresh buffer is mostly page faults (the kernel clears
- * each page it maps in): one thread doing all of them cost measure's cavities
- * on a 512^3 atlas 15-28 ms of a 48 ms call on a 2-core VM. The workers
- * share them; a call from inside a worker runs inline (parallel.c). */
-#define ZERO_GRAIN ((int64_t)1 << 20) /* bytes of one chunk */
-
-static void zero_range(void *ctx, int64_t begin, int64_t end)
-{
-    unsigned char *p = ctx;
-    memset(p + begin * ZERO_GRAIN, 0, (size_t)(end - begin) * (size_t)ZERO_GRAIN);
-}
-
-static void zero_buffer(void *p, size_t bytes)
-{
-    size_t chunks = bytes / (size_t)ZERO_GRAIN;
-    if (chunks >= 4) bvox__parallel_for((int64_t)chunks, 2, zero_range, p);
-    else chunks = 0;
-    memset((unsigned char *)p + chunks * (size_t)ZERO_GRAIN, 0, bytes - chunks * (size_t)ZERO_GRAIN);
-}
-
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
 {
     if (!what) what = "buffer";
@@ -165,7 +145,7 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
         *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating %s for the %s", need, what);
         return NULL;
     }
-    if (zero) zero_buffer(p, rounded);
+    if (zero) memset(p, 0, rounded);
     *status = BVOX_OK;
     return p;
 }

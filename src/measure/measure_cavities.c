@@ -334,45 +334,6 @@ static void and_not_words(void *ctx, int64_t begin, int64_t end)
     for (int64_t i = begin; i < end; i++) j->dst[i] = j->a[i] & ~j->b[i];
 }
 
-/* K's voxels with no background 6-neighbour (each a cavity of its own: on
- * a coin toss 1.05 of the 1.18 million at 512^3) counted into singles, the
- * others of K copied to dst (every word written; K is empty on the box's
- * ring of columns). */
-typedef struct single_job {
-    const uint64_t *bg, *k;
-    uint64_t *dst;
-    colbox lb;
-    size_t wpc;
-    int64_t singles;
-} single_job;
-
-static void split_singles(void *ctx, int64_t begin, int64_t end)
-{
-    single_job *j = ctx;
-    size_t nx = j->lb.nx, ny = j->lb.ny, wpc = j->wpc, row = nx * wpc;
-    int64_t n = 0;
-    for (size_t y = (size_t)begin; y < (size_t)end; y++)
-        for (size_t x = 0; x < nx; x++) {
-            size_t off = (y * nx + x) * wpc;
-            const uint64_t *k = j->k + off, *b = j->bg + off;
-            uint64_t *dst = j->dst + off;
-            bool ring = x == 0 || y == 0 || x + 1 == nx || y + 1 == ny;
-            for (size_t w = 0; w < wpc; w++) {
-                uint64_t kw = ring ? 0 : k[w];
-                if (!kw) {
-                    dst[w] = 0;
-                    continue;
-                }
-                uint64_t nb = b[w - wpc] | b[w + wpc] | b[w - row] | b[w + row];
-                nb |= (b[w] << 1) | (w ? b[w - 1] >> 63 : 0);
-                nb |= (b[w] >> 1) | (w + 1 < wpc ? b[w + 1] << 63 : 0);
-                n += bvox__popcount64(kw & ~nb);
-                dst[w] = kw & nb;
-            }
-        }
-    __atomic_fetch_add(&j->singles, n, __ATOMIC_RELAXED);
-}
-
 /* -1: choose (see bvox__measure_cavities); 0: always label the background;
  * n > 0: always flood first, at most n sweeps (tests force each route). */
 int bvox__cavity_flood_sweeps = -1;
@@ -413,15 +374,11 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
     if (!*settled) goto done;
     and_not_job aj = {k, bg, r};
     bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &aj);
-    /* the single-voxel cavities counted, the rest of K (into t, free until
-     * the 26-cavities) labelled */
-    single_job sj = {bg, k, t, lb, wpc, 0};
-    bvox__parallel_for((int64_t)lb.ny, 8, split_singles, &sj);
     bvox__labelruns r6;
-    st = bvox__labelruns_find(t, NULL, lb.nx, lb.ny, wpc, 6, 1, &r6);
+    st = bvox__labelruns_find(k, NULL, lb.nx, lb.ny, wpc, 6, 1, &r6);
     if (st) goto done;
     r6.parent[r6.nruns] = (uint32_t)r6.nruns;
-    *cav6 = sj.singles + count_inner(&r6);
+    *cav6 = count_inner(&r6);
     bvox__labelruns_free(&r6);
     st = bvox__progress(0.8);
     if (st || *cav6 == 0) goto done;

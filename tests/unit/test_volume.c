@@ -104,8 +104,8 @@ TEST(large_words_ask_for_huge_pages)
     }
     bvox_volume_destroy(v);
     CHECK_EQ(bvox_memory_in_use(), 0);
-    /* zeroed by the workers in 1 MiB pieces and a tail, also when the
-     * memory comes back dirty from the last buffer of the same size */
+    /* zeroed also when the memory comes back dirty from the last buffer
+     * of the same size */
     for (int round = 0; round < 2; round++) {
         CHECK_OK(bvox_volume_create((bvox_dims){509, 301, 507}, &v)); /* 9.4 MiB + odd */
         any = 0;
