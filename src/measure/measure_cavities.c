@@ -351,9 +351,9 @@ int bvox__cavity_flood26_sweeps = -1;
  * border; a 26-component of K either lies in R26 whole or misses it, so the
  * voxels K & ~R26 (on a coin toss a handful of the 1.4 million of K at
  * 512^3) are labelled 26-connected and all their components counted. When
- * the 26-flood does not settle, K is labelled 26-connected with the runs
- * holding a voxel of T = K & dilate26(R) joined to outside (R26 & ~K is R
- * still). (Joining T to the 6-labelling instead, to label only the cavities
+ * the 26-flood does not settle, K is labelled 26-connected and the
+ * components with a voxel of T = K & dilate26(R) are not counted (R26 & ~K
+ * is R still). (Joining T to the 6-labelling instead, to label only the cavities
  * left, cost as much as the 26-labelling of K it saved.) *settled = false,
  * bg untouched, when the 6-flood did not settle. */
 static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_t nz,

@@ -21,7 +21,6 @@
 #include "measure/measure.h"
 #include "ops/components_label.h"
 
-
 typedef struct enclosed_job {
     const bvox_volume *v;
     size_t x0, y0, nx, ny;
