@@ -501,19 +501,3 @@ void bvox__labelruns_mark_group(const bvox__labelruns *r, size_t grp, const uint
         u_hi = u[k] >> 63;
     }
 }
-
-void bvox__labelruns_join_mask(bvox__labelruns *r, const uint64_t *mask, uint32_t outside)
-{
-    size_t g = (size_t)r->g;
-    for (size_t grp = 0; grp < r->ngrp; grp++) {
-        if (r->grp_start[grp] == r->grp_start[grp + 1]) continue;
-        const uint64_t *cols[4];
-        int nc = 0;
-        for (size_t j = 0; j < g; j++)
-            for (size_t i = 0; i < g; i++) {
-                const uint64_t *col = bvox__labelruns_column(r, grp, i, j);
-                if (col) cols[nc++] = mask + (size_t)(col - r->words);
-            }
-        join_hits(r, grp, cols, nc, outside);
-    }
-}

@@ -56,10 +56,6 @@ static inline const uint64_t *bvox__labelruns_column(const bvox__labelruns *r, s
  * (an extra entry the caller initialised). */
 void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside);
 
-/* Join every run holding a voxel of mask (words laid out as the labelled
- * ones) to node `outside` (an extra entry the caller initialised). */
-void bvox__labelruns_join_mask(bvox__labelruns *r, const uint64_t *mask, uint32_t outside);
-
 /* touched[root] = 1 for the root of every run of group grp holding a voxel
  * of mask (wpc words); parent[] flattened (every entry a root). Safe from
  * several threads at once (each store writes the same 1). */
