@@ -23,28 +23,18 @@
  * z-buffer that stays in cache, and turned into depths and codes. One thread
  * has nothing to share: one band, the whole image, no bucketing.
  */
-#include "render.h"
+#include "render/cast_view.h"
 
 #include <math.h>
-#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 static const double deg = 3.14159265358979323846 / 180.0;
 
-typedef struct frame {
-    double r[3], dn[3], d[3]; /* right, down, view */
-} frame;
-
 static void normalize(double v[3], double *len)
 {
     *len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (*len > 0) v[0] /= *len, v[1] /= *len, v[2] /= *len;
-}
-
-static double dot(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static bvox_status make_frame(const bvox_projection *p, frame *f)
@@ -80,75 +70,8 @@ static bvox_status make_frame(const bvox_projection *p, frame *f)
     return BVOX_OK;
 }
 
-typedef struct splat_ctx {
-    const bvox_surface *s;
-    frame f;
-    double scale, half_w, half_h; /* pixel = eye * scale + half - 0.5 */
-    double c[3], rho;             /* centre and radius of the fitting sphere */
-    double hu, hv;                /* half size of a voxel's projection, pixels */
-    double h[3];                  /* half voxel size */
-    /* Slab test of a pixel ray offset (du, dv) pixels from a voxel's projected
-     * centre, the same for every voxel: per axis a, k_a = du ku[a] + dv kv[a]
-     * and the ray is inside the slab for t in [-H_a - k_a, H_a - k_a]
-     * (t physical along the view from the voxel centre's depth). An axis the
-     * view is parallel to has no t bounds: it is inside iff -h <= q < h with
-     * q_a = (du r_a + dv dn_a) / scale. */
-    double ku[3], kv[3], H[3];
-    int parallel[3];
-    unsigned facing;              /* neighbour bits whose emptiness makes a front face */
-    int64_t range_lo[64], range_hi[64]; /* entry ranges of the front-facing classes */
-    int nranges;
-    int64_t total;                /* entries in those ranges */
-    int32_t w, hgt;
-    int32_t band_rows, nbands;    /* the image in bands of band_rows rows */
-    int band_shift;               /* band_rows = 1 << band_shift */
-    int64_t nchunks;              /* the entries in chunks, for the bucketing */
-    int64_t *bucket_at;           /* [band * nchunks + chunk]: count, then offset */
-    uint64_t *bucket;             /* the entries of each band, band after band */
-    bvox_preimage *pre;
-    bvox__cue cue;
-    uint64_t *scratch[64];         /* band z-buffers, one per concurrent task */
-    atomic_int scratch_busy[64];
-    int nscratch;
-    double fv_x, fv_y, fv_z, fv_0; /* fv of a voxel, straight from its indices */
-} splat_ctx;
-
-/* floor for values well inside the int32 range, without a libm call */
-static inline int32_t ifloor(double x)
-{
-    int32_t i = (int32_t)x;
-    return i - (x < (double)i);
-}
-
-/* ceil(x) and floor(x) clamped to 0..n-1 (empty ranges stay empty): x may be
- * far outside the int range when the scale is huge. */
-static inline int32_t ceil_in(double x, int32_t n)
-{
-    return x <= 0 ? 0 : x >= n ? n : -ifloor(-x);
-}
-static inline int32_t floor_in(double x, int32_t n)
-{
-    return x < 0 ? -1 : x >= n - 1 ? n - 1 : ifloor(x);
-}
-
-/* The candidate pixels of entry e: its projection's bounding box, clipped to
- * the image; 0 if it is empty. fu, fv: projected centre; wc: its depth. */
-static inline int project(const splat_ctx *c, uint64_t e, double *fu, double *fv, double *wc,
-                          int32_t box[4])
-{
-    const bvox_surface *s = c->s;
-    double p[3] = {SURF_X(e) * s->spacing[0] - c->c[0], SURF_Y(e) * s->spacing[1] - c->c[1],
-                   SURF_Z(e) * s->spacing[2] - c->c[2]};
-    *fu = dot(c->f.r, p) * c->scale + c->half_w - 0.5;
-    *fv = dot(c->f.dn, p) * c->scale + c->half_h - 0.5;
-    *wc = dot(c->f.d, p) + c->rho;
-    box[0] = ceil_in(*fu - c->hu, c->w), box[1] = floor_in(*fu + c->hu, c->w);
-    box[2] = ceil_in(*fv - c->hv, c->hgt), box[3] = floor_in(*fv + c->hv, c->hgt);
-    return box[0] <= box[1] && box[2] <= box[3];
-}
-
-/* Splat entries list[0..n) into zb, the z-buffer of rows [row0, row1):
- * keys (float depth bits << 32 | neighbour bits), ~0 where nothing is hit. */
+/* The portable splat kernel (bvox__splat_fn, cast_view.h): per candidate
+ * pixel of an entry's bounding box, the slab test of its centre ray. */
 static void splat_list(const splat_ctx *c, const uint64_t *list, int64_t n, int32_t row0,
                        int32_t row1, uint64_t *zb)
 {
@@ -187,7 +110,7 @@ static void splat_list(const splat_ctx *c, const uint64_t *list, int64_t n, int3
                 /* ties of depth go to the smaller neighbour bits: the output
                  * (depth, code) is then the same in any splat order */
                 uint64_t key = hit ? (uint64_t)bits << 32 | nb : ~0ull;
-                size_t at = (size_t)(py - row0) * (size_t)c->w + (size_t)px;
+                size_t at = (size_t)(py - row0) * (size_t)c->stride + (size_t)px;
                 zb[at] = key < zb[at] ? key : zb[at];
             }
         }
@@ -217,7 +140,7 @@ static void splat_list(const splat_ctx *c, const uint64_t *list, int64_t n, int3
  * one. */
 static inline int entry_bands(const splat_ctx *c, uint64_t e, int32_t *b0, int32_t *b1)
 {
-    double fv = SURF_X(e) * c->fv_x + SURF_Y(e) * c->fv_y + SURF_Z(e) * c->fv_z + c->fv_0;
+    double fv = project_axis(c->pv, e);
     int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
     *b0 = py0 >> c->band_shift, *b1 = py1 >> c->band_shift;
     return py0 <= py1;
@@ -272,29 +195,44 @@ static void splat_bands(void *arg, int64_t b0, int64_t b1)
          * entries in band b: band b is [end of band b - 1, end of its last chunk) */
         int32_t row0 = (int32_t)b * c->band_rows;
         int32_t row1 = row0 + c->band_rows < c->hgt ? row0 + c->band_rows : c->hgt;
-        size_t npix = (size_t)(row1 - row0) * (size_t)c->w, base = (size_t)row0 * (size_t)c->w;
-        memset(zb, 0xff, npix * sizeof *zb);
+        size_t nkeys = (size_t)(row1 - row0) * (size_t)c->stride;
+        memset(zb, 0xff, nkeys * sizeof *zb);
         if (c->bucket) {
             int64_t lo = b ? c->bucket_at[b * c->nchunks - 1] : 0;
             int64_t hi = c->bucket_at[(b + 1) * c->nchunks - 1];
-            splat_list(c, c->bucket + lo, hi - lo, row0, row1, zb);
+            c->splat(c, c->bucket + lo, hi - lo, row0, row1, zb);
         } else { /* one band, the whole image: every front-facing entry */
             for (int rg = 0; rg < c->nranges; rg++)
-                splat_list(c, c->s->entries + c->range_lo[rg], c->range_hi[rg] - c->range_lo[rg],
-                           row0, row1, zb);
+                c->splat(c, c->s->entries + c->range_lo[rg], c->range_hi[rg] - c->range_lo[rg],
+                         row0, row1, zb);
         }
-        for (size_t i = 0; i < npix; i++) {
-            uint64_t key = zb[i];
-            if (key == ~0ull) continue; /* no hit: -1, background code */
-            uint32_t bits = (uint32_t)(key >> 32);
-            float depth;
-            memcpy(&depth, &bits, sizeof depth);
-            int32_t di = depth < (float)range ? (int32_t)depth : range - 1;
-            c->pre->depth[base + i] = di;
-            c->pre->code[base + i] = bvox__code((unsigned)key & 63, di, &c->cue);
+        for (int32_t py = row0; py < row1; py++) {
+            const uint64_t *keys = zb + (size_t)(py - row0) * (size_t)c->stride;
+            size_t base = (size_t)py * (size_t)c->w;
+            for (int32_t px = 0; px < c->w; px++) {
+                uint64_t key = keys[px];
+                if (key == ~0ull) continue; /* no hit: -1, background code */
+                uint32_t bits = (uint32_t)(key >> 32);
+                float depth;
+                memcpy(&depth, &bits, sizeof depth);
+                int32_t di = depth < (float)range ? (int32_t)depth : range - 1;
+                c->pre->depth[base + (size_t)px] = di;
+                c->pre->code[base + (size_t)px] = bvox__code((unsigned)key & 63, di, &c->cue);
+            }
         }
     }
     atomic_store(&c->scratch_busy[k], 0);
+}
+
+/* The AVX2 kernel where it is built, the CPU has it and the SIMD level
+ * allows it (tests force each level and compare). */
+static bvox__splat_fn choose_splat(void)
+{
+#if defined(__x86_64__)
+    if (bvox__splat_avx2 && bvox_simd_active() >= BVOX_SIMD_AVX2 && __builtin_cpu_supports("avx2"))
+        return bvox__splat_avx2;
+#endif
+    return splat_list;
 }
 
 bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *proj,
@@ -385,15 +323,21 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
      * With one thread (or few entries) there is nothing to share: one band,
      * the whole image, and no bucketing. */
     c.pre = pre;
+    c.splat = choose_splat();
+    for (int a = 0; a < 3; a++) {
+        c.pu[a] = c.f.r[a] * sp[a] * c.scale;
+        c.pv[a] = c.f.dn[a] * sp[a] * c.scale;
+        c.pw[a] = c.f.d[a] * sp[a];
+    }
+    c.pu[3] = c.half_w - 0.5 - dot(c.f.r, c.c) * c.scale;
+    c.pv[3] = c.half_h - 0.5 - dot(c.f.dn, c.c) * c.scale;
+    c.pw[3] = c.rho - dot(c.f.d, c.c);
     bvox__cue_init(&c.cue, pre->depth_range);
     const int threads = bvox__parallelism();
     const int bucketed = threads > 1 && c.total >= 16384;
     while (bucketed && c.band_shift < 14 && (c.w << (c.band_shift + 1)) <= 16384) c.band_shift++;
     c.band_rows = bucketed ? 1 << c.band_shift : c.hgt;
     c.nbands = (c.hgt + c.band_rows - 1) / c.band_rows;
-    c.fv_x = c.f.dn[0] * sp[0] * c.scale, c.fv_y = c.f.dn[1] * sp[1] * c.scale;
-    c.fv_z = c.f.dn[2] * sp[2] * c.scale;
-    c.fv_0 = c.half_h - 0.5 - dot(c.f.dn, c.c) * c.scale;
     c.nchunks = c.total / 16384 + 1;
     if (c.nchunks > 1024) c.nchunks = 1024;
     size_t at_bytes = (size_t)c.nbands * (size_t)c.nchunks * sizeof(int64_t), bucket_bytes = 0;
@@ -412,7 +356,8 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
             c.bucket = bvox__alloc(bucket_bytes, false, "view buckets", &st);
         }
     }
-    size_t zb_bytes = (size_t)c.band_rows * (size_t)c.w * sizeof(uint64_t);
+    c.stride = c.w + 3;
+    size_t zb_bytes = (size_t)c.band_rows * (size_t)c.stride * sizeof(uint64_t);
     int want = threads < c.nbands ? threads : c.nbands;
     if (!st)
         for (c.nscratch = 0; c.nscratch < want; c.nscratch++) {

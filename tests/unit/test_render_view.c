@@ -221,7 +221,9 @@ TEST(projection_banded_matches_reference)
 /* Casts s with every projection of a list at 1 thread (one z-buffer, every
  * entry splatted in turn: the path projection_matches_reference checks) and
  * at 2, 3 and 16 threads (entries bucketed by bands of rows, each band
- * splatted alone): the pre-images must be identical. */
+ * splatted alone), each at every SIMD level this CPU has (the AVX2 splat
+ * kernel does the portable one's arithmetic four pixels at a time): the
+ * pre-images must be identical to the portable kernel's at 1 thread. */
 static int cast_thread_independent(const bvox_surface *s)
 {
     static const struct { double az, el, scale; int w, h, matrix; } views[] = {
@@ -230,6 +232,7 @@ static int cast_thread_independent(const bvox_surface *s)
         {10, 80, 0.4, 333, 257, 0}};
     const int threads[] = {2, 3, 16};
     int saved = bvox_threads();
+    bvox_simd saved_simd = bvox_simd_active();
     for (size_t k = 0; k < sizeof views / sizeof *views; k++) {
         bvox_projection pr = BVOX_PROJECTION_INIT;
         pr.azimuth = views[k].az, pr.elevation = views[k].el, pr.scale = views[k].scale;
@@ -242,19 +245,27 @@ static int cast_thread_independent(const bvox_surface *s)
         size_t n = (size_t)pr.width * (size_t)pr.height;
         bvox_preimage *a, *b;
         bvox_set_threads(1);
+        CHECK_OK(bvox_simd_set(BVOX_SIMD_GENERIC));
         CHECK_OK(bvox_surface_cast(s, &pr, &a));
         int64_t hits = 0;
         for (size_t i = 0; i < n; i++) hits += a->depth[i] >= 0;
         CHECK(hits > 0);
-        for (size_t t = 0; t < sizeof threads / sizeof *threads; t++) {
-            bvox_set_threads(threads[t]);
-            CHECK_OK(bvox_surface_cast(s, &pr, &b));
-            if (memcmp(a->depth, b->depth, n * 4) || memcmp(a->code, b->code, n)) {
-                fprintf(stderr, "view %zu, %d threads: pre-images differ\n", k, threads[t]);
-                return 1;
+        for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512; lv++) {
+            if (!bvox_simd_supported((bvox_simd)lv)) continue;
+            CHECK_OK(bvox_simd_set((bvox_simd)lv));
+            for (size_t t = 0; t <= sizeof threads / sizeof *threads; t++) {
+                int nt = t ? threads[t - 1] : 1;
+                bvox_set_threads(nt);
+                CHECK_OK(bvox_surface_cast(s, &pr, &b));
+                if (memcmp(a->depth, b->depth, n * 4) || memcmp(a->code, b->code, n)) {
+                    fprintf(stderr, "view %zu, simd %s, %d threads: pre-images differ\n", k,
+                            bvox_simd_name((bvox_simd)lv), nt);
+                    return 1;
+                }
+                bvox_preimage_destroy(b);
             }
-            bvox_preimage_destroy(b);
         }
+        CHECK_OK(bvox_simd_set(saved_simd));
         bvox_preimage_destroy(a);
     }
     bvox_set_threads(saved);

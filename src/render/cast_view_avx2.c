@@ -1,0 +1,135 @@
+/*
+ * cast_view_avx2.c — the AVX2 splat kernel of arbitrary views: splat_list
+ * (cast_view.c) four pixels of a footprint row at a time.
+ *
+ * Every lane does the portable kernel's double arithmetic in the same order
+ * (no FMA: the files are built without it), so the keys, and so the
+ * pre-images, are bit-identical at every SIMD level. The z-buffer rows have
+ * 3 keys of padding (cast_view.h), so 4 keys are loaded and stored from any
+ * pixel of a row; lanes past the footprint carry the no-hit key ~0 and
+ * write back what they read (the min keeps it).
+ */
+#include "render/cast_view.h"
+
+#if defined(__x86_64__) && defined(__AVX2__)
+#include <immintrin.h>
+#include <string.h>
+
+static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int32_t row0,
+                       int32_t row1, uint64_t *zb)
+{
+    const __m256d ku[3] = {_mm256_set1_pd(c->ku[0]), _mm256_set1_pd(c->ku[1]),
+                           _mm256_set1_pd(c->ku[2])};
+    const __m256d nh[3] = {_mm256_set1_pd(-c->H[0]), _mm256_set1_pd(-c->H[1]),
+                           _mm256_set1_pd(-c->H[2])};
+    const __m256d ph[3] = {_mm256_set1_pd(c->H[0]), _mm256_set1_pd(c->H[1]),
+                           _mm256_set1_pd(c->H[2])};
+    const __m256d scale = _mm256_set1_pd(c->scale), inv = _mm256_set1_pd(1.0 / c->scale);
+    const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+    const int any_parallel = c->parallel[0] | c->parallel[1] | c->parallel[2];
+    /* four entries projected at once (project()'s arithmetic lane by lane),
+     * then splatted one by one; the last n % 4 projected by project() */
+    double fus[4], fvs[4], wcs[4];
+    int32_t boxes[4][4];
+    const __m256d vhu = _mm256_set1_pd(c->hu), vhv = _mm256_set1_pd(c->hv);
+    const __m256d half = _mm256_set1_pd(-0.5);
+    const __m256d wn = _mm256_set1_pd(c->w), wn1 = _mm256_set1_pd(c->w - 1);
+    const __m256d hn = _mm256_set1_pd(c->hgt), hn1 = _mm256_set1_pd(c->hgt - 1);
+    const __m256i low = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    const __m256i m16 = _mm256_set1_epi64x(0xffff);
+    for (int64_t i = 0; i < n; i++) {
+        uint64_t e = list[i];
+        double fu, fv, wc;
+        int32_t box[4];
+        int j = (int)(i & 3);
+        if (j == 0 && i + 4 <= n) {
+            __m256i ev = _mm256_loadu_si256((const __m256i *)(list + i));
+            __m256d xyz[3];
+            for (int a = 0; a < 3; a++) {
+                __m256i v = _mm256_and_si256(_mm256_srli_epi64(ev, 16 * a), m16);
+                v = _mm256_permutevar8x32_epi32(v, low);
+                xyz[a] = _mm256_cvtepi32_pd(_mm256_castsi256_si128(v));
+            }
+            __m256d pr[3];
+            const double *pc[3] = {c->pu, c->pv, c->pw};
+            for (int q = 0; q < 3; q++)
+                pr[q] = _mm256_add_pd(
+                    _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(xyz[0], _mm256_set1_pd(pc[q][0])),
+                                                _mm256_mul_pd(xyz[1], _mm256_set1_pd(pc[q][1]))),
+                                  _mm256_mul_pd(xyz[2], _mm256_set1_pd(pc[q][2]))),
+                    _mm256_set1_pd(pc[q][3]));
+            _mm256_storeu_pd(fus, pr[0]);
+            _mm256_storeu_pd(fvs, pr[1]);
+            _mm256_storeu_pd(wcs, pr[2]);
+            /* ceil_in / floor_in: clamp, then round (exact: integral values) */
+            __m256d b[4] = {
+                _mm256_ceil_pd(_mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(pr[0], vhu), half), wn)),
+                _mm256_floor_pd(_mm256_min_pd(_mm256_max_pd(_mm256_add_pd(pr[0], vhu), half), wn1)),
+                _mm256_ceil_pd(_mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(pr[1], vhv), half), hn)),
+                _mm256_floor_pd(_mm256_min_pd(_mm256_max_pd(_mm256_add_pd(pr[1], vhv), half), hn1))};
+            int32_t bt[4][4];
+            for (int q = 0; q < 4; q++) _mm_storeu_si128((__m128i *)bt[q], _mm256_cvttpd_epi32(b[q]));
+            for (int l = 0; l < 4; l++)
+                for (int q = 0; q < 4; q++) boxes[l][q] = bt[q][l];
+        }
+        if (i + 4 - j <= n) { /* in a projected group of four */
+            fu = fus[j], fv = fvs[j], wc = wcs[j];
+            memcpy(box, boxes[j], sizeof box);
+            if (!(box[0] <= box[1] && box[2] <= box[3])) continue;
+        } else if (!project(c, e, &fu, &fv, &wc, box))
+            continue;
+        int32_t py0 = box[2] > row0 ? box[2] : row0, py1 = box[3] < row1 - 1 ? box[3] : row1 - 1;
+        const __m256i nb = _mm256_set1_epi64x((long long)SURF_NB(e));
+        const __m256d vfu = _mm256_set1_pd(fu), vwc = _mm256_set1_pd(wc);
+        for (int32_t py = py0; py <= py1; py++) {
+            double dv = py - fv;
+            __m256d dk[3];
+            for (int a = 0; a < 3; a++) dk[a] = _mm256_set1_pd(dv * c->kv[a]);
+            uint64_t *row = zb + (size_t)(py - row0) * (size_t)c->stride;
+            for (int32_t px = box[0]; px <= box[1]; px += 4) {
+                __m128i pxs = _mm_add_epi32(_mm_set1_epi32(px), lane);
+                __m256d du = _mm256_sub_pd(_mm256_cvtepi32_pd(pxs), vfu);
+                __m256d tmin = _mm256_set1_pd(-INFINITY), tmax = _mm256_set1_pd(INFINITY);
+                for (int a = 0; a < 3; a++) {
+                    __m256d k = _mm256_add_pd(_mm256_mul_pd(du, ku[a]), dk[a]);
+                    tmin = _mm256_max_pd(_mm256_sub_pd(nh[a], k), tmin);
+                    tmax = _mm256_min_pd(_mm256_sub_pd(ph[a], k), tmax);
+                }
+                __m256d hit = _mm256_cmp_pd(tmin, tmax, _CMP_LE_OQ);
+                /* lanes past the footprint's last pixel miss */
+                __m128i in = _mm_cmpgt_epi32(_mm_set1_epi32(box[1] + 1), pxs);
+                hit = _mm256_and_pd(hit, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(in)));
+                if (any_parallel)
+                    for (int a = 0; a < 3; a++)
+                        if (c->parallel[a]) {
+                            __m256d q = _mm256_mul_pd(
+                                _mm256_add_pd(_mm256_mul_pd(du, _mm256_set1_pd(c->f.r[a])),
+                                              _mm256_set1_pd(dv * c->f.dn[a])),
+                                inv);
+                            __m256d ok = _mm256_and_pd(
+                                _mm256_cmp_pd(q, _mm256_set1_pd(-c->h[a]), _CMP_GE_OQ),
+                                _mm256_cmp_pd(q, _mm256_set1_pd(c->h[a]), _CMP_LT_OQ));
+                            hit = _mm256_and_pd(hit, ok);
+                        }
+                __m128 df = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_add_pd(vwc, tmin), scale));
+                df = _mm_max_ps(df, _mm_setzero_ps());
+                __m256i key = _mm256_or_si256(
+                    _mm256_slli_epi64(_mm256_cvtepu32_epi64(_mm_castps_si128(df)), 32), nb);
+                key = _mm256_or_si256(key, _mm256_castpd_si256(_mm256_xor_pd(
+                                               hit, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))));
+                /* the min one key at a time: a 4-key load right after an
+                 * overlapping 4-key store of the previous entry (footprints
+                 * of neighbouring voxels overlap) cannot be forwarded and
+                 * stalls; 8-byte accesses forward */
+                uint64_t k4[4];
+                _mm256_storeu_si256((__m256i *)k4, key);
+                for (int l = 0; l < 4; l++) row[px + l] = k4[l] < row[px + l] ? k4[l] : row[px + l];
+            }
+        }
+    }
+}
+
+const bvox__splat_fn bvox__splat_avx2 = splat_avx2;
+#else
+const bvox__splat_fn bvox__splat_avx2 = NULL;
+#endif
