@@ -314,28 +314,80 @@ TEST(realdata_projection_thread_independent)
     return 0;
 }
 
+/* The entries of v's surface against a brute-force list: exactly the
+ * boundary voxels, each once, with its 6 neighbour bits, grouped by class in
+ * class_start's ranges and in (y, x, z) order within a class. */
+static int check_surface_entries(const voxref *r, const bvox_surface *s)
+{
+    int64_t want = 0;
+    for (int z = 0; z < r->nz; z++)
+        for (int y = 0; y < r->ny; y++)
+            for (int x = 0; x < r->nx; x++)
+                want += voxref_get(r, x, y, z) &&
+                        !(voxref_get(r, x - 1, y, z) && voxref_get(r, x + 1, y, z) &&
+                          voxref_get(r, x, y - 1, z) && voxref_get(r, x, y + 1, z) &&
+                          voxref_get(r, x, y, z - 1) && voxref_get(r, x, y, z + 1));
+    CHECK_EQ(bvox_surface_count(s), want);
+    CHECK_EQ(s->class_start[0], 0);
+    CHECK_EQ(s->class_start[64], want);
+    for (unsigned k = 0; k < 64; k++)
+        for (int64_t i = s->class_start[k]; i < s->class_start[k + 1]; i++) {
+            uint64_t e = s->entries[i];
+            int x = SURF_X(e), y = SURF_Y(e), z = SURF_Z(e);
+            unsigned bits = (unsigned)voxref_get(r, x - 1, y, z) * NB_XM |
+                            (unsigned)voxref_get(r, x + 1, y, z) * NB_XP |
+                            (unsigned)voxref_get(r, x, y - 1, z) * NB_YM |
+                            (unsigned)voxref_get(r, x, y + 1, z) * NB_YP |
+                            (unsigned)voxref_get(r, x, y, z - 1) * NB_ZM |
+                            (unsigned)voxref_get(r, x, y, z + 1) * NB_ZP;
+            CHECK(voxref_get(r, x, y, z));
+            CHECK_EQ(SURF_NB(e), k);
+            CHECK_EQ(bits, k);
+            if (i > s->class_start[k]) { /* strictly increasing: no voxel twice */
+                uint64_t p = s->entries[i - 1];
+                int64_t a = ((int64_t)SURF_Y(p) * r->nx + SURF_X(p)) * r->nz + SURF_Z(p);
+                CHECK(a < ((int64_t)y * r->nx + x) * r->nz + z);
+            }
+        }
+    return 0;
+}
+
+/* Random volumes (sparse and dense, z spanning one word or several) and a
+ * solid box whose words are whole faces of one class, at every SIMD level
+ * (the class-at-a-time build counts with popcount) and 1 and 3 threads. */
 TEST(surface_count)
 {
-    static const int dims[][3] = {{5, 7, 1}, {9, 3, 64}, {3, 7, 65}, {11, 5, 130}};
-    for (int k = 0; k < 4; k++) {
-        voxref *r = voxref_create(dims[k][0], dims[k][1], dims[k][2]);
-        voxref_random(r, 2, 3, harness_rand);
-        int64_t want = 0;
-        for (int z = 0; z < r->nz; z++)
-            for (int y = 0; y < r->ny; y++)
-                for (int x = 0; x < r->nx; x++)
-                    want += voxref_get(r, x, y, z) &&
-                            !(voxref_get(r, x - 1, y, z) && voxref_get(r, x + 1, y, z) &&
-                              voxref_get(r, x, y - 1, z) && voxref_get(r, x, y + 1, z) &&
-                              voxref_get(r, x, y, z - 1) && voxref_get(r, x, y, z + 1));
+    static const int dims[][3] = {{5, 7, 1}, {9, 3, 64}, {3, 7, 65}, {11, 5, 130}, {12, 10, 200}};
+    int saved = bvox_threads();
+    bvox_simd saved_simd = bvox_simd_active();
+    for (int k = 0; k < 6; k++) {
+        voxref *r = voxref_create(k < 5 ? dims[k][0] : 9, k < 5 ? dims[k][1] : 8,
+                                  k < 5 ? dims[k][2] : 150);
+        if (k < 4)
+            voxref_random(r, 2, 3, harness_rand);
+        else if (k == 4)
+            voxref_random(r, 9, 10, harness_rand);
+        else
+            for (int z = 3; z < 140; z++)
+                for (int y = 1; y < 7; y++)
+                    for (int x = 2; x < 8; x++) *voxref_at(r, x, y, z) = 1;
         bvox_volume *vol = voxref_to_volume(r);
-        bvox_surface *s;
-        CHECK_OK(bvox_surface_build(vol, &s));
-        CHECK_EQ(bvox_surface_count(s), want);
-        bvox_surface_destroy(s);
+        for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512; lv++) {
+            if (!bvox_simd_supported((bvox_simd)lv)) continue;
+            CHECK_OK(bvox_simd_set((bvox_simd)lv));
+            for (int t = 1; t <= 3; t += 2) {
+                bvox_set_threads(t);
+                bvox_surface *s;
+                CHECK_OK(bvox_surface_build(vol, &s));
+                CHECK_EQ(check_surface_entries(r, s), 0);
+                bvox_surface_destroy(s);
+            }
+        }
         bvox_volume_destroy(vol);
         voxref_destroy(r);
     }
+    CHECK_OK(bvox_simd_set(saved_simd));
+    bvox_set_threads(saved);
     return 0;
 }
 
