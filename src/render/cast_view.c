@@ -117,33 +117,19 @@ static void splat_list(const splat_ctx *c, const uint64_t *list, int64_t n, int3
     }
 }
 
-/* Runs the statements that follow (...) with e set to each of the entries
- * [g0, g1) of the front-facing ranges laid end to end. */
-#define FOR_FRONT_ENTRIES(c, g0, g1, e, ...)                                          \
-    do {                                                                               \
-        int64_t off_ = 0;                                                              \
-        for (int rg_ = 0; rg_ < (c)->nranges; rg_++) {                                 \
-            int64_t len_ = (c)->range_hi[rg_] - (c)->range_lo[rg_];                    \
-            int64_t a0_ = (g0) - off_ > 0 ? (g0) - off_ : 0;                           \
-            int64_t a1_ = (g1) - off_ < len_ ? (g1) - off_ : len_;                     \
-            for (int64_t i_ = a0_; i_ < a1_; i_++) {                                   \
-                uint64_t e = (c)->s->entries[(c)->range_lo[rg_] + i_];                  \
-                __VA_ARGS__                                                            \
-            }                                                                          \
-            off_ += len_;                                                              \
-        }                                                                              \
-    } while (0)
-
-/* The bands entry e may touch, [*b0, *b1]; 0 if none. A cheaper form of
- * project()'s rows, widened by a small margin so that rounding can only add a
- * band (where the exact test in splat_list then finds nothing), never lose
- * one. */
-static inline int entry_bands(const splat_ctx *c, uint64_t e, int32_t *b0, int32_t *b1)
+/* The bands entries list[0..n) may touch: [b0[i], b1[i]], b1[i] < b0[i] if
+ * none (bvox__bands_fn, cast_view.h). A cheaper form of project()'s rows,
+ * widened by a small margin so that rounding can only add a band (where the
+ * exact test of the splat then finds nothing), never lose one. */
+static void bands_portable(const splat_ctx *c, const uint64_t *list, int n, int32_t *b0,
+                           int32_t *b1)
 {
-    double fv = project_axis(c->pv, e);
-    int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
-    *b0 = py0 >> c->band_shift, *b1 = py1 >> c->band_shift;
-    return py0 <= py1;
+    for (int i = 0; i < n; i++) {
+        double fv = project_axis(c->pv, list[i]);
+        int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
+        b0[i] = py0 >> c->band_shift;
+        b1[i] = py0 <= py1 ? py1 >> c->band_shift : -1;
+    }
 }
 
 static inline int64_t chunk_begin(const splat_ctx *c, int64_t k)
@@ -151,32 +137,42 @@ static inline int64_t chunk_begin(const splat_ctx *c, int64_t k)
     return c->total * k / c->nchunks;
 }
 
+/* Chunk k's entries (of the front-facing ranges laid end to end), a block of
+ * at most 256 at a time with their bands: into the per-band counts at
+ * (first pass) or, with fill, copied into each band's place. */
+static void chunk_blocks(splat_ctx *c, int64_t k, int fill)
+{
+    int64_t *at = c->bucket_at + k, g0 = chunk_begin(c, k), g1 = chunk_begin(c, k + 1), off = 0;
+    int32_t b0[256], b1[256];
+    for (int rg = 0; rg < c->nranges; rg++) {
+        int64_t len = c->range_hi[rg] - c->range_lo[rg];
+        int64_t a0 = g0 - off > 0 ? g0 - off : 0, a1 = g1 - off < len ? g1 - off : len;
+        off += len;
+        for (int64_t i = a0; i < a1; i += 256) {
+            const uint64_t *list = c->s->entries + c->range_lo[rg] + i;
+            int m = a1 - i < 256 ? (int)(a1 - i) : 256;
+            c->bands(c, list, m, b0, b1);
+            for (int j = 0; j < m; j++)
+                for (int32_t b = b0[j]; b <= b1[j]; b++) {
+                    if (fill)
+                        c->bucket[at[b * c->nchunks]++] = list[j];
+                    else
+                        at[b * c->nchunks]++;
+                }
+        }
+    }
+}
+
 /* Bucketing, first pass: per chunk, how many entries touch each band. */
 static void count_chunks(void *arg, int64_t k0, int64_t k1)
 {
-    splat_ctx *c = arg;
-    for (int64_t k = k0; k < k1; k++) {
-        int64_t *at = c->bucket_at + k;
-        FOR_FRONT_ENTRIES(c, chunk_begin(c, k), chunk_begin(c, k + 1), e, {
-            int32_t b0, b1;
-            if (!entry_bands(c, e, &b0, &b1)) continue;
-            for (int32_t b = b0; b <= b1; b++) at[b * c->nchunks]++;
-        });
-    }
+    for (int64_t k = k0; k < k1; k++) chunk_blocks(arg, k, 0);
 }
 
 /* Second pass: each chunk copies its entries into its place in each band. */
 static void fill_chunks(void *arg, int64_t k0, int64_t k1)
 {
-    splat_ctx *c = arg;
-    for (int64_t k = k0; k < k1; k++) {
-        int64_t *at = c->bucket_at + k;
-        FOR_FRONT_ENTRIES(c, chunk_begin(c, k), chunk_begin(c, k + 1), e, {
-            int32_t b0, b1;
-            if (!entry_bands(c, e, &b0, &b1)) continue;
-            for (int32_t b = b0; b <= b1; b++) c->bucket[at[b * c->nchunks]++] = e;
-        });
-    }
+    for (int64_t k = k0; k < k1; k++) chunk_blocks(arg, k, 1);
 }
 
 /* Per band: splat its entries into a band z-buffer, then write its rows of
@@ -224,15 +220,16 @@ static void splat_bands(void *arg, int64_t b0, int64_t b1)
     atomic_store(&c->scratch_busy[k], 0);
 }
 
-/* The AVX2 kernel where it is built, the CPU has it and the SIMD level
- * allows it (tests force each level and compare). */
-static bvox__splat_fn choose_splat(void)
+/* The AVX2 kernels where they are built, the CPU has them and the SIMD
+ * level allows them (tests force each level and compare). */
+static int use_avx2(void)
 {
 #if defined(__x86_64__)
-    if (bvox__splat_avx2 && bvox_simd_active() >= BVOX_SIMD_AVX2 && __builtin_cpu_supports("avx2"))
-        return bvox__splat_avx2;
+    return bvox__splat_avx2 && bvox_simd_active() >= BVOX_SIMD_AVX2 &&
+           __builtin_cpu_supports("avx2");
+#else
+    return 0;
 #endif
-    return splat_list;
 }
 
 bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *proj,
@@ -323,7 +320,8 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
      * With one thread (or few entries) there is nothing to share: one band,
      * the whole image, and no bucketing. */
     c.pre = pre;
-    c.splat = choose_splat();
+    c.splat = use_avx2() ? bvox__splat_avx2 : splat_list;
+    c.bands = use_avx2() ? bvox__bands_avx2 : bands_portable;
     for (int a = 0; a < 3; a++) {
         c.pu[a] = c.f.r[a] * sp[a] * c.scale;
         c.pv[a] = c.f.dn[a] * sp[a] * c.scale;

@@ -26,6 +26,9 @@ struct splat_ctx;
 typedef void (*bvox__splat_fn)(const struct splat_ctx *c, const uint64_t *list, int64_t n,
                                int32_t row0, int32_t row1, uint64_t *zb);
 
+typedef void (*bvox__bands_fn)(const struct splat_ctx *c, const uint64_t *list, int n,
+                               int32_t *b0, int32_t *b1);
+
 typedef struct splat_ctx {
     const bvox_surface *s;
     frame f;
@@ -53,6 +56,7 @@ typedef struct splat_ctx {
     int64_t *bucket_at;           /* [band * nchunks + chunk]: count, then offset */
     uint64_t *bucket;             /* the entries of each band, band after band */
     bvox__splat_fn splat;         /* splat_list or a SIMD kernel giving the same keys */
+    bvox__bands_fn bands;         /* the bands of entries, for the bucketing */
     bvox_preimage *pre;
     bvox__cue cue;
     uint64_t *scratch[64];         /* band z-buffers, one per concurrent task */
@@ -107,5 +111,6 @@ static inline int project(const splat_ctx *c, uint64_t e, double *fu, double *fv
  * kernel reads and writes back 4 keys from any pixel of a z-buffer row: the
  * rows have 3 keys of padding (stride). */
 extern const bvox__splat_fn bvox__splat_avx2;
+extern const bvox__bands_fn bvox__bands_avx2;
 
 #endif

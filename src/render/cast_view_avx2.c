@@ -129,7 +129,48 @@ static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int3
     }
 }
 
+/* bands_portable (cast_view.c) four entries at a time. */
+static void bands_avx2(const splat_ctx *c, const uint64_t *list, int n, int32_t *b0, int32_t *b1)
+{
+    const __m256i low = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    const __m256i m16 = _mm256_set1_epi64x(0xffff);
+    const __m256d vhv = _mm256_set1_pd(c->hv), margin = _mm256_set1_pd(1e-3);
+    const __m256d half = _mm256_set1_pd(-0.5);
+    const __m256d hn = _mm256_set1_pd(c->hgt), hn1 = _mm256_set1_pd(c->hgt - 1);
+    const __m128i none = _mm_set1_epi32(-1);
+    int i = 0;
+    for (; i + 4 <= n; i += 4) {
+        __m256i ev = _mm256_loadu_si256((const __m256i *)(list + i));
+        __m256d xyz[3];
+        for (int a = 0; a < 3; a++) {
+            __m256i v = _mm256_and_si256(_mm256_srli_epi64(ev, 16 * a), m16);
+            xyz[a] = _mm256_cvtepi32_pd(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(v, low)));
+        }
+        __m256d fv = _mm256_add_pd(
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(xyz[0], _mm256_set1_pd(c->pv[0])),
+                                        _mm256_mul_pd(xyz[1], _mm256_set1_pd(c->pv[1]))),
+                          _mm256_mul_pd(xyz[2], _mm256_set1_pd(c->pv[2]))),
+            _mm256_set1_pd(c->pv[3]));
+        __m128i py0 = _mm256_cvttpd_epi32(_mm256_ceil_pd(
+            _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(_mm256_sub_pd(fv, vhv), margin), half), hn)));
+        __m128i py1 = _mm256_cvttpd_epi32(_mm256_floor_pd(
+            _mm256_min_pd(_mm256_max_pd(_mm256_add_pd(_mm256_add_pd(fv, vhv), margin), half), hn1)));
+        __m128i s0 = _mm_srai_epi32(py0, c->band_shift), s1 = _mm_srai_epi32(py1, c->band_shift);
+        s1 = _mm_blendv_epi8(s1, none, _mm_cmpgt_epi32(py0, py1));
+        _mm_storeu_si128((__m128i *)(b0 + i), s0);
+        _mm_storeu_si128((__m128i *)(b1 + i), s1);
+    }
+    for (; i < n; i++) { /* the last n % 4: bands_portable's arithmetic */
+        double fv = project_axis(c->pv, list[i]);
+        int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
+        b0[i] = py0 >> c->band_shift;
+        b1[i] = py0 <= py1 ? py1 >> c->band_shift : -1;
+    }
+}
+
 const bvox__splat_fn bvox__splat_avx2 = splat_avx2;
+const bvox__bands_fn bvox__bands_avx2 = bands_avx2;
 #else
 const bvox__splat_fn bvox__splat_avx2 = NULL;
+const bvox__bands_fn bvox__bands_avx2 = NULL;
 #endif
