@@ -15,18 +15,51 @@
 #include <immintrin.h>
 #include <string.h>
 
+/* The keys of four candidate pixels of one entry, lanes at offsets du, dv
+ * (pixels) from its projected centre, wc its depth; lanes not in `valid`
+ * miss (~0). splat_list's per-pixel arithmetic, lane by lane. */
+static inline __m256i keys4(const splat_ctx *c, __m256d du, __m256d dv, __m256d wc, __m256i nb,
+                            __m256d valid)
+{
+    __m256d tmin = _mm256_set1_pd(-INFINITY), tmax = _mm256_set1_pd(INFINITY);
+    for (int a = 0; a < 3; a++) {
+        __m256d k = _mm256_add_pd(_mm256_mul_pd(du, _mm256_set1_pd(c->ku[a])),
+                                  _mm256_mul_pd(dv, _mm256_set1_pd(c->kv[a])));
+        tmin = _mm256_max_pd(_mm256_sub_pd(_mm256_set1_pd(-c->H[a]), k), tmin);
+        tmax = _mm256_min_pd(_mm256_sub_pd(_mm256_set1_pd(c->H[a]), k), tmax);
+    }
+    __m256d hit = _mm256_and_pd(_mm256_cmp_pd(tmin, tmax, _CMP_LE_OQ), valid);
+    for (int a = 0; a < 3; a++)
+        if (c->parallel[a]) {
+            __m256d q = _mm256_mul_pd(_mm256_add_pd(_mm256_mul_pd(du, _mm256_set1_pd(c->f.r[a])),
+                                                    _mm256_mul_pd(dv, _mm256_set1_pd(c->f.dn[a]))),
+                                      _mm256_set1_pd(1.0 / c->scale));
+            __m256d ok = _mm256_and_pd(_mm256_cmp_pd(q, _mm256_set1_pd(-c->h[a]), _CMP_GE_OQ),
+                                       _mm256_cmp_pd(q, _mm256_set1_pd(c->h[a]), _CMP_LT_OQ));
+            hit = _mm256_and_pd(hit, ok);
+        }
+    __m128 df = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_add_pd(wc, tmin), _mm256_set1_pd(c->scale)));
+    df = _mm_max_ps(df, _mm_setzero_ps());
+    __m256i key =
+        _mm256_or_si256(_mm256_slli_epi64(_mm256_cvtepu32_epi64(_mm_castps_si128(df)), 32), nb);
+    return _mm256_or_si256(key, _mm256_castpd_si256(_mm256_xor_pd(
+                                    hit, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))));
+}
+
+/* The min of keys k[0..n) into row[0..n), one key at a time: a 4-key load
+ * right after an overlapping 4-key store of the previous entry (footprints
+ * of neighbouring voxels overlap) cannot be forwarded and stalls; 8-byte
+ * accesses forward. */
+static inline void min_keys(uint64_t *row, const uint64_t *k, int n)
+{
+    for (int l = 0; l < n; l++) row[l] = k[l] < row[l] ? k[l] : row[l];
+}
+
 static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int32_t row0,
                        int32_t row1, uint64_t *zb)
 {
-    const __m256d ku[3] = {_mm256_set1_pd(c->ku[0]), _mm256_set1_pd(c->ku[1]),
-                           _mm256_set1_pd(c->ku[2])};
-    const __m256d nh[3] = {_mm256_set1_pd(-c->H[0]), _mm256_set1_pd(-c->H[1]),
-                           _mm256_set1_pd(-c->H[2])};
-    const __m256d ph[3] = {_mm256_set1_pd(c->H[0]), _mm256_set1_pd(c->H[1]),
-                           _mm256_set1_pd(c->H[2])};
-    const __m256d scale = _mm256_set1_pd(c->scale), inv = _mm256_set1_pd(1.0 / c->scale);
     const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
-    const int any_parallel = c->parallel[0] | c->parallel[1] | c->parallel[2];
+    const __m128i pair_x = _mm_setr_epi32(0, 1, 0, 1), pair_y = _mm_setr_epi32(0, 0, 1, 1);
     /* four entries projected at once (project()'s arithmetic lane by lane),
      * then splatted one by one; the last n % 4 projected by project() */
     double fus[4], fvs[4], wcs[4];
@@ -80,50 +113,38 @@ static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int3
             continue;
         int32_t py0 = box[2] > row0 ? box[2] : row0, py1 = box[3] < row1 - 1 ? box[3] : row1 - 1;
         const __m256i nb = _mm256_set1_epi64x((long long)SURF_NB(e));
-        const __m256d vfu = _mm256_set1_pd(fu), vwc = _mm256_set1_pd(wc);
+        const __m256d vfu = _mm256_set1_pd(fu), vfv = _mm256_set1_pd(fv), vwc = _mm256_set1_pd(wc);
+        uint64_t k4[4];
+        if (box[1] - box[0] <= 1) {
+            /* a footprint at most 2 pixels wide (the usual at a scale near
+             * one pixel per voxel): two rows of two in the four lanes */
+            __m128i xs = _mm_add_epi32(_mm_set1_epi32(box[0]), pair_x);
+            __m256d du = _mm256_sub_pd(_mm256_cvtepi32_pd(xs), vfu);
+            __m256d in_x = _mm256_castsi256_pd(
+                _mm256_cvtepi32_epi64(_mm_cmpgt_epi32(_mm_set1_epi32(box[1] + 1), xs)));
+            for (int32_t py = py0; py <= py1; py += 2) {
+                __m128i ys = _mm_add_epi32(_mm_set1_epi32(py), pair_y);
+                __m256d dv = _mm256_sub_pd(_mm256_cvtepi32_pd(ys), vfv);
+                __m256d in = _mm256_and_pd(in_x, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(
+                                                     _mm_cmpgt_epi32(_mm_set1_epi32(py1 + 1), ys))));
+                _mm256_storeu_si256((__m256i *)k4, keys4(c, du, dv, vwc, nb, in));
+                uint64_t *row = zb + (size_t)(py - row0) * (size_t)c->stride + (size_t)box[0];
+                min_keys(row, k4, 2);
+                if (py < py1) min_keys(row + c->stride, k4 + 2, 2);
+            }
+            continue;
+        }
         for (int32_t py = py0; py <= py1; py++) {
-            double dv = py - fv;
-            __m256d dk[3];
-            for (int a = 0; a < 3; a++) dk[a] = _mm256_set1_pd(dv * c->kv[a]);
+            __m256d dv = _mm256_set1_pd(py - fv);
             uint64_t *row = zb + (size_t)(py - row0) * (size_t)c->stride;
             for (int32_t px = box[0]; px <= box[1]; px += 4) {
                 __m128i pxs = _mm_add_epi32(_mm_set1_epi32(px), lane);
                 __m256d du = _mm256_sub_pd(_mm256_cvtepi32_pd(pxs), vfu);
-                __m256d tmin = _mm256_set1_pd(-INFINITY), tmax = _mm256_set1_pd(INFINITY);
-                for (int a = 0; a < 3; a++) {
-                    __m256d k = _mm256_add_pd(_mm256_mul_pd(du, ku[a]), dk[a]);
-                    tmin = _mm256_max_pd(_mm256_sub_pd(nh[a], k), tmin);
-                    tmax = _mm256_min_pd(_mm256_sub_pd(ph[a], k), tmax);
-                }
-                __m256d hit = _mm256_cmp_pd(tmin, tmax, _CMP_LE_OQ);
                 /* lanes past the footprint's last pixel miss */
-                __m128i in = _mm_cmpgt_epi32(_mm_set1_epi32(box[1] + 1), pxs);
-                hit = _mm256_and_pd(hit, _mm256_castsi256_pd(_mm256_cvtepi32_epi64(in)));
-                if (any_parallel)
-                    for (int a = 0; a < 3; a++)
-                        if (c->parallel[a]) {
-                            __m256d q = _mm256_mul_pd(
-                                _mm256_add_pd(_mm256_mul_pd(du, _mm256_set1_pd(c->f.r[a])),
-                                              _mm256_set1_pd(dv * c->f.dn[a])),
-                                inv);
-                            __m256d ok = _mm256_and_pd(
-                                _mm256_cmp_pd(q, _mm256_set1_pd(-c->h[a]), _CMP_GE_OQ),
-                                _mm256_cmp_pd(q, _mm256_set1_pd(c->h[a]), _CMP_LT_OQ));
-                            hit = _mm256_and_pd(hit, ok);
-                        }
-                __m128 df = _mm256_cvtpd_ps(_mm256_mul_pd(_mm256_add_pd(vwc, tmin), scale));
-                df = _mm_max_ps(df, _mm_setzero_ps());
-                __m256i key = _mm256_or_si256(
-                    _mm256_slli_epi64(_mm256_cvtepu32_epi64(_mm_castps_si128(df)), 32), nb);
-                key = _mm256_or_si256(key, _mm256_castpd_si256(_mm256_xor_pd(
-                                               hit, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)))));
-                /* the min one key at a time: a 4-key load right after an
-                 * overlapping 4-key store of the previous entry (footprints
-                 * of neighbouring voxels overlap) cannot be forwarded and
-                 * stalls; 8-byte accesses forward */
-                uint64_t k4[4];
-                _mm256_storeu_si256((__m256i *)k4, key);
-                for (int l = 0; l < 4; l++) row[px + l] = k4[l] < row[px + l] ? k4[l] : row[px + l];
+                __m256d in = _mm256_castsi256_pd(
+                    _mm256_cvtepi32_epi64(_mm_cmpgt_epi32(_mm_set1_epi32(box[1] + 1), pxs)));
+                _mm256_storeu_si256((__m256i *)k4, keys4(c, du, dv, vwc, nb, in));
+                min_keys(row + px, k4, 4);
             }
         }
     }
