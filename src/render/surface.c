@@ -27,61 +27,12 @@ typedef struct build_ctx {
     int64_t *at;       /* ny * 64: counts per row and class, then where each goes */
     int64_t *rowbox;   /* ny * 4: x and z range of each row's boundary (counting pass) */
     uint64_t *entries; /* NULL in the counting pass */
-    const uint64_t *zero; /* wpc zero words: a column outside the volume */
 } build_ctx;
 
-#define ALWAYS_INLINE static inline __attribute__((always_inline))
-
-/* Popcount: the instruction in the popcnt copy (hw), as in components_label.c
- * (without -mpopcnt __builtin_popcountll is a library call). */
-#define PC(w) (hw ? (int64_t)__builtin_popcountll(w) : (int64_t)bvox__popcount64(w))
-
-/* The boundary voxels of a word, given its 6 neighbour words nb, into the
- * row's counts at (counting pass) or the entries (second pass). A word with
- * few of them goes a voxel at a time; one with more (the faces of a large
- * object put tens of voxels of one class in a word) a class at a time: the
- * lowest voxel's class, then every voxel of the word in that class as one
- * mask. A class's voxels stay in z order either way, so the entries come out
- * the same. */
-ALWAYS_INLINE void word_entries(build_ctx *c, int64_t *at, uint64_t b, const uint64_t nb[6],
-                                uint64_t xy, size_t w, int hw)
+static void build_rows(void *arg, int64_t y0, int64_t y1)
 {
-    if (PC(b) <= 3) {
-        while (b) {
-            unsigned k = (unsigned)__builtin_ctzll(b);
-            b &= b - 1;
-            uint64_t bits = bvox__surface_nb_bits(nb, k);
-            if (!c->entries) {
-                at[bits]++;
-                continue;
-            }
-            c->entries[at[bits]++] = xy | bits << 48 | (uint64_t)(w * 64 + k) << 32;
-        }
-        return;
-    }
-    while (b) {
-        uint64_t bits = bvox__surface_nb_bits(nb, (unsigned)__builtin_ctzll(b));
-        uint64_t same = b;
-        for (int i = 0; i < 6; i++) same &= bits >> i & 1 ? nb[i] : ~nb[i];
-        b &= ~same;
-        int64_t o = at[bits];
-        at[bits] = o + PC(same);
-        if (!c->entries) continue;
-        const uint64_t e = xy | bits << 48;
-        while (same) {
-            uint64_t z = w * 64 + (unsigned)__builtin_ctzll(same);
-            same &= same - 1;
-            c->entries[o++] = e | z << 32;
-        }
-    }
-}
-
-/* Rows y0..y1 of the volume: a column at a time, its four side columns
- * looked up once (a zero column outside the volume). */
-ALWAYS_INLINE void rows_body(build_ctx *c, int64_t y0, int64_t y1, int hw)
-{
+    build_ctx *c = arg;
     const bvox_volume *v = c->v;
-    const size_t wpc = v->wpc;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
         int64_t *at = c->at + (size_t)y * 64;
         /* the bounding box comes from the boundary (every extreme 1-voxel is
@@ -91,20 +42,12 @@ ALWAYS_INLINE void rows_body(build_ctx *c, int64_t y0, int64_t y1, int hw)
         if (!c->entries) rb[0] = v->nx, rb[1] = -1, rb[2] = v->nz, rb[3] = -1;
         for (int32_t x = 0; x < v->nx; x++) {
             const uint64_t *col = bvox__column_c(v, x, y);
-            const uint64_t *xm = x > 0 ? bvox__column_c(v, x - 1, y) : c->zero;
-            const uint64_t *xp = x + 1 < v->nx ? bvox__column_c(v, x + 1, y) : c->zero;
-            const uint64_t *ym = y > 0 ? bvox__column_c(v, x, y - 1) : c->zero;
-            const uint64_t *yp = y + 1 < v->ny ? bvox__column_c(v, x, y + 1) : c->zero;
-            const uint64_t xy = (uint64_t)x | (uint64_t)y << 16;
-            for (size_t w = 0; w < wpc; w++) {
-                uint64_t word = col[w];
-                if (!word) continue;
-                uint64_t nb[6] = {xm[w], xp[w], ym[w], yp[w],
-                                  word << 1 | (w > 0 ? col[w - 1] >> 63 : 0),
-                                  word >> 1 | (w + 1 < wpc ? col[w + 1] << 63 : 0)};
-                uint64_t b = word & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
-                if (!b) continue;
-                if (!c->entries) {
+            for (size_t w = 0; w < v->wpc; w++) {
+                if (!col[w]) continue;
+                uint64_t nb[6];
+                bvox__surface_neighbours(v, x, y, w, nb);
+                uint64_t b = col[w] & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
+                if (!c->entries && b) {
                     int64_t z0 = (int64_t)w * 64 + __builtin_ctzll(b);
                     int64_t z1 = (int64_t)w * 64 + 63 - __builtin_clzll(b);
                     if (x < rb[0]) rb[0] = x;
@@ -112,30 +55,20 @@ ALWAYS_INLINE void rows_body(build_ctx *c, int64_t y0, int64_t y1, int hw)
                     if (z0 < rb[2]) rb[2] = z0;
                     if (z1 > rb[3]) rb[3] = z1;
                 }
-                word_entries(c, at, b, nb, xy, w, hw);
+                while (b) {
+                    unsigned k = (unsigned)__builtin_ctzll(b);
+                    b &= b - 1;
+                    uint64_t bits = bvox__surface_nb_bits(nb, k);
+                    if (!c->entries) {
+                        at[bits]++;
+                        continue;
+                    }
+                    uint64_t z = w * 64 + k;
+                    c->entries[at[bits]++] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | bits << 48;
+                }
             }
         }
     }
-}
-
-static void build_rows_portable(build_ctx *c, int64_t y0, int64_t y1) { rows_body(c, y0, y1, 0); }
-#if defined(__x86_64__) || defined(__i386__)
-__attribute__((target("popcnt"))) static void build_rows_popcnt(build_ctx *c, int64_t y0,
-                                                                int64_t y1)
-{
-    rows_body(c, y0, y1, 1);
-}
-#endif
-
-static void build_rows(void *arg, int64_t y0, int64_t y1)
-{
-#if defined(__x86_64__) || defined(__i386__)
-    if (bvox_simd_active() != BVOX_SIMD_GENERIC) {
-        build_rows_popcnt(arg, y0, y1);
-        return;
-    }
-#endif
-    build_rows_portable(arg, y0, y1);
 }
 
 bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
@@ -146,15 +79,13 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     bvox_surface *s = bvox__mem_zalloc(1, sizeof *s);
     if (!s) return bvox__fail(BVOX_ENOMEM, "out of memory");
     bvox_status st;
-    /* the row counts, the row boxes and a zero column, all zeroed */
-    size_t at_bytes = ((size_t)vol->ny * (64 + 4) + vol->wpc) * sizeof(int64_t);
+    size_t at_bytes = (size_t)vol->ny * (64 + 4) * sizeof(int64_t);
     int64_t *at = bvox__alloc(at_bytes, true, "surface rows", &st);
     if (!at) {
         free(s);
         return st;
     }
-    build_ctx c = {vol, at, at + (size_t)vol->ny * 64, NULL,
-                   (const uint64_t *)(at + (size_t)vol->ny * (64 + 4))};
+    build_ctx c = {vol, at, at + (size_t)vol->ny * 64, NULL};
     bvox__parallel_for(vol->ny, 8, build_rows, &c);
     /* the bounding box, as bvox_volume_bbox gives it (zero box if empty) */
     bvox_box bb = {vol->nx, vol->ny, vol->nz, -1, -1, -1};
