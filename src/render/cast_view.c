@@ -205,15 +205,22 @@ static void splat_bands(void *arg, int64_t b0, int64_t b1)
         for (int32_t py = row0; py < row1; py++) {
             const uint64_t *keys = zb + (size_t)(py - row0) * (size_t)c->stride;
             size_t base = (size_t)py * (size_t)c->w;
+            /* every pixel is written: the pre-image comes unset */
+            int32_t *depth_row = c->pre->depth + base;
+            uint8_t *code_row = c->pre->code + base;
             for (int32_t px = 0; px < c->w; px++) {
                 uint64_t key = keys[px];
-                if (key == ~0ull) continue; /* no hit: -1, background code */
+                if (key == ~0ull) { /* no hit: -1, background code */
+                    depth_row[px] = -1;
+                    code_row[px] = BVOX_CODE_BACKGROUND;
+                    continue;
+                }
                 uint32_t bits = (uint32_t)(key >> 32);
                 float depth;
                 memcpy(&depth, &bits, sizeof depth);
                 int32_t di = depth < (float)range ? (int32_t)depth : range - 1;
-                c->pre->depth[base + (size_t)px] = di;
-                c->pre->code[base + (size_t)px] = bvox__code((unsigned)key & 63, di, &c->cue);
+                depth_row[px] = di;
+                code_row[px] = bvox__code((unsigned)key & 63, di, &c->cue);
             }
         }
     }
@@ -299,7 +306,7 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
     }
 
     bvox_preimage *pre;
-    st = bvox__preimage_alloc(c.w, c.hgt, &pre);
+    st = bvox__preimage_alloc_unset(c.w, c.hgt, &pre);
     if (st) return st;
     double range = ceil(2 * c.rho * c.scale) + 1;
     pre->depth_range = range < 2147483647.0 ? (int32_t)range : 2147483647;

@@ -45,6 +45,16 @@ typedef struct pre_block {
 
 bvox_status bvox__preimage_alloc(int32_t width, int32_t height, bvox_preimage **out)
 {
+    bvox_status st = bvox__preimage_alloc_unset(width, height, out);
+    if (st) return st;
+    size_t n = (size_t)width * (size_t)height;
+    memset((*out)->depth, 0xff, n * sizeof(int32_t)); /* -1 */
+    memset((*out)->code, BVOX_CODE_BACKGROUND, n);
+    return BVOX_OK;
+}
+
+bvox_status bvox__preimage_alloc_unset(int32_t width, int32_t height, bvox_preimage **out)
+{
     *out = NULL;
     if (width < 1 || height < 1 || width > BVOX_IMAGE_MAX_DIM || height > BVOX_IMAGE_MAX_DIM)
         return bvox__fail(BVOX_EINVAL, "pre-image size %d x %d is outside 1..%d", (int)width,
@@ -64,8 +74,6 @@ bvox_status bvox__preimage_alloc(int32_t width, int32_t height, bvox_preimage **
     }
     b->depth_bytes = dbytes;
     b->code_bytes = n;
-    memset(b->pub.depth, 0xff, dbytes); /* -1 */
-    memset(b->pub.code, BVOX_CODE_BACKGROUND, n);
     b->pub.width = width;
     b->pub.height = height;
     *out = &b->pub;

@@ -44,6 +44,9 @@ static inline uint8_t bvox__code(unsigned neighbours, int64_t depth, const bvox_
 /* Allocate a pre-image of width x height, every pixel background (depth -1,
  * code BVOX_CODE_BACKGROUND); the other fields are zero. */
 bvox_status bvox__preimage_alloc(int32_t width, int32_t height, bvox_preimage **out);
+/* The same with the pixels left unset, for a caster that writes every one
+ * (cast_view.c: a second pass over 5 MiB per 1024^2 frame saved). */
+bvox_status bvox__preimage_alloc_unset(int32_t width, int32_t height, bvox_preimage **out);
 
 /* The unit normal (in the eye frame: right, up, towards the viewer) of normal
  * index idx for a pre-image's frame and spacing. "No normal" faces the viewer. */
