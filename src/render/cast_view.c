@@ -117,19 +117,11 @@ static void splat_list(const splat_ctx *c, const uint64_t *list, int64_t n, int3
     }
 }
 
-/* The bands entries list[0..n) may touch: [b0[i], b1[i]], b1[i] < b0[i] if
- * none (bvox__bands_fn, cast_view.h). A cheaper form of project()'s rows,
- * widened by a small margin so that rounding can only add a band (where the
- * exact test of the splat then finds nothing), never lose one. */
+/* The bands of entries list[0..n) (bvox__bands_fn, cast_view.h). */
 static void bands_portable(const splat_ctx *c, const uint64_t *list, int n, int32_t *b0,
                            int32_t *b1)
 {
-    for (int i = 0; i < n; i++) {
-        double fv = project_axis(c->pv, list[i]);
-        int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
-        b0[i] = py0 >> c->band_shift;
-        b1[i] = py0 <= py1 ? py1 >> c->band_shift : -1;
-    }
+    for (int i = 0; i < n; i++) entry_bands(c, list[i], &b0[i], &b1[i]);
 }
 
 static inline int64_t chunk_begin(const splat_ctx *c, int64_t k)

@@ -107,6 +107,18 @@ static inline int project(const splat_ctx *c, uint64_t e, double *fu, double *fv
     return box[0] <= box[1] && box[2] <= box[3];
 }
 
+/* The bands entry e may touch, [*b0, *b1] (*b1 < *b0 if none): project()'s
+ * rows in a cheaper form, widened by a small margin so that rounding can
+ * only add a band (where the exact test of the splat then finds nothing),
+ * never lose one. */
+static inline void entry_bands(const splat_ctx *c, uint64_t e, int32_t *b0, int32_t *b1)
+{
+    double fv = project_axis(c->pv, e);
+    int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
+    *b0 = py0 >> c->band_shift;
+    *b1 = py0 <= py1 ? py1 >> c->band_shift : -1;
+}
+
 /* The AVX2 kernel (cast_view_avx2.c); NULL where it is not built. Every
  * kernel reads and writes back 4 keys from any pixel of a z-buffer row: the
  * rows have 3 keys of padding (stride). */

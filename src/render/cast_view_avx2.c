@@ -15,6 +15,22 @@
 #include <immintrin.h>
 #include <string.h>
 
+/* project_axis of four entries at once, for the coefficients p: the same
+ * operations in the same order, so the same values. */
+static inline __m256d project_axis4(__m256i ev, const double p[4])
+{
+    const __m256i low = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+    __m256d xyz[3];
+    for (int a = 0; a < 3; a++) {
+        __m256i v = _mm256_and_si256(_mm256_srli_epi64(ev, 16 * a), _mm256_set1_epi64x(0xffff));
+        xyz[a] = _mm256_cvtepi32_pd(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(v, low)));
+    }
+    return _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(xyz[0], _mm256_set1_pd(p[0])),
+                                                     _mm256_mul_pd(xyz[1], _mm256_set1_pd(p[1]))),
+                                       _mm256_mul_pd(xyz[2], _mm256_set1_pd(p[2]))),
+                         _mm256_set1_pd(p[3]));
+}
+
 /* The keys of four candidate pixels of one entry, lanes at offsets du, dv
  * (pixels) from its projected centre, wc its depth; lanes not in `valid`
  * miss (~0). splat_list's per-pixel arithmetic, lane by lane. */
@@ -68,8 +84,6 @@ static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int3
     const __m256d half = _mm256_set1_pd(-0.5);
     const __m256d wn = _mm256_set1_pd(c->w), wn1 = _mm256_set1_pd(c->w - 1);
     const __m256d hn = _mm256_set1_pd(c->hgt), hn1 = _mm256_set1_pd(c->hgt - 1);
-    const __m256i low = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    const __m256i m16 = _mm256_set1_epi64x(0xffff);
     for (int64_t i = 0; i < n; i++) {
         uint64_t e = list[i];
         double fu, fv, wc;
@@ -77,20 +91,8 @@ static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int3
         int j = (int)(i & 3);
         if (j == 0 && i + 4 <= n) {
             __m256i ev = _mm256_loadu_si256((const __m256i *)(list + i));
-            __m256d xyz[3];
-            for (int a = 0; a < 3; a++) {
-                __m256i v = _mm256_and_si256(_mm256_srli_epi64(ev, 16 * a), m16);
-                v = _mm256_permutevar8x32_epi32(v, low);
-                xyz[a] = _mm256_cvtepi32_pd(_mm256_castsi256_si128(v));
-            }
-            __m256d pr[3];
-            const double *pc[3] = {c->pu, c->pv, c->pw};
-            for (int q = 0; q < 3; q++)
-                pr[q] = _mm256_add_pd(
-                    _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(xyz[0], _mm256_set1_pd(pc[q][0])),
-                                                _mm256_mul_pd(xyz[1], _mm256_set1_pd(pc[q][1]))),
-                                  _mm256_mul_pd(xyz[2], _mm256_set1_pd(pc[q][2]))),
-                    _mm256_set1_pd(pc[q][3]));
+            __m256d pr[3] = {project_axis4(ev, c->pu), project_axis4(ev, c->pv),
+                             project_axis4(ev, c->pw)};
             _mm256_storeu_pd(fus, pr[0]);
             _mm256_storeu_pd(fvs, pr[1]);
             _mm256_storeu_pd(wcs, pr[2]);
@@ -150,28 +152,16 @@ static void splat_avx2(const splat_ctx *c, const uint64_t *list, int64_t n, int3
     }
 }
 
-/* bands_portable (cast_view.c) four entries at a time. */
+/* entry_bands (cast_view.h) four entries at a time. */
 static void bands_avx2(const splat_ctx *c, const uint64_t *list, int n, int32_t *b0, int32_t *b1)
 {
-    const __m256i low = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    const __m256i m16 = _mm256_set1_epi64x(0xffff);
     const __m256d vhv = _mm256_set1_pd(c->hv), margin = _mm256_set1_pd(1e-3);
     const __m256d half = _mm256_set1_pd(-0.5);
     const __m256d hn = _mm256_set1_pd(c->hgt), hn1 = _mm256_set1_pd(c->hgt - 1);
     const __m128i none = _mm_set1_epi32(-1);
     int i = 0;
     for (; i + 4 <= n; i += 4) {
-        __m256i ev = _mm256_loadu_si256((const __m256i *)(list + i));
-        __m256d xyz[3];
-        for (int a = 0; a < 3; a++) {
-            __m256i v = _mm256_and_si256(_mm256_srli_epi64(ev, 16 * a), m16);
-            xyz[a] = _mm256_cvtepi32_pd(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(v, low)));
-        }
-        __m256d fv = _mm256_add_pd(
-            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(xyz[0], _mm256_set1_pd(c->pv[0])),
-                                        _mm256_mul_pd(xyz[1], _mm256_set1_pd(c->pv[1]))),
-                          _mm256_mul_pd(xyz[2], _mm256_set1_pd(c->pv[2]))),
-            _mm256_set1_pd(c->pv[3]));
+        __m256d fv = project_axis4(_mm256_loadu_si256((const __m256i *)(list + i)), c->pv);
         __m128i py0 = _mm256_cvttpd_epi32(_mm256_ceil_pd(
             _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(_mm256_sub_pd(fv, vhv), margin), half), hn)));
         __m128i py1 = _mm256_cvttpd_epi32(_mm256_floor_pd(
@@ -181,12 +171,7 @@ static void bands_avx2(const splat_ctx *c, const uint64_t *list, int n, int32_t 
         _mm_storeu_si128((__m128i *)(b0 + i), s0);
         _mm_storeu_si128((__m128i *)(b1 + i), s1);
     }
-    for (; i < n; i++) { /* the last n % 4: bands_portable's arithmetic */
-        double fv = project_axis(c->pv, list[i]);
-        int32_t py0 = ceil_in(fv - c->hv - 1e-3, c->hgt), py1 = floor_in(fv + c->hv + 1e-3, c->hgt);
-        b0[i] = py0 >> c->band_shift;
-        b1[i] = py0 <= py1 ? py1 >> c->band_shift : -1;
-    }
+    for (; i < n; i++) entry_bands(c, list[i], &b0[i], &b1[i]); /* the last n % 4 */
 }
 
 const bvox__splat_fn bvox__splat_avx2 = splat_avx2;
