@@ -1,13 +1,15 @@
 /*
- * cast_view_avx2.c — the AVX2 splat kernel of arbitrary views: splat_list
- * (cast_view.c) four pixels of a footprint row at a time.
+ * cast_view_avx2.c — the AVX2 kernels of arbitrary views: splat_list
+ * (cast_view.c) four candidate pixels at a time (a row of four, or two rows
+ * of two for footprints at most 2 pixels wide), with four entries projected
+ * at once, and entry_bands (cast_view.h) four entries at a time.
  *
- * Every lane does the portable kernel's double arithmetic in the same order
+ * Every lane does the portable code's double arithmetic in the same order
  * (no FMA: the files are built without it), so the keys, and so the
- * pre-images, are bit-identical at every SIMD level. The z-buffer rows have
- * 3 keys of padding (cast_view.h), so 4 keys are loaded and stored from any
- * pixel of a row; lanes past the footprint carry the no-hit key ~0 and
- * write back what they read (the min keeps it).
+ * pre-images, are bit-identical at every SIMD level. The min into the
+ * z-buffer is taken one key at a time (min_keys); a row of four may run up
+ * to 3 keys past the footprint into the row's padding (cast_view.h), where
+ * its lanes carry the no-hit key ~0 and the min keeps what is there.
  */
 #include "render/cast_view.h"
 

@@ -353,20 +353,18 @@ static int check_surface_entries(const voxref *r, const bvox_surface *s)
 }
 
 /* Random volumes (sparse and dense, z spanning one word or several) and a
- * solid box whose words are whole faces of one class, at every SIMD level
- * (the class-at-a-time build counts with popcount) and 1 and 3 threads. */
+ * solid box (words that are whole faces of one class), at every SIMD level
+ * and at 1 and 3 threads. fill: 1-voxels per 10 at random, 0 for the box. */
 TEST(surface_count)
 {
-    static const int dims[][3] = {{5, 7, 1}, {9, 3, 64}, {3, 7, 65}, {11, 5, 130}, {12, 10, 200}};
+    static const struct { int nx, ny, nz, fill; } cases[] = {
+        {5, 7, 1, 7}, {9, 3, 64, 7}, {3, 7, 65, 7}, {11, 5, 130, 7}, {12, 10, 200, 9}, {9, 8, 150, 0}};
     int saved = bvox_threads();
     bvox_simd saved_simd = bvox_simd_active();
-    for (int k = 0; k < 6; k++) {
-        voxref *r = voxref_create(k < 5 ? dims[k][0] : 9, k < 5 ? dims[k][1] : 8,
-                                  k < 5 ? dims[k][2] : 150);
-        if (k < 4)
-            voxref_random(r, 2, 3, harness_rand);
-        else if (k == 4)
-            voxref_random(r, 9, 10, harness_rand);
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+        voxref *r = voxref_create(cases[k].nx, cases[k].ny, cases[k].nz);
+        if (cases[k].fill)
+            voxref_random(r, (unsigned)cases[k].fill, 10, harness_rand);
         else
             for (int z = 3; z < 140; z++)
                 for (int y = 1; y < 7; y++)
