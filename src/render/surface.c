@@ -22,53 +22,154 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* One band of rows of the first pass: its entries in row order. */
+typedef struct band {
+    bvox__buf list;
+    bool failed; /* out of memory (reported by the caller: a worker cannot) */
+} band;
+
 typedef struct build_ctx {
     const bvox_volume *v;
+    const uint64_t *zero_row; /* nx * wpc zero words: the rows outside the volume */
+    band *bands;
+    int nbands;
     int64_t *at;       /* ny * 64: counts per row and class, then where each goes */
-    int64_t *rowbox;   /* ny * 4: x and z range of each row's boundary (counting pass) */
-    uint64_t *entries; /* NULL in the counting pass */
+    int64_t *rowbox;   /* ny * 4: x and z range of each row's boundary */
+    uint64_t *entries; /* the result, grouped by class */
 } build_ctx;
 
-static void build_rows(void *arg, int64_t y0, int64_t y1)
+static inline uint64_t boundary_word(uint64_t c, uint64_t xm, uint64_t xp, uint64_t ym,
+                                     uint64_t yp, uint64_t below, uint64_t above)
 {
-    build_ctx *c = arg;
+    uint64_t zm = c << 1 | below >> 63, zp = c >> 1 | above << 63;
+    return c & ~(xm & xp & ym & yp & zm & zp);
+}
+
+/* Word i = x * wpc + w of the row, with the outside counting as 0. */
+static inline uint64_t boundary_at(const uint64_t *prev, const uint64_t *cur,
+                                   const uint64_t *next, size_t nx, size_t wpc, size_t x,
+                                   size_t w)
+{
+    size_t i = x * wpc + w;
+    return boundary_word(cur[i], x > 0 ? cur[i - wpc] : 0, x + 1 < nx ? cur[i + wpc] : 0,
+                         prev[i], next[i], w > 0 ? cur[i - 1] : 0, w + 1 < wpc ? cur[i + 1] : 0);
+}
+
+/* The boundary words b[0, nx * wpc) of a whole row (prev and next are the
+ * rows y - 1 and y + 1, the zero row outside). A row is nx * wpc consecutive
+ * words, and in it the x neighbours are wpc words away and the z neighbours
+ * one word away. So all but the end columns go through one flat loop that
+ * the compiler vectorises; a column at a time (8 or 16 words) was too short
+ * a loop for vectors. The flat loop carries z bits across the ends of
+ * columns, so each column's first and last words are redone with a zero
+ * carry, and the two end columns whole, with their outside x neighbour. */
+static void row_boundary(const uint64_t *prev, const uint64_t *cur, const uint64_t *next,
+                         size_t nx, size_t wpc, uint64_t *b)
+{
+    const size_t n = nx * wpc;
+    for (size_t i = wpc; i + wpc < n; i++)
+        b[i] = boundary_word(cur[i], cur[i - wpc], cur[i + wpc], prev[i], next[i], cur[i - 1],
+                             cur[i + 1]);
+    for (size_t x = 1; x + 1 < nx; x++) {
+        b[x * wpc] = boundary_at(prev, cur, next, nx, wpc, x, 0);
+        b[x * wpc + wpc - 1] = boundary_at(prev, cur, next, nx, wpc, x, wpc - 1);
+    }
+    for (size_t w = 0; w < wpc; w++) {
+        b[w] = boundary_at(prev, cur, next, nx, wpc, 0, w);
+        b[n - wpc + w] = boundary_at(prev, cur, next, nx, wpc, nx - 1, w);
+    }
+}
+
+/* First pass over one band: each row's boundary words, then its boundary
+ * voxels, appended to the band's list in row order and counted per class;
+ * the row's x and z range. */
+static void collect_band(build_ctx *c, int64_t t)
+{
     const bvox_volume *v = c->v;
-    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
+    const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
+    band *bd = c->bands + t;
+    uint64_t *bw = bvox__mem_alloc(row * sizeof *bw);
+    if (!bw) {
+        bd->failed = true;
+        return;
+    }
+    const int64_t y0 = v->ny * t / c->nbands, y1 = v->ny * (t + 1) / c->nbands;
+    /* a first guess of two voxels per column of the band (a ball filling
+     * the volume has about that), doubled as needed */
+    if (bvox__buf_reserve(&bd->list, (size_t)(y1 - y0) * (size_t)v->nx * 2 * sizeof(uint64_t),
+                          "surface voxels")) {
+        free(bw);
+        bd->failed = true;
+        return;
+    }
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1 && !bd->failed; y++) {
         int64_t *at = c->at + (size_t)y * 64;
         /* the bounding box comes from the boundary (every extreme 1-voxel is
-         * on it), so the counting pass keeps each row's x and z range and no
-         * separate scan of the volume is needed */
+         * on it), so no separate scan of the volume is needed */
         int64_t *rb = c->rowbox + (size_t)y * 4;
-        if (!c->entries) rb[0] = v->nx, rb[1] = -1, rb[2] = v->nz, rb[3] = -1;
+        rb[0] = v->nx, rb[1] = -1, rb[2] = v->nz, rb[3] = -1;
+        const uint64_t *cur = bvox__column_c(v, 0, y);
+        row_boundary(y > 0 ? cur - row : c->zero_row, cur,
+                     y + 1 < v->ny ? cur + row : c->zero_row, (size_t)v->nx, wpc, bw);
         for (int32_t x = 0; x < v->nx; x++) {
-            const uint64_t *col = bvox__column_c(v, x, y);
-            for (size_t w = 0; w < v->wpc; w++) {
-                if (!col[w]) continue;
+            const uint64_t *bcol = bw + (size_t)x * wpc;
+            for (size_t w = 0; w < wpc; w++) {
+                uint64_t b = bcol[w];
+                if (!b) continue;
+                /* room for the word's 64 voxels at most */
+                if (bd->list.size + 64 * sizeof(uint64_t) > bd->list.cap &&
+                    bvox__buf_reserve(&bd->list, bd->list.size + 64 * sizeof(uint64_t),
+                                      "surface voxels")) {
+                    bd->failed = true;
+                    break;
+                }
+                int64_t z0 = (int64_t)w * 64 + __builtin_ctzll(b);
+                int64_t z1 = (int64_t)w * 64 + 63 - __builtin_clzll(b);
+                if (x < rb[0]) rb[0] = x;
+                rb[1] = x;
+                if (z0 < rb[2]) rb[2] = z0;
+                if (z1 > rb[3]) rb[3] = z1;
                 uint64_t nb[6];
                 bvox__surface_neighbours(v, x, y, w, nb);
-                uint64_t b = col[w] & ~(nb[0] & nb[1] & nb[2] & nb[3] & nb[4] & nb[5]);
-                if (!c->entries && b) {
-                    int64_t z0 = (int64_t)w * 64 + __builtin_ctzll(b);
-                    int64_t z1 = (int64_t)w * 64 + 63 - __builtin_clzll(b);
-                    if (x < rb[0]) rb[0] = x;
-                    rb[1] = x;
-                    if (z0 < rb[2]) rb[2] = z0;
-                    if (z1 > rb[3]) rb[3] = z1;
+                uint64_t *out = (uint64_t *)((char *)bd->list.data + bd->list.size);
+                size_t k = 0;
+                for (; b; b &= b - 1, k++) {
+                    unsigned bit = (unsigned)__builtin_ctzll(b);
+                    uint64_t cls = bvox__surface_nb_bits(nb, bit), z = w * 64 + bit;
+                    at[cls]++;
+                    out[k] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | cls << 48;
                 }
-                while (b) {
-                    unsigned k = (unsigned)__builtin_ctzll(b);
-                    b &= b - 1;
-                    uint64_t bits = bvox__surface_nb_bits(nb, k);
-                    if (!c->entries) {
-                        at[bits]++;
-                        continue;
-                    }
-                    uint64_t z = w * 64 + k;
-                    c->entries[at[bits]++] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | bits << 48;
-                }
+                bd->list.size += k * sizeof(uint64_t);
             }
         }
     }
+    free(bw);
+}
+
+static void collect_bands(void *arg, int64_t t0, int64_t t1)
+{
+    for (int64_t t = t0; t < t1; t++) collect_band(arg, t);
+}
+
+/* Second pass: each band's list to its place, class by class; a band's rows
+ * are its own, so its places in at are too. */
+static void place_bands(void *arg, int64_t t0, int64_t t1)
+{
+    build_ctx *c = arg;
+    for (int64_t t = t0; t < t1; t++) {
+        const uint64_t *e = c->bands[t].list.data;
+        size_t n = c->bands[t].list.size / sizeof *e;
+        for (size_t i = 0; i < n; i++) {
+            size_t y = (size_t)(e[i] >> 16 & 0xffff), cls = (size_t)(e[i] >> 48);
+            c->entries[c->at[y * 64 + cls]++] = e[i];
+        }
+    }
+}
+
+static void release_bands(band *bands, int n)
+{
+    for (int t = 0; t < n; t++) bvox__buf_release(&bands[t].list);
+    free(bands);
 }
 
 bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
@@ -77,16 +178,33 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (!vol) return bvox__fail(BVOX_EINVAL, "surface: no volume");
     bvox__clear_error();
     bvox_surface *s = bvox__mem_zalloc(1, sizeof *s);
-    if (!s) return bvox__fail(BVOX_ENOMEM, "out of memory");
-    bvox_status st;
+    /* one band of rows per thread (at least 8 rows each): a band's list
+     * grows to tens of MiB at 1024^3, large enough for huge pages; with four
+     * bands a thread, smaller lists took 4 KiB page faults from both threads
+     * and the 2-thread build ran no faster than the 1-thread one */
+    int nbands = bvox__parallelism();
+    if (nbands > vol->ny / 8) nbands = vol->ny / 8 > 0 ? vol->ny / 8 : 1;
+    band *bands = bvox__mem_zalloc((size_t)nbands, sizeof *bands);
+    bvox_status st = BVOX_OK;
     size_t at_bytes = (size_t)vol->ny * (64 + 4) * sizeof(int64_t);
-    int64_t *at = bvox__alloc(at_bytes, true, "surface rows", &st);
-    if (!at) {
+    size_t row_bytes = (size_t)vol->nx * vol->wpc * sizeof(uint64_t);
+    int64_t *at = NULL;
+    uint64_t *zero_row = NULL;
+    if (!s || !bands) st = bvox__fail(BVOX_ENOMEM, "out of memory");
+    if (!st) at = bvox__alloc(at_bytes, true, "surface rows", &st);
+    if (!st) zero_row = bvox__alloc(row_bytes, true, "surface rows", &st);
+    build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
+                   .at = at, .rowbox = at + (size_t)vol->ny * 64};
+    if (!st) bvox__parallel_for(nbands, 1, collect_bands, &c);
+    for (int t = 0; !st && t < nbands; t++)
+        if (bands[t].failed) st = bvox__fail(BVOX_ENOMEM, "out of memory listing the surface voxels");
+    bvox__free(zero_row, row_bytes);
+    if (st) {
+        if (bands) release_bands(bands, nbands);
+        bvox__free(at, at_bytes);
         free(s);
         return st;
     }
-    build_ctx c = {vol, at, at + (size_t)vol->ny * 64, NULL};
-    bvox__parallel_for(vol->ny, 8, build_rows, &c);
     /* the bounding box, as bvox_volume_bbox gives it (zero box if empty) */
     bvox_box bb = {vol->nx, vol->ny, vol->nz, -1, -1, -1};
     for (int32_t y = 0; y < vol->ny; y++) {
@@ -115,14 +233,16 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     s->class_start[64] = n;
     s->bytes = (size_t)(n ? n : 1) * sizeof(uint64_t);
     s->entries = bvox__alloc(s->bytes, false, "surface voxels", &st);
+    if (s->entries) {
+        c.entries = s->entries;
+        bvox__parallel_for(nbands, 1, place_bands, &c);
+    }
+    release_bands(bands, nbands);
+    bvox__free(at, at_bytes);
     if (!s->entries) {
-        bvox__free(at, at_bytes);
         free(s);
         return st;
     }
-    c.entries = s->entries;
-    bvox__parallel_for(vol->ny, 8, build_rows, &c);
-    bvox__free(at, at_bytes);
     s->count = n;
     s->dims = (bvox_dims){vol->nx, vol->ny, vol->nz};
     memcpy(s->spacing, vol->geom.spacing, sizeof s->spacing);

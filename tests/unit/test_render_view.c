@@ -354,11 +354,15 @@ static int check_surface_entries(const voxref *r, const bvox_surface *s)
 
 /* Random volumes (sparse and dense, z spanning one word or several) and a
  * solid box (words that are whole faces of one class), at every SIMD level
- * and at 1 and 3 threads. fill: 1-voxels per 10 at random, 0 for the box. */
+ * and at 1, 3 and 16 threads. fill: 1-voxels per 10 at random, 0 for the box. */
 TEST(surface_count)
 {
     static const struct { int nx, ny, nz, fill; } cases[] = {
-        {5, 7, 1, 7}, {9, 3, 64, 7}, {3, 7, 65, 7}, {11, 5, 130, 7}, {12, 10, 200, 9}, {9, 8, 150, 0}};
+        {5, 7, 1, 7}, {9, 3, 64, 7}, {3, 7, 65, 7}, {11, 5, 130, 7}, {12, 10, 200, 9}, {9, 8, 150, 0},
+        /* enough rows for several bands (8 rows or more each); one and two
+         * columns a row (the row pass's end columns only) */
+        {1, 40, 70, 7}, {2, 33, 64, 5}, {17, 45, 129, 8}, {6, 64, 1, 6}};
+    const int threads[] = {1, 3, 16};
     int saved = bvox_threads();
     bvox_simd saved_simd = bvox_simd_active();
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
@@ -373,8 +377,8 @@ TEST(surface_count)
         for (int lv = BVOX_SIMD_GENERIC; lv <= BVOX_SIMD_AVX512; lv++) {
             if (!bvox_simd_supported((bvox_simd)lv)) continue;
             CHECK_OK(bvox_simd_set((bvox_simd)lv));
-            for (int t = 1; t <= 3; t += 2) {
-                bvox_set_threads(t);
+            for (size_t t = 0; t < sizeof threads / sizeof *threads; t++) {
+                bvox_set_threads(threads[t]);
                 bvox_surface *s;
                 CHECK_OK(bvox_surface_build(vol, &s));
                 CHECK_EQ(check_surface_entries(r, s), 0);
