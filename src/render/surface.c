@@ -102,7 +102,7 @@ static void collect_band(build_ctx *c, int64_t t)
         bd->failed = true;
         return;
     }
-    for (int32_t y = (int32_t)y0; y < (int32_t)y1 && !bd->failed; y++) {
+    for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
         int64_t *at = c->at + (size_t)y * 64;
         /* the bounding box comes from the boundary (every extreme 1-voxel is
          * on it), so no separate scan of the volume is needed */
@@ -111,17 +111,25 @@ static void collect_band(build_ctx *c, int64_t t)
         const uint64_t *cur = bvox__column_c(v, 0, y);
         row_boundary(y > 0 ? cur - row : c->zero_row, cur,
                      y + 1 < v->ny ? cur + row : c->zero_row, (size_t)v->nx, wpc, bw);
-        for (int32_t x = 0; x < v->nx; x++) {
-            const uint64_t *bcol = bw + (size_t)x * wpc;
-            for (size_t w = 0; w < wpc; w++) {
-                uint64_t b = bcol[w];
-                if (!b) continue;
+        /* the row's nonzero boundary words, found 64 at a time through a
+         * mask: a test and branch per word mispredicted on every nonzero
+         * word of a sparse row, and that cost more than the row pass */
+        for (size_t i0 = 0; i0 < row; i0 += 64) {
+            const size_t nw = row - i0 < 64 ? row - i0 : 64;
+            uint64_t m = 0;
+            for (size_t j = 0; j < nw; j++) m |= (uint64_t)(bw[i0 + j] != 0) << j;
+            for (; m; m &= m - 1) {
+                const uint32_t i = (uint32_t)(i0 + (size_t)__builtin_ctzll(m));
+                const int32_t x = (int32_t)(i / (uint32_t)wpc);
+                const size_t w = i - (uint32_t)x * (uint32_t)wpc;
+                uint64_t b = bw[i];
                 /* room for the word's 64 voxels at most */
                 if (bd->list.size + 64 * sizeof(uint64_t) > bd->list.cap &&
                     bvox__buf_reserve(&bd->list, bd->list.size + 64 * sizeof(uint64_t),
                                       "surface voxels")) {
                     bd->failed = true;
-                    break;
+                    free(bw);
+                    return;
                 }
                 int64_t z0 = (int64_t)w * 64 + __builtin_ctzll(b);
                 int64_t z1 = (int64_t)w * 64 + 63 - __builtin_clzll(b);
