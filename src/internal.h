@@ -108,16 +108,6 @@ bvox_box bvox__box_clip(const bvox_volume *v, bvox_box b);
 bvox_status bvox__components_count(const bvox_volume *vol, int conn, int merge_border,
                                    int64_t *count);
 
-/* ---- mesh.c: a growable budgeted buffer (meshes, the surface's bands) ----
- * bvox__buf_reserve makes room for bytes in all (doubling; the contents up
- * to size are kept); size is the caller's to advance. */
-typedef struct bvox__buf {
-    void *data;
-    size_t size, cap; /* bytes */
-} bvox__buf;
-bvox_status bvox__buf_reserve(bvox__buf *b, size_t bytes, const char *what);
-void bvox__buf_release(bvox__buf *b);
-
 /* ---- parallel.c: split a range over the worker threads ---- */
 /* Calls fn(ctx, begin, end) on disjoint chunks covering [0, n): T chunks
  * [n t / T, n (t + 1) / T), T = bvox__parallelism() capped at

@@ -144,7 +144,13 @@ int bvox__geometry_mirrored(const bvox_geometry *geo);
 /* ---- mesh.c: a large buffer's pages as transparent huge pages (a hint) ---- */
 void bvox__advise_huge(void *p, size_t bytes);
 
-/* the growable budgeted buffer bvox__buf is declared in internal.h */
+/* ---- growable budgeted buffer (mesh.c) ---- */
+typedef struct bvox__buf {
+    void *data;
+    size_t size, cap; /* bytes */
+} bvox__buf;
+bvox_status bvox__buf_reserve(bvox__buf *b, size_t bytes, const char *what);
+void bvox__buf_release(bvox__buf *b);
 
 /* ---- mesh.c ---- */
 /* Grow the mesh arrays (budgeted). */

@@ -22,11 +22,40 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* One band of rows of the first pass: its entries in row order. */
+/* One band of rows of the first pass: its entries in row order, in chunks
+ * of a fixed size. Chunks, not one buffer grown by doubling: every doubling
+ * touched fresh pages again and copied, and on the 1024^3 atlas the two
+ * threads' page faults made the 2-thread build no faster than 1 thread. */
 typedef struct band {
-    bvox__buf list;
+    uint64_t **chunk;
+    size_t *used; /* entries in each chunk */
+    int nchunks, slots;
+    size_t chunk_entries;
     bool failed; /* out of memory (reported by the caller: a worker cannot) */
 } band;
+
+/* Where the next word's entries go: at least 64 free places (or as many as
+ * the band can have at all) in the last chunk; NULL when out of memory. */
+static uint64_t *band_room(band *bd)
+{
+    if (bd->nchunks && bd->chunk_entries - bd->used[bd->nchunks - 1] >= 64)
+        return bd->chunk[bd->nchunks - 1] + bd->used[bd->nchunks - 1];
+    if (bd->nchunks == bd->slots) {
+        int slots = bd->slots ? 2 * bd->slots : 8;
+        uint64_t **chunk = realloc(bd->chunk, (size_t)slots * sizeof *chunk);
+        if (chunk) bd->chunk = chunk;
+        size_t *used = realloc(bd->used, (size_t)slots * sizeof *used);
+        if (used) bd->used = used;
+        if (!chunk || !used) return NULL;
+        bd->slots = slots;
+    }
+    bvox_status st;
+    uint64_t *p = bvox__alloc(bd->chunk_entries * sizeof *p, false, "surface voxels", &st);
+    if (!p) return NULL;
+    bd->chunk[bd->nchunks] = p;
+    bd->used[bd->nchunks++] = 0;
+    return p;
+}
 
 typedef struct build_ctx {
     const bvox_volume *v;
@@ -94,14 +123,10 @@ static void collect_band(build_ctx *c, int64_t t)
         return;
     }
     const int64_t y0 = v->ny * t / c->nbands, y1 = v->ny * (t + 1) / c->nbands;
-    /* a first guess of two voxels per column of the band (a ball filling
-     * the volume has about that), doubled as needed */
-    if (bvox__buf_reserve(&bd->list, (size_t)(y1 - y0) * (size_t)v->nx * 2 * sizeof(uint64_t),
-                          "surface voxels")) {
-        free(bw);
-        bd->failed = true;
-        return;
-    }
+    /* chunks of 8 MiB (huge pages, see alloc.c), less where the band has
+     * fewer voxels, but room for one word */
+    const size_t voxels = (size_t)(y1 - y0) * (size_t)v->nx * wpc * 64;
+    bd->chunk_entries = voxels < ((size_t)1 << 20) ? (voxels > 64 ? voxels : 64) : (size_t)1 << 20;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
         int64_t *at = c->at + (size_t)y * 64;
         /* the bounding box comes from the boundary (every extreme 1-voxel is
@@ -124,9 +149,8 @@ static void collect_band(build_ctx *c, int64_t t)
                 const size_t w = i - (uint32_t)x * (uint32_t)wpc;
                 uint64_t b = bw[i];
                 /* room for the word's 64 voxels at most */
-                if (bd->list.size + 64 * sizeof(uint64_t) > bd->list.cap &&
-                    bvox__buf_reserve(&bd->list, bd->list.size + 64 * sizeof(uint64_t),
-                                      "surface voxels")) {
+                uint64_t *out = band_room(bd);
+                if (!out) {
                     bd->failed = true;
                     free(bw);
                     return;
@@ -139,7 +163,6 @@ static void collect_band(build_ctx *c, int64_t t)
                 if (z1 > rb[3]) rb[3] = z1;
                 uint64_t nb[6];
                 bvox__surface_neighbours(v, x, y, w, nb);
-                uint64_t *out = (uint64_t *)((char *)bd->list.data + bd->list.size);
                 size_t k = 0;
                 for (; b; b &= b - 1, k++) {
                     unsigned bit = (unsigned)__builtin_ctzll(b);
@@ -147,7 +170,7 @@ static void collect_band(build_ctx *c, int64_t t)
                     at[cls]++;
                     out[k] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | cls << 48;
                 }
-                bd->list.size += k * sizeof(uint64_t);
+                bd->used[bd->nchunks - 1] += k;
             }
         }
     }
@@ -165,18 +188,25 @@ static void place_bands(void *arg, int64_t t0, int64_t t1)
 {
     build_ctx *c = arg;
     for (int64_t t = t0; t < t1; t++) {
-        const uint64_t *e = c->bands[t].list.data;
-        size_t n = c->bands[t].list.size / sizeof *e;
-        for (size_t i = 0; i < n; i++) {
-            size_t y = (size_t)(e[i] >> 16 & 0xffff), cls = (size_t)(e[i] >> 48);
-            c->entries[c->at[y * 64 + cls]++] = e[i];
+        const band *bd = c->bands + t;
+        for (int h = 0; h < bd->nchunks; h++) {
+            const uint64_t *e = bd->chunk[h];
+            for (size_t i = 0; i < bd->used[h]; i++) {
+                size_t y = (size_t)(e[i] >> 16 & 0xffff), cls = (size_t)(e[i] >> 48);
+                c->entries[c->at[y * 64 + cls]++] = e[i];
+            }
         }
     }
 }
 
 static void release_bands(band *bands, int n)
 {
-    for (int t = 0; t < n; t++) bvox__buf_release(&bands[t].list);
+    for (int t = 0; t < n; t++) {
+        for (int h = 0; h < bands[t].nchunks; h++)
+            bvox__free(bands[t].chunk[h], bands[t].chunk_entries * sizeof(uint64_t));
+        free(bands[t].chunk);
+        free(bands[t].used);
+    }
     free(bands);
 }
 
@@ -186,11 +216,9 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (!vol) return bvox__fail(BVOX_EINVAL, "surface: no volume");
     bvox__clear_error();
     bvox_surface *s = bvox__mem_zalloc(1, sizeof *s);
-    /* one band of rows per thread (at least 8 rows each): a band's list
-     * grows to tens of MiB at 1024^3, large enough for huge pages; with four
-     * bands a thread, smaller lists took 4 KiB page faults from both threads
-     * and the 2-thread build ran no faster than the 1-thread one */
-    int nbands = bvox__parallelism();
+    /* bands of at least 8 rows, four per thread, so that a thread with the
+     * busier rows takes fewer */
+    int nbands = 4 * bvox__parallelism();
     if (nbands > vol->ny / 8) nbands = vol->ny / 8 > 0 ? vol->ny / 8 : 1;
     band *bands = bvox__mem_zalloc((size_t)nbands, sizeof *bands);
     bvox_status st = BVOX_OK;
@@ -203,7 +231,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (!st) zero_row = bvox__alloc(row_bytes, true, "surface rows", &st);
     build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
                    .at = at, .rowbox = at + (size_t)vol->ny * 64};
-    if (!st) bvox__parallel_for(nbands, 1, collect_bands, &c);
+    if (!st) bvox__parallel_for_dynamic(nbands, 1, collect_bands, &c);
     for (int t = 0; !st && t < nbands; t++)
         if (bands[t].failed) st = bvox__fail(BVOX_ENOMEM, "out of memory listing the surface voxels");
     bvox__free(zero_row, row_bytes);
@@ -243,7 +271,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     s->entries = bvox__alloc(s->bytes, false, "surface voxels", &st);
     if (s->entries) {
         c.entries = s->entries;
-        bvox__parallel_for(nbands, 1, place_bands, &c);
+        bvox__parallel_for_dynamic(nbands, 1, place_bands, &c);
     }
     release_bands(bands, nbands);
     bvox__free(at, at_bytes);
