@@ -6,15 +6,18 @@
  * side the ray enters from, so nothing visible is lost.
  *
  * Built word-wise: per z-word, interior = v & (6 neighbour words) and
- * boundary = v & ~interior; a first pass counts per y row and neighbour
- * class (the 6 neighbour bits), a prefix sum gives each (class, row) its
- * place, a second pass writes the entries, so rows are independent and split
- * over the worker threads. Grouping by class lets a view skip the classes
- * that face away from it as whole ranges (back-face culling without a test
- * per voxel). Each entry packs
+ * boundary = v & ~interior, a whole row of words at a time. The rows are
+ * split into bands over the worker threads. A first pass lists each band's
+ * boundary voxels in row order and counts them per y row and neighbour
+ * class (the 6 neighbour bits); a prefix sum gives each (class, row) its
+ * place; a second pass moves each band's list to those places. (Until
+ * 2026-12 the second pass classified every voxel again from the volume:
+ * that work, not the memory traffic, was most of the build.) Grouping by
+ * class lets a view skip the classes that face away from it as whole ranges
+ * (back-face culling without a test per voxel). Each entry packs
  * x, y, z (16 bits each: dimensions are at most 65535) and the 6 neighbour
  * bits (render.h's NB_*), from which the normal code and the per-view back
- * face cull follow. The bounding box comes from the counting pass too (each
+ * face cull follow. The bounding box comes from the first pass too (each
  * row's x and z range of boundary voxels): every extreme 1-voxel is one.
  */
 #include "render.h"
