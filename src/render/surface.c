@@ -21,6 +21,7 @@
  * row's x and z range of boundary voxels): every extreme 1-voxel is one.
  */
 #include "render.h"
+#include "render/surface_row.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +61,11 @@ static uint64_t *band_room(band *bd)
     return p;
 }
 
+typedef struct row_kernels {
+    bvox__surface_flat_fn flat;
+    bvox__surface_nonzero_fn nonzero;
+} row_kernels;
+
 typedef struct build_ctx {
     const bvox_volume *v;
     const uint64_t *zero_row; /* nx * wpc zero words: the rows outside the volume */
@@ -67,15 +73,9 @@ typedef struct build_ctx {
     int nbands;
     int64_t *at;       /* ny * 64: counts per row and class, then where each goes */
     int64_t *rowbox;   /* ny * 4: x and z range of each row's boundary */
+    row_kernels kernels;
     uint64_t *entries; /* the result, grouped by class */
 } build_ctx;
-
-static inline uint64_t boundary_word(uint64_t c, uint64_t xm, uint64_t xp, uint64_t ym,
-                                     uint64_t yp, uint64_t below, uint64_t above)
-{
-    uint64_t zm = c << 1 | below >> 63, zp = c >> 1 | above << 63;
-    return c & ~(xm & xp & ym & yp & zm & zp);
-}
 
 /* Word i = x * wpc + w of the row, with the outside counting as 0. */
 static inline uint64_t boundary_at(const uint64_t *prev, const uint64_t *cur,
@@ -83,8 +83,9 @@ static inline uint64_t boundary_at(const uint64_t *prev, const uint64_t *cur,
                                    size_t w)
 {
     size_t i = x * wpc + w;
-    return boundary_word(cur[i], x > 0 ? cur[i - wpc] : 0, x + 1 < nx ? cur[i + wpc] : 0,
-                         prev[i], next[i], w > 0 ? cur[i - 1] : 0, w + 1 < wpc ? cur[i + 1] : 0);
+    return bvox__boundary_word(cur[i], x > 0 ? cur[i - wpc] : 0, x + 1 < nx ? cur[i + wpc] : 0,
+                               prev[i], next[i], w > 0 ? cur[i - 1] : 0,
+                               w + 1 < wpc ? cur[i + 1] : 0);
 }
 
 /* The boundary words b[0, nx * wpc) of a whole row (prev and next are the
@@ -95,13 +96,37 @@ static inline uint64_t boundary_at(const uint64_t *prev, const uint64_t *cur,
  * a loop for vectors. The flat loop carries z bits across the ends of
  * columns, so each column's first and last words are redone with a zero
  * carry, and the two end columns whole, with their outside x neighbour. */
+static void flat_generic(const uint64_t *prev, const uint64_t *cur, const uint64_t *next,
+                         size_t n, size_t wpc, uint64_t *b)
+{
+    for (size_t i = wpc; i + wpc < n; i++)
+        b[i] = bvox__boundary_word(cur[i], cur[i - wpc], cur[i + wpc], prev[i], next[i],
+                                   cur[i - 1], cur[i + 1]);
+}
+
+static void nonzero_generic(const uint64_t *b, size_t n, uint64_t *m)
+{
+    for (size_t i0 = 0; i0 < n; i0 += 64) {
+        const size_t nw = n - i0 < 64 ? n - i0 : 64;
+        uint64_t w = 0;
+        for (size_t j = 0; j < nw; j++) w |= (uint64_t)(b[i0 + j] != 0) << j;
+        m[i0 / 64] = w;
+    }
+}
+
+static row_kernels choose_kernels(void)
+{
+    if (bvox_simd_active() >= BVOX_SIMD_AVX2 && bvox__surface_flat_avx2 &&
+        __builtin_cpu_supports("avx2"))
+        return (row_kernels){bvox__surface_flat_avx2, bvox__surface_nonzero_avx2};
+    return (row_kernels){flat_generic, nonzero_generic};
+}
+
 static void row_boundary(const uint64_t *prev, const uint64_t *cur, const uint64_t *next,
-                         size_t nx, size_t wpc, uint64_t *b)
+                         size_t nx, size_t wpc, bvox__surface_flat_fn flat, uint64_t *b)
 {
     const size_t n = nx * wpc;
-    for (size_t i = wpc; i + wpc < n; i++)
-        b[i] = boundary_word(cur[i], cur[i - wpc], cur[i + wpc], prev[i], next[i], cur[i - 1],
-                             cur[i + 1]);
+    flat(prev, cur, next, n, wpc, b);
     for (size_t x = 1; x + 1 < nx; x++) {
         b[x * wpc] = boundary_at(prev, cur, next, nx, wpc, x, 0);
         b[x * wpc + wpc - 1] = boundary_at(prev, cur, next, nx, wpc, x, wpc - 1);
@@ -120,7 +145,8 @@ static void collect_band(build_ctx *c, int64_t t)
     const bvox_volume *v = c->v;
     const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
     band *bd = c->bands + t;
-    uint64_t *bw = bvox__mem_alloc(row * sizeof *bw);
+    /* the row's boundary words, then bits saying which are nonzero */
+    uint64_t *bw = bvox__mem_alloc((row + (row + 63) / 64) * sizeof *bw), *nz = bw + row;
     if (!bw) {
         bd->failed = true;
         return;
@@ -138,15 +164,14 @@ static void collect_band(build_ctx *c, int64_t t)
         rb[0] = v->nx, rb[1] = -1, rb[2] = v->nz, rb[3] = -1;
         const uint64_t *cur = bvox__column_c(v, 0, y);
         row_boundary(y > 0 ? cur - row : c->zero_row, cur,
-                     y + 1 < v->ny ? cur + row : c->zero_row, (size_t)v->nx, wpc, bw);
+                     y + 1 < v->ny ? cur + row : c->zero_row, (size_t)v->nx, wpc, c->kernels.flat,
+                     bw);
+        c->kernels.nonzero(bw, row, nz);
         /* the row's nonzero boundary words, found 64 at a time through a
          * mask: a test and branch per word mispredicted on every nonzero
          * word of a sparse row, and that cost more than the row pass */
         for (size_t i0 = 0; i0 < row; i0 += 64) {
-            const size_t nw = row - i0 < 64 ? row - i0 : 64;
-            uint64_t m = 0;
-            for (size_t j = 0; j < nw; j++) m |= (uint64_t)(bw[i0 + j] != 0) << j;
-            for (; m; m &= m - 1) {
+            for (uint64_t m = nz[i0 / 64]; m; m &= m - 1) {
                 const uint32_t i = (uint32_t)(i0 + (size_t)__builtin_ctzll(m));
                 const int32_t x = (int32_t)(i / (uint32_t)wpc);
                 const size_t w = i - (uint32_t)x * (uint32_t)wpc;
@@ -233,7 +258,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (!st) at = bvox__alloc(at_bytes, true, "surface rows", &st);
     if (!st) zero_row = bvox__alloc(row_bytes, true, "surface rows", &st);
     build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
-                   .at = at, .rowbox = at + (size_t)vol->ny * 64};
+                   .at = at, .rowbox = at + (size_t)vol->ny * 64, .kernels = choose_kernels()};
     if (!st) bvox__parallel_for_dynamic(nbands, 1, collect_bands, &c);
     for (int t = 0; !st && t < nbands; t++)
         if (bands[t].failed) st = bvox__fail(BVOX_ENOMEM, "out of memory listing the surface voxels");
