@@ -88,14 +88,8 @@ static inline uint64_t boundary_at(const uint64_t *prev, const uint64_t *cur,
                                w + 1 < wpc ? cur[i + 1] : 0);
 }
 
-/* The boundary words b[0, nx * wpc) of a whole row (prev and next are the
- * rows y - 1 and y + 1, the zero row outside). A row is nx * wpc consecutive
- * words, and in it the x neighbours are wpc words away and the z neighbours
- * one word away. So all but the end columns go through one flat loop that
- * the compiler vectorises; a column at a time (8 or 16 words) was too short
- * a loop for vectors. The flat loop carries z bits across the ends of
- * columns, so each column's first and last words are redone with a zero
- * carry, and the two end columns whole, with their outside x neighbour. */
+/* The portable row kernels (surface_row.h); the compiler vectorises the
+ * first for the baseline instruction set. */
 static void flat_generic(const uint64_t *prev, const uint64_t *cur, const uint64_t *next,
                          size_t n, size_t wpc, uint64_t *b)
 {
@@ -122,6 +116,14 @@ static row_kernels choose_kernels(void)
     return (row_kernels){flat_generic, nonzero_generic};
 }
 
+/* The boundary words b[0, nx * wpc) of a whole row (prev and next are the
+ * rows y - 1 and y + 1, the zero row outside). A row is nx * wpc consecutive
+ * words, and in it the x neighbours are wpc words away and the z neighbours
+ * one word away. So all but the end columns go through one flat loop that
+ * the compiler vectorises; a column at a time (8 or 16 words) was too short
+ * a loop for vectors. The flat loop carries z bits across the ends of
+ * columns, so each column's first and last words are redone with a zero
+ * carry, and the two end columns whole, with their outside x neighbour. */
 static void row_boundary(const uint64_t *prev, const uint64_t *cur, const uint64_t *next,
                          size_t nx, size_t wpc, bvox__surface_flat_fn flat, uint64_t *b)
 {
@@ -258,10 +260,12 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (!st) at = bvox__alloc(at_bytes, true, "surface rows", &st);
     if (!st) zero_row = bvox__alloc(row_bytes, true, "surface rows", &st);
     build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
-                   .at = at, .rowbox = at + (size_t)vol->ny * 64, .kernels = choose_kernels()};
+                   .at = at, .rowbox = at ? at + (size_t)vol->ny * 64 : NULL,
+                   .kernels = choose_kernels()};
     if (!st) bvox__parallel_for_dynamic(nbands, 1, collect_bands, &c);
     for (int t = 0; !st && t < nbands; t++)
-        if (bands[t].failed) st = bvox__fail(BVOX_ENOMEM, "out of memory listing the surface voxels");
+        if (bands[t].failed)
+            st = bvox__fail(BVOX_ENOMEM, "out of memory listing the surface voxels");
     bvox__free(zero_row, row_bytes);
     if (st) {
         if (bands) release_bands(bands, nbands);

@@ -17,8 +17,9 @@ static void flat(const uint64_t *prev, const uint64_t *cur, const uint64_t *next
     size_t i = wpc;
     for (; i + 4 + wpc <= n; i += 4) {
         __m256i c = load(cur + i);
-        __m256i zm = _mm256_or_si256(_mm256_slli_epi64(c, 1), _mm256_srli_epi64(load(cur + i - 1), 63));
-        __m256i zp = _mm256_or_si256(_mm256_srli_epi64(c, 1), _mm256_slli_epi64(load(cur + i + 1), 63));
+        __m256i below = load(cur + i - 1), above = load(cur + i + 1);
+        __m256i zm = _mm256_or_si256(_mm256_slli_epi64(c, 1), _mm256_srli_epi64(below, 63));
+        __m256i zp = _mm256_or_si256(_mm256_srli_epi64(c, 1), _mm256_slli_epi64(above, 63));
         __m256i in = _mm256_and_si256(_mm256_and_si256(load(cur + i - wpc), load(cur + i + wpc)),
                                       _mm256_and_si256(load(prev + i), load(next + i)));
         in = _mm256_and_si256(in, _mm256_and_si256(zm, zp));
