@@ -46,9 +46,9 @@ static uint64_t *band_room(band *bd)
         return bd->chunk[bd->nchunks - 1] + bd->used[bd->nchunks - 1];
     if (bd->nchunks == bd->slots) {
         int slots = bd->slots ? 2 * bd->slots : 8;
-        uint64_t **chunk = realloc(bd->chunk, (size_t)slots * sizeof *chunk);
+        uint64_t **chunk = bvox__mem_resize(bd->chunk, (size_t)slots * sizeof *chunk);
         if (chunk) bd->chunk = chunk;
-        size_t *used = realloc(bd->used, (size_t)slots * sizeof *used);
+        size_t *used = bvox__mem_resize(bd->used, (size_t)slots * sizeof *used);
         if (used) bd->used = used;
         if (!chunk || !used) return NULL;
         bd->slots = slots;
