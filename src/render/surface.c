@@ -7,12 +7,14 @@
  *
  * Built word-wise: per z-word, interior = v & (6 neighbour words) and
  * boundary = v & ~interior, a whole row of words at a time. The rows are
- * split into bands over the worker threads. A first pass lists each band's
- * boundary voxels in row order and counts them per y row and neighbour
- * class (the 6 neighbour bits); a prefix sum gives each (class, row) its
- * place; a second pass moves each band's list to those places. (Until
+ * split into bands over the worker threads. A first pass appends each
+ * band's boundary voxels, in row order, to the band's list of their
+ * neighbour class (the 6 neighbour bits); a prefix sum over (class, band)
+ * gives each list its place; a second pass copies the lists there. (Until
  * 2026-12 the second pass classified every voxel again from the volume:
- * that work, not the memory traffic, was most of the build.) Grouping by
+ * that work, not the memory traffic, was most of the build. Then, until a
+ * later 2026-12 change, each band had one list, scattered entry by entry
+ * to per-(row, class) places.) Grouping by
  * class lets a view skip the classes that face away from it as whole ranges
  * (back-face culling without a test per voxel). Each entry packs
  * x, y, z (16 bits each: dimensions are at most 65535) and the 6 neighbour
@@ -26,39 +28,89 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* One band of rows of the first pass: its entries in row order, in chunks
- * of a fixed size. Chunks, not one buffer grown by doubling: every doubling
- * touched fresh pages again and copied, and on the 1024^3 atlas the two
- * threads' page faults made the 2-thread build no faster than 1 thread. */
+/* One band of rows: its entries of each class in row order, in chunks carved
+ * from blocks of a fixed size. Lists per class, so that the result is each
+ * class's lists copied one after the other, band by band (memcpy), where a
+ * single list per band had to be scattered entry by entry to its places.
+ * Chunks, not buffers grown by doubling: every doubling touched fresh pages
+ * again and copied, and on the 1024^3 atlas the two threads' page faults
+ * made the 2-thread build no faster than 1 thread. */
+typedef struct chunk {
+    uint64_t *at;
+    size_t used; /* entries: set when the class moves on to a new chunk, or at the end */
+    int cls;
+} chunk;
+
 typedef struct band {
-    uint64_t **chunk;
-    size_t *used; /* entries in each chunk */
-    int nchunks, slots;
-    size_t chunk_entries;
-    bool failed; /* out of memory (reported by the caller: a worker cannot) */
+    uint64_t *cur[64], *end[64]; /* where each class's next entry goes; its chunk's end */
+    size_t next_size[64];        /* entries of the class's next chunk */
+    int last[64];                /* the class's current chunk in `chunks`, -1 for none */
+    chunk *chunks;
+    int nchunks, chunk_slots;
+    uint64_t **blocks; /* from bvox__alloc, block_entries each */
+    int nblocks, block_slots;
+    size_t block_entries, block_used;
+    int64_t count[64]; /* entries of each class, once the band is done */
+    bool failed;       /* out of memory (reported by the caller: a worker cannot) */
 } band;
 
-/* Where the next word's entries go: at least 64 free places (or as many as
- * the band can have at all) in the last chunk; NULL when out of memory. */
-static uint64_t *band_room(band *bd)
+/* Slots for one more pointer-sized record in a growing array; false when out of memory. */
+static bool grow_slots(void **array, int n, int *slots, size_t size)
 {
-    if (bd->nchunks && bd->chunk_entries - bd->used[bd->nchunks - 1] >= 64)
-        return bd->chunk[bd->nchunks - 1] + bd->used[bd->nchunks - 1];
-    if (bd->nchunks == bd->slots) {
-        int slots = bd->slots ? 2 * bd->slots : 8;
-        uint64_t **chunk = bvox__mem_resize(bd->chunk, (size_t)slots * sizeof *chunk);
-        if (chunk) bd->chunk = chunk;
-        size_t *used = bvox__mem_resize(bd->used, (size_t)slots * sizeof *used);
-        if (used) bd->used = used;
-        if (!chunk || !used) return NULL;
-        bd->slots = slots;
+    if (n < *slots) return true;
+    int more = *slots ? 2 * *slots : 16;
+    void *p = bvox__mem_resize(*array, (size_t)more * size);
+    if (!p) return false;
+    *array = p;
+    *slots = more;
+    return true;
+}
+
+/* A new chunk for class k, the class's current one being full (or there is
+ * none yet): the class's chunks double from 512 entries (fewer in a small
+ * band) up to an eighth of a block, so that a band's rare classes take
+ * little room and its common ones few chunks. Returns where the entry goes;
+ * NULL when out of memory. */
+static uint64_t *band_new_chunk(band *bd, int k)
+{
+    if (bd->last[k] >= 0) {
+        chunk *ch = bd->chunks + bd->last[k];
+        ch->used = (size_t)(bd->cur[k] - ch->at);
     }
-    bvox_status st;
-    uint64_t *p = bvox__alloc(bd->chunk_entries * sizeof *p, false, "surface voxels", &st);
-    if (!p) return NULL;
-    bd->chunk[bd->nchunks] = p;
-    bd->used[bd->nchunks++] = 0;
-    return p;
+    size_t size = bd->next_size[k];
+    if (size > bd->block_entries) size = bd->block_entries;
+    if (!bd->nblocks || bd->block_entries - bd->block_used < size) {
+        if (!grow_slots((void **)&bd->blocks, bd->nblocks, &bd->block_slots, sizeof *bd->blocks))
+            return NULL;
+        bvox_status st;
+        uint64_t *b = bvox__alloc(bd->block_entries * sizeof *b, false, "surface voxels", &st);
+        if (!b) return NULL;
+        bd->blocks[bd->nblocks++] = b;
+        bd->block_used = 0;
+    }
+    if (!grow_slots((void **)&bd->chunks, bd->nchunks, &bd->chunk_slots, sizeof *bd->chunks))
+        return NULL;
+    uint64_t *at = bd->blocks[bd->nblocks - 1] + bd->block_used;
+    bd->block_used += size;
+    bd->chunks[bd->nchunks] = (chunk){at, 0, k};
+    bd->last[k] = bd->nchunks++;
+    bd->cur[k] = at;
+    bd->end[k] = at + size;
+    if (bd->next_size[k] < bd->block_entries / 8) bd->next_size[k] *= 2;
+    return at;
+}
+
+/* The band's last chunks closed and its count per class. */
+static void band_finish(band *bd)
+{
+    for (int k = 0; k < 64; k++)
+        if (bd->last[k] >= 0) {
+            chunk *ch = bd->chunks + bd->last[k];
+            ch->used = (size_t)(bd->cur[k] - ch->at);
+        }
+    memset(bd->count, 0, sizeof bd->count);
+    for (int h = 0; h < bd->nchunks; h++)
+        bd->count[bd->chunks[h].cls] += (int64_t)bd->chunks[h].used;
 }
 
 typedef struct row_kernels {
@@ -71,10 +123,10 @@ typedef struct build_ctx {
     const uint64_t *zero_row; /* nx * wpc zero words: the rows outside the volume */
     band *bands;
     int nbands;
-    int64_t *at;       /* ny * 64: counts per row and class, then where each goes */
     int64_t *rowbox;   /* ny * 4: x and z range of each row's boundary */
     row_kernels kernels;
     uint64_t *entries; /* the result, grouped by class */
+    int64_t *place;    /* nbands * 64: where band t's class k goes in entries */
 } build_ctx;
 
 /* Word i = x * wpc + w of the row, with the outside counting as 0. */
@@ -140,8 +192,8 @@ static void row_boundary(const uint64_t *prev, const uint64_t *cur, const uint64
 }
 
 /* First pass over one band: each row's boundary words, then its boundary
- * voxels, appended to the band's list in row order and counted per class;
- * the row's x and z range. */
+ * voxels, appended to the band's list of their class in row order; the
+ * row's x and z range. */
 static void collect_band(build_ctx *c, int64_t t)
 {
     const bvox_volume *v = c->v;
@@ -154,12 +206,19 @@ static void collect_band(build_ctx *c, int64_t t)
         return;
     }
     const int64_t y0 = v->ny * t / c->nbands, y1 = v->ny * (t + 1) / c->nbands;
-    /* chunks of 8 MiB (huge pages, see alloc.c), less where the band has
-     * fewer voxels, but room for one word */
+    /* i / wpc as a multiply by the 64-bit reciprocal: a divide per nonzero
+     * word was a tenth of this pass. Exact for i * wpc < 2^64 (i < 2^32). */
+    const uint64_t recip = wpc > 1 ? UINT64_MAX / wpc + 1 : 0;
+    /* blocks of 8 MiB (huge pages, see alloc.c), less where the band has
+     * fewer voxels */
     const size_t voxels = (size_t)(y1 - y0) * (size_t)v->nx * wpc * 64;
-    bd->chunk_entries = voxels < ((size_t)1 << 20) ? (voxels > 64 ? voxels : 64) : (size_t)1 << 20;
+    bd->block_entries = voxels < ((size_t)1 << 20) ? (voxels > 64 ? voxels : 64) : (size_t)1 << 20;
+    /* each class's first chunk: 512 entries, less in small bands (a 64th of
+     * the block), so that a small band's 64 classes share a block or few */
+    size_t first = bd->block_entries / 64 < 16 ? 16 : bd->block_entries / 64;
+    if (first > 512) first = 512;
+    for (int k = 0; k < 64; k++) bd->last[k] = -1, bd->next_size[k] = first;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
-        int64_t *at = c->at + (size_t)y * 64;
         /* the bounding box comes from the boundary (every extreme 1-voxel is
          * on it), so no separate scan of the volume is needed */
         int64_t *rb = c->rowbox + (size_t)y * 4;
@@ -175,16 +234,10 @@ static void collect_band(build_ctx *c, int64_t t)
         for (size_t i0 = 0; i0 < row; i0 += 64) {
             for (uint64_t m = nz[i0 / 64]; m; m &= m - 1) {
                 const uint32_t i = (uint32_t)(i0 + (size_t)__builtin_ctzll(m));
-                const int32_t x = (int32_t)(i / (uint32_t)wpc);
+                const int32_t x =
+                    wpc > 1 ? (int32_t)((unsigned __int128)i * recip >> 64) : (int32_t)i;
                 const size_t w = i - (uint32_t)x * (uint32_t)wpc;
                 uint64_t b = bw[i];
-                /* room for the word's 64 voxels at most */
-                uint64_t *out = band_room(bd);
-                if (!out) {
-                    bd->failed = true;
-                    free(bw);
-                    return;
-                }
                 int64_t z0 = (int64_t)w * 64 + __builtin_ctzll(b);
                 int64_t z1 = (int64_t)w * 64 + 63 - __builtin_clzll(b);
                 if (x < rb[0]) rb[0] = x;
@@ -193,18 +246,24 @@ static void collect_band(build_ctx *c, int64_t t)
                 if (z1 > rb[3]) rb[3] = z1;
                 uint64_t nb[6];
                 bvox__surface_neighbours(v, x, y, w, nb);
-                size_t k = 0;
-                for (; b; b &= b - 1, k++) {
+                const uint64_t xy = (uint64_t)x | (uint64_t)y << 16;
+                for (; b; b &= b - 1) {
                     unsigned bit = (unsigned)__builtin_ctzll(b);
                     uint64_t cls = bvox__surface_nb_bits(nb, bit), z = w * 64 + bit;
-                    at[cls]++;
-                    out[k] = (uint64_t)x | (uint64_t)y << 16 | z << 32 | cls << 48;
+                    uint64_t *out = bd->cur[cls];
+                    if (out == bd->end[cls] && !(out = band_new_chunk(bd, (int)cls))) {
+                        bd->failed = true;
+                        free(bw);
+                        return;
+                    }
+                    *out = xy | z << 32 | cls << 48;
+                    bd->cur[cls] = out + 1;
                 }
-                bd->used[bd->nchunks - 1] += k;
             }
         }
     }
     free(bw);
+    band_finish(bd);
 }
 
 static void collect_bands(void *arg, int64_t t0, int64_t t1)
@@ -212,19 +271,19 @@ static void collect_bands(void *arg, int64_t t0, int64_t t1)
     for (int64_t t = t0; t < t1; t++) collect_band(arg, t);
 }
 
-/* Second pass: each band's list to its place, class by class; a band's rows
- * are its own, so its places in at are too. */
+/* Second pass: each band's lists copied to their places; a band's class k
+ * follows the earlier bands' class k, so rows stay in order within a class. */
 static void place_bands(void *arg, int64_t t0, int64_t t1)
 {
     build_ctx *c = arg;
     for (int64_t t = t0; t < t1; t++) {
         const band *bd = c->bands + t;
+        int64_t at[64];
+        memcpy(at, c->place + t * 64, sizeof at);
         for (int h = 0; h < bd->nchunks; h++) {
-            const uint64_t *e = bd->chunk[h];
-            for (size_t i = 0; i < bd->used[h]; i++) {
-                size_t y = (size_t)(e[i] >> 16 & 0xffff), cls = (size_t)(e[i] >> 48);
-                c->entries[c->at[y * 64 + cls]++] = e[i];
-            }
+            const chunk *ch = bd->chunks + h;
+            memcpy(c->entries + at[ch->cls], ch->at, ch->used * sizeof *ch->at);
+            at[ch->cls] += (int64_t)ch->used;
         }
     }
 }
@@ -232,10 +291,10 @@ static void place_bands(void *arg, int64_t t0, int64_t t1)
 static void release_bands(band *bands, int n)
 {
     for (int t = 0; t < n; t++) {
-        for (int h = 0; h < bands[t].nchunks; h++)
-            bvox__free(bands[t].chunk[h], bands[t].chunk_entries * sizeof(uint64_t));
-        free(bands[t].chunk);
-        free(bands[t].used);
+        for (int h = 0; h < bands[t].nblocks; h++)
+            bvox__free(bands[t].blocks[h], bands[t].block_entries * sizeof(uint64_t));
+        free(bands[t].blocks);
+        free(bands[t].chunks);
     }
     free(bands);
 }
@@ -252,15 +311,15 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (nbands > vol->ny / 8) nbands = vol->ny / 8 > 0 ? vol->ny / 8 : 1;
     band *bands = bvox__mem_zalloc((size_t)nbands, sizeof *bands);
     bvox_status st = BVOX_OK;
-    size_t at_bytes = (size_t)vol->ny * (64 + 4) * sizeof(int64_t);
+    size_t box_bytes = ((size_t)vol->ny * 4 + (size_t)nbands * 64) * sizeof(int64_t);
     size_t row_bytes = (size_t)vol->nx * vol->wpc * sizeof(uint64_t);
-    int64_t *at = NULL;
+    int64_t *rowbox = NULL;
     uint64_t *zero_row = NULL;
     if (!s || !bands) st = bvox__fail(BVOX_ENOMEM, "out of memory");
-    if (!st) at = bvox__alloc(at_bytes, true, "surface rows", &st);
+    if (!st) rowbox = bvox__alloc(box_bytes, false, "surface rows", &st);
     if (!st) zero_row = bvox__alloc(row_bytes, true, "surface rows", &st);
     build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
-                   .at = at, .rowbox = at ? at + (size_t)vol->ny * 64 : NULL,
+                   .rowbox = rowbox, .place = rowbox ? rowbox + (size_t)vol->ny * 4 : NULL,
                    .kernels = choose_kernels()};
     if (!st) bvox__parallel_for_dynamic(nbands, 1, collect_bands, &c);
     for (int t = 0; !st && t < nbands; t++)
@@ -269,7 +328,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     bvox__free(zero_row, row_bytes);
     if (st) {
         if (bands) release_bands(bands, nbands);
-        bvox__free(at, at_bytes);
+        bvox__free(rowbox, box_bytes);
         free(s);
         return st;
     }
@@ -288,14 +347,13 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     s->empty = bb.x1 < 0;
     s->bbox = s->empty ? (bvox_box){0, 0, 0, 0, 0, 0}
                        : (bvox_box){bb.x0, bb.y0, bb.z0, bb.x1 + 1, bb.y1 + 1, bb.z1 + 1};
-    /* entries grouped by class, rows in order within a class */
+    /* entries grouped by class, the bands (so the rows) in order within a class */
     int64_t n = 0;
     for (int k = 0; k < 64; k++) {
         s->class_start[k] = n;
-        for (int32_t y = 0; y < vol->ny; y++) {
-            int64_t cnt = at[(size_t)y * 64 + (size_t)k];
-            at[(size_t)y * 64 + (size_t)k] = n;
-            n += cnt;
+        for (int t = 0; t < nbands; t++) {
+            c.place[t * 64 + k] = n;
+            n += bands[t].count[k];
         }
     }
     s->class_start[64] = n;
@@ -306,7 +364,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
         bvox__parallel_for_dynamic(nbands, 1, place_bands, &c);
     }
     release_bands(bands, nbands);
-    bvox__free(at, at_bytes);
+    bvox__free(rowbox, box_bytes);
     if (!s->entries) {
         free(s);
         return st;

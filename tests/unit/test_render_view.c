@@ -361,7 +361,10 @@ TEST(surface_count)
         {5, 7, 1, 7}, {9, 3, 64, 7}, {3, 7, 65, 7}, {11, 5, 130, 7}, {12, 10, 200, 9}, {9, 8, 150, 0},
         /* enough rows for several bands (8 rows or more each); one and two
          * columns a row (the row pass's end columns only) */
-        {1, 40, 70, 7}, {2, 33, 64, 5}, {17, 45, 129, 8}, {6, 64, 1, 6}};
+        {1, 40, 70, 7}, {2, 33, 64, 5}, {17, 45, 129, 8}, {6, 64, 1, 6},
+        /* bands of more than a million voxels: each class in several
+         * chunks, a band's chunks in several blocks (surface.c) */
+        {128, 16, 1100, 5}};
     const int threads[] = {1, 3, 16};
     int saved = bvox_threads();
     bvox_simd saved_simd = bvox_simd_active();
