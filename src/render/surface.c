@@ -66,6 +66,15 @@ static bool grow_slots(void **array, int n, int *slots, size_t size)
     return true;
 }
 
+/* Class k's current chunk (if any) given its count of entries: the hot loop
+ * only moves cur[k]. */
+static void close_chunk(band *bd, int k)
+{
+    if (bd->last[k] < 0) return;
+    chunk *ch = bd->chunks + bd->last[k];
+    ch->used = (size_t)(bd->cur[k] - ch->at);
+}
+
 /* A new chunk for class k, the class's current one being full (or there is
  * none yet): the class's chunks double from 512 entries (fewer in a small
  * band) up to an eighth of a block, so that a band's rare classes take
@@ -73,10 +82,7 @@ static bool grow_slots(void **array, int n, int *slots, size_t size)
  * NULL when out of memory. */
 static uint64_t *band_new_chunk(band *bd, int k)
 {
-    if (bd->last[k] >= 0) {
-        chunk *ch = bd->chunks + bd->last[k];
-        ch->used = (size_t)(bd->cur[k] - ch->at);
-    }
+    close_chunk(bd, k);
     size_t size = bd->next_size[k];
     if (size > bd->block_entries) size = bd->block_entries;
     if (!bd->nblocks || bd->block_entries - bd->block_used < size) {
@@ -103,11 +109,7 @@ static uint64_t *band_new_chunk(band *bd, int k)
 /* The band's last chunks closed and its count per class. */
 static void band_finish(band *bd)
 {
-    for (int k = 0; k < 64; k++)
-        if (bd->last[k] >= 0) {
-            chunk *ch = bd->chunks + bd->last[k];
-            ch->used = (size_t)(bd->cur[k] - ch->at);
-        }
+    for (int k = 0; k < 64; k++) close_chunk(bd, k);
     memset(bd->count, 0, sizeof bd->count);
     for (int h = 0; h < bd->nchunks; h++)
         bd->count[bd->chunks[h].cls] += (int64_t)bd->chunks[h].used;
@@ -206,8 +208,9 @@ static void collect_band(build_ctx *c, int64_t t)
         return;
     }
     const int64_t y0 = v->ny * t / c->nbands, y1 = v->ny * (t + 1) / c->nbands;
-    /* i / wpc as a multiply by the 64-bit reciprocal: a divide per nonzero
-     * word was a tenth of this pass. Exact for i * wpc < 2^64 (i < 2^32). */
+    /* i / wpc as a multiply by the 64-bit reciprocal: perf put a tenth of
+     * this pass's samples on a divide per nonzero word. Exact for
+     * i * wpc < 2^64 (i < 2^32). */
     const uint64_t recip = wpc > 1 ? UINT64_MAX / wpc + 1 : 0;
     /* blocks of 8 MiB (huge pages, see alloc.c), less where the band has
      * fewer voxels */
@@ -311,6 +314,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (nbands > vol->ny / 8) nbands = vol->ny / 8 > 0 ? vol->ny / 8 : 1;
     band *bands = bvox__mem_zalloc((size_t)nbands, sizeof *bands);
     bvox_status st = BVOX_OK;
+    /* one buffer: each row's box (ny * 4), then where each band's classes go (nbands * 64) */
     size_t box_bytes = ((size_t)vol->ny * 4 + (size_t)nbands * 64) * sizeof(int64_t);
     size_t row_bytes = (size_t)vol->nx * vol->wpc * sizeof(uint64_t);
     int64_t *rowbox = NULL;
