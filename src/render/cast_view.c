@@ -134,14 +134,21 @@ static inline int64_t chunk_begin(const splat_ctx *c, int64_t k)
  * (first pass) or, with fill, copied into each band's place. */
 static void chunk_blocks(splat_ctx *c, int64_t k, int fill)
 {
-    int64_t *at = c->bucket_at + k, g0 = chunk_begin(c, k), g1 = chunk_begin(c, k + 1), off = 0;
+    int64_t *at = c->bucket_at + k, g0 = chunk_begin(c, k), g1 = chunk_begin(c, k + 1);
     int32_t b0[256], b1[256];
-    for (int rg = 0; rg < c->nranges; rg++) {
-        int64_t len = c->range_hi[rg] - c->range_lo[rg];
+    /* the first run that ends after g0 (there may be thousands of runs) */
+    int64_t lo = 0, hi = c->nranges;
+    while (lo < hi) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (c->range_end[mid] <= g0) lo = mid + 1;
+        else hi = mid;
+    }
+    for (int64_t rg = lo; rg < c->nranges; rg++) {
+        int64_t len = c->ranges[rg].n, off = c->range_end[rg] - len;
+        if (off >= g1) break;
         int64_t a0 = g0 - off > 0 ? g0 - off : 0, a1 = g1 - off < len ? g1 - off : len;
-        off += len;
         for (int64_t i = a0; i < a1; i += 256) {
-            const uint64_t *list = c->s->entries + c->range_lo[rg] + i;
+            const uint64_t *list = c->ranges[rg].at + i;
             int m = a1 - i < 256 ? (int)(a1 - i) : 256;
             c->bands(c, list, m, b0, b1);
             for (int j = 0; j < m; j++)
@@ -190,9 +197,8 @@ static void splat_bands(void *arg, int64_t b0, int64_t b1)
             int64_t hi = c->bucket_at[(b + 1) * c->nchunks - 1];
             c->splat(c, c->bucket + lo, hi - lo, row0, row1, zb);
         } else { /* one band, the whole image: every front-facing entry */
-            for (int rg = 0; rg < c->nranges; rg++)
-                c->splat(c, c->s->entries + c->range_lo[rg], c->range_hi[rg] - c->range_lo[rg],
-                         row0, row1, zb);
+            for (int64_t rg = 0; rg < c->nranges; rg++)
+                c->splat(c, c->ranges[rg].at, c->ranges[rg].n, row0, row1, zb);
         }
         for (int32_t py = row0; py < row1; py++) {
             const uint64_t *keys = zb + (size_t)(py - row0) * (size_t)c->stride;
@@ -289,17 +295,33 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
     }
     /* a voxel can be a first hit only through a face the rays enter: it needs
      * a 0 neighbour on such a side (whole classes skipped, no test per voxel) */
+    int64_t nruns = 0;
+    for (unsigned k = 0; k < 64; k++)
+        if (~k & c.facing) nruns += surf->class_run[k + 1] - surf->class_run[k];
+    bvox__surface_run *ranges = bvox__mem_alloc((size_t)(nruns ? nruns : 1) * sizeof *ranges);
+    c.range_end = bvox__mem_alloc((size_t)(nruns ? nruns : 1) * sizeof *c.range_end);
+    c.ranges = ranges;
+    if (!ranges || !c.range_end) {
+        free(ranges);
+        free(c.range_end);
+        return bvox__fail(BVOX_ENOMEM, "out of memory");
+    }
     for (unsigned k = 0; k < 64; k++) {
-        if (!(~k & c.facing) || surf->class_start[k + 1] == surf->class_start[k]) continue;
-        c.range_lo[c.nranges] = surf->class_start[k];
-        c.range_hi[c.nranges] = surf->class_start[k + 1];
-        c.total += c.range_hi[c.nranges] - c.range_lo[c.nranges];
-        c.nranges++;
+        if (!(~k & c.facing)) continue;
+        for (int64_t r = surf->class_run[k]; r < surf->class_run[k + 1]; r++) {
+            ranges[c.nranges] = surf->runs[r];
+            c.total += surf->runs[r].n;
+            c.range_end[c.nranges++] = c.total;
+        }
     }
 
     bvox_preimage *pre;
     st = bvox__preimage_alloc_unset(c.w, c.hgt, &pre);
-    if (st) return st;
+    if (st) {
+        free(ranges);
+        free(c.range_end);
+        return st;
+    }
     double range = ceil(2 * c.rho * c.scale) + 1;
     pre->depth_range = range < 2147483647.0 ? (int32_t)range : 2147483647;
     pre->depth_step = 1.0 / c.scale;
@@ -368,6 +390,8 @@ bvox_status bvox_surface_cast(const bvox_surface *surf, const bvox_projection *p
     for (int k = 0; k < c.nscratch; k++) bvox__free(c.scratch[k], zb_bytes);
     bvox__free(c.bucket, bucket_bytes);
     bvox__free(c.bucket_at, at_bytes);
+    free(ranges);
+    free(c.range_end);
     if (st) {
         bvox_preimage_destroy(pre);
         return st;

@@ -45,8 +45,9 @@ typedef struct splat_ctx {
     double ku[3], kv[3], H[3];
     int parallel[3];
     unsigned facing;              /* neighbour bits whose emptiness makes a front face */
-    int64_t range_lo[64], range_hi[64]; /* entry ranges of the front-facing classes */
-    int nranges;
+    const bvox__surface_run *ranges; /* the runs of the front-facing classes, in order */
+    int64_t *range_end;           /* entries in ranges [0, i] */
+    int64_t nranges;
     int64_t total;                /* entries in those ranges */
     int32_t w, hgt;
     int32_t stride;               /* keys from one z-buffer row to the next: w + 3 padding */

@@ -146,10 +146,26 @@ long bvox__render_cast_count(void);
 void bvox__render_count_cast(void);
 
 /* ---- surface.c / cast_view.c: boundary voxels for arbitrary views ----
- * Entry: x | y << 16 | z << 32 | neighbour bits (NB_*) << 48. */
-struct bvox_surface {
-    uint64_t *entries; /* from bvox__alloc, `bytes` bytes */
+ * Entry: x | y << 16 | z << 32 | neighbour bits (NB_*) << 48.
+ * The entries, grouped by class and in (y, x, z) order within a class, are
+ * not one array but runs laid end to end: the build's per-band lists are
+ * the surface itself, so the build does not copy every entry a second time
+ * into fresh pages (a sixth of the 1024^3 atlas's build). */
+typedef struct bvox__surface_run {
+    const uint64_t *at;
+    int64_t n;
+} bvox__surface_run;
+
+typedef struct bvox__surface_block { /* memory the runs point into, from bvox__alloc */
+    uint64_t *at;
     size_t bytes;
+} bvox__surface_block;
+
+struct bvox_surface {
+    bvox__surface_run *runs;   /* class k's runs: [class_run[k], class_run[k + 1]) */
+    int64_t class_run[65];
+    bvox__surface_block *blocks;
+    int nblocks;
     int64_t count;
     int64_t class_start[65]; /* entries of neighbour class k: [start[k], start[k+1]) */
     bvox_dims dims;
@@ -157,6 +173,12 @@ struct bvox_surface {
     bvox_box bbox; /* of the 1-voxels */
     int empty;
 };
+
+/* surface.c: every entry, in order, into out (count entries): for the tests
+ * and for an update's merge. */
+void bvox__surface_flatten(const bvox_surface *s, uint64_t *out);
+/* surface.c: frees what a surface's runs point into, and the runs. */
+void bvox__surface_release(bvox_surface *s);
 
 #define SURF_X(e) ((int32_t)((e) & 0xffff))
 #define SURF_Y(e) ((int32_t)((e) >> 16 & 0xffff))

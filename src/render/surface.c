@@ -7,14 +7,15 @@
  *
  * Built word-wise: per z-word, interior = v & (6 neighbour words) and
  * boundary = v & ~interior, a whole row of words at a time. The rows are
- * split into bands over the worker threads. A first pass appends each
- * band's boundary voxels, in row order, to the band's list of their
- * neighbour class (the 6 neighbour bits); a prefix sum over (class, band)
- * gives each list its place; a second pass copies the lists there. (Until
- * 2026-12 the second pass classified every voxel again from the volume:
- * that work, not the memory traffic, was most of the build. Then, until a
- * later 2026-12 change, each band had one list, scattered entry by entry
- * to per-(row, class) places.) Grouping by
+ * split into bands over the worker threads. One pass appends each band's
+ * boundary voxels, in row order, to the band's list of their neighbour
+ * class (the 6 neighbour bits), in chunks; the chunks are the surface: its
+ * runs (render.h) are the chunks taken class by class, band by band, so
+ * that laid end to end they are the entries grouped by class, rows in
+ * order within a class. (Until 2026-12 a second pass classified every voxel
+ * again from the volume: that work, not the memory traffic, was most of the
+ * build. Then the lists were copied into one array, which touched every
+ * entry and a fresh page for it a second time.) Grouping by
  * class lets a view skip the classes that face away from it as whole ranges
  * (back-face culling without a test per voxel). Each entry packs
  * x, y, z (16 bits each: dimensions are at most 65535) and the 6 neighbour
@@ -25,13 +26,26 @@
 #include "render.h"
 #include "render/surface_row.h"
 
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
+/* The blocks that every band's chunks are carved from, shared by the bands
+ * (under a lock: a chunk holds 512 entries or more, so it is rarely taken)
+ * because the surface keeps them: blocks per band left one partly used 8 MiB
+ * block per band, and its first huge page, resident for the surface's life
+ * (a 1024^3 sphere's 18 MB of entries held 126 MB at 64 bands). */
+typedef struct pool {
+    pthread_mutex_t lock;
+    uint64_t **blocks; /* from bvox__alloc, block_entries each */
+    int nblocks, block_slots;
+    size_t block_entries, block_used; /* block_used: entries carved from the last block */
+} pool;
+
 /* One band of rows: its entries of each class in row order, in chunks carved
- * from blocks of a fixed size. Lists per class, so that the result is each
- * class's lists copied one after the other, band by band (memcpy), where a
- * single list per band had to be scattered entry by entry to its places.
+ * from the pool's blocks. Lists per class, so that the chunks, taken
+ * class by class and band by band, are the surface's runs as they stand,
+ * where a single list per band had to be scattered entry by entry.
  * Chunks, not buffers grown by doubling: every doubling touched fresh pages
  * again and copied, and on the 1024^3 atlas the two threads' page faults
  * made the 2-thread build no faster than 1 thread. */
@@ -47,9 +61,7 @@ typedef struct band {
     int last[64];                /* the class's current chunk in `chunks`, -1 for none */
     chunk *chunks;
     int nchunks, chunk_slots;
-    uint64_t **blocks; /* from bvox__alloc, block_entries each */
-    int nblocks, block_slots;
-    size_t block_entries, block_used;
+    pool *pool;
     int64_t count[64]; /* entries of each class, once the band is done */
     bool failed;       /* out of memory (reported by the caller: a worker cannot) */
 } band;
@@ -66,6 +78,31 @@ static bool grow_slots(void **array, int n, int *slots, size_t size)
     return true;
 }
 
+/* size entries carved from the pool's last block, or a new block; NULL
+ * when out of memory. The rest of a block too small for the chunk is left
+ * (never touched, so it holds no pages). */
+static uint64_t *pool_carve(pool *p, size_t size)
+{
+    uint64_t *at = NULL;
+    pthread_mutex_lock(&p->lock);
+    if (!p->nblocks || p->block_entries - p->block_used < size) {
+        bvox_status st;
+        uint64_t *b = NULL;
+        if (grow_slots((void **)&p->blocks, p->nblocks, &p->block_slots, sizeof *p->blocks))
+            b = bvox__alloc(p->block_entries * sizeof *b, false, "surface voxels", &st);
+        if (b) {
+            p->blocks[p->nblocks++] = b;
+            p->block_used = 0;
+        }
+    }
+    if (p->nblocks && p->block_entries - p->block_used >= size) {
+        at = p->blocks[p->nblocks - 1] + p->block_used;
+        p->block_used += size;
+    }
+    pthread_mutex_unlock(&p->lock);
+    return at;
+}
+
 /* Class k's current chunk (if any) given its count of entries: the hot loop
  * only moves cur[k]. */
 static void close_chunk(band *bd, int k)
@@ -77,32 +114,22 @@ static void close_chunk(band *bd, int k)
 
 /* A new chunk for class k, the class's current one being full (or there is
  * none yet): the class's chunks double from 512 entries (fewer in a small
- * band) up to an eighth of a block, so that a band's rare classes take
+ * volume) up to an eighth of a block, so that a band's rare classes take
  * little room and its common ones few chunks. Returns where the entry goes;
  * NULL when out of memory. */
 static uint64_t *band_new_chunk(band *bd, int k)
 {
     close_chunk(bd, k);
-    size_t size = bd->next_size[k];
-    if (size > bd->block_entries) size = bd->block_entries;
-    if (!bd->nblocks || bd->block_entries - bd->block_used < size) {
-        if (!grow_slots((void **)&bd->blocks, bd->nblocks, &bd->block_slots, sizeof *bd->blocks))
-            return NULL;
-        bvox_status st;
-        uint64_t *b = bvox__alloc(bd->block_entries * sizeof *b, false, "surface voxels", &st);
-        if (!b) return NULL;
-        bd->blocks[bd->nblocks++] = b;
-        bd->block_used = 0;
-    }
+    const size_t size = bd->next_size[k];
     if (!grow_slots((void **)&bd->chunks, bd->nchunks, &bd->chunk_slots, sizeof *bd->chunks))
         return NULL;
-    uint64_t *at = bd->blocks[bd->nblocks - 1] + bd->block_used;
-    bd->block_used += size;
+    uint64_t *at = pool_carve(bd->pool, size);
+    if (!at) return NULL;
     bd->chunks[bd->nchunks] = (chunk){at, 0, k};
     bd->last[k] = bd->nchunks++;
     bd->cur[k] = at;
     bd->end[k] = at + size;
-    if (bd->next_size[k] < bd->block_entries / 8) bd->next_size[k] *= 2;
+    if (bd->next_size[k] < bd->pool->block_entries / 8) bd->next_size[k] *= 2;
     return at;
 }
 
@@ -127,8 +154,7 @@ typedef struct build_ctx {
     int nbands;
     int64_t *rowbox;   /* ny * 4: x and z range of each row's boundary */
     row_kernels kernels;
-    uint64_t *entries; /* the result, grouped by class */
-    int64_t *place;    /* nbands * 64: where band t's class k goes in entries */
+    pool *pool;
 } build_ctx;
 
 /* Word i = x * wpc + w of the row, with the outside counting as 0. */
@@ -201,6 +227,7 @@ static void collect_band(build_ctx *c, int64_t t)
     const bvox_volume *v = c->v;
     const size_t wpc = v->wpc, row = (size_t)v->nx * wpc;
     band *bd = c->bands + t;
+    bd->pool = c->pool;
     /* the row's boundary words, then bits saying which are nonzero */
     uint64_t *bw = bvox__mem_alloc((row + (row + 63) / 64) * sizeof *bw), *nz = bw + row;
     if (!bw) {
@@ -212,13 +239,10 @@ static void collect_band(build_ctx *c, int64_t t)
      * this pass's samples on a divide per nonzero word. Exact for
      * i * wpc < 2^64 (i < 2^32). */
     const uint64_t recip = wpc > 1 ? UINT64_MAX / wpc + 1 : 0;
-    /* blocks of 8 MiB (huge pages, see alloc.c), less where the band has
-     * fewer voxels */
-    const size_t voxels = (size_t)(y1 - y0) * (size_t)v->nx * wpc * 64;
-    bd->block_entries = voxels < ((size_t)1 << 20) ? (voxels > 64 ? voxels : 64) : (size_t)1 << 20;
-    /* each class's first chunk: 512 entries, less in small bands (a 64th of
-     * the block), so that a small band's 64 classes share a block or few */
-    size_t first = bd->block_entries / 64 < 16 ? 16 : bd->block_entries / 64;
+    /* each class's first chunk: 512 entries, less in small volumes (a 64th
+     * of the block), so that a small volume's classes share a block or few */
+    const size_t block_entries = c->pool->block_entries;
+    size_t first = block_entries / 64 < 16 ? 16 : block_entries / 64;
     if (first > 512) first = 512;
     for (int k = 0; k < 64; k++) bd->last[k] = -1, bd->next_size[k] = first;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
@@ -274,32 +298,58 @@ static void collect_bands(void *arg, int64_t t0, int64_t t1)
     for (int64_t t = t0; t < t1; t++) collect_band(arg, t);
 }
 
-/* Second pass: each band's lists copied to their places; a band's class k
- * follows the earlier bands' class k, so rows stay in order within a class. */
-static void place_bands(void *arg, int64_t t0, int64_t t1)
-{
-    build_ctx *c = arg;
-    for (int64_t t = t0; t < t1; t++) {
-        const band *bd = c->bands + t;
-        int64_t at[64];
-        memcpy(at, c->place + t * 64, sizeof at);
-        for (int h = 0; h < bd->nchunks; h++) {
-            const chunk *ch = bd->chunks + h;
-            memcpy(c->entries + at[ch->cls], ch->at, ch->used * sizeof *ch->at);
-            at[ch->cls] += (int64_t)ch->used;
-        }
-    }
-}
-
 static void release_bands(band *bands, int n)
 {
-    for (int t = 0; t < n; t++) {
-        for (int h = 0; h < bands[t].nblocks; h++)
-            bvox__free(bands[t].blocks[h], bands[t].block_entries * sizeof(uint64_t));
-        free(bands[t].blocks);
-        free(bands[t].chunks);
-    }
+    for (int t = 0; t < n; t++) free(bands[t].chunks);
     free(bands);
+}
+
+/* The pool's blocks, unless the surface took them. */
+static void release_pool(pool *p)
+{
+    for (int h = 0; h < p->nblocks; h++)
+        bvox__free(p->blocks[h], p->block_entries * sizeof(uint64_t));
+    free(p->blocks);
+    pthread_mutex_destroy(&p->lock);
+}
+
+/* The surface's runs from the bands' chunks: class after class, band after
+ * band, a band's chunks of the class in the order they were filled, so the
+ * runs laid end to end are the entries in the build's order; and the
+ * pool's blocks handed to the surface. */
+static bvox_status adopt_bands(bvox_surface *s, const band *bands, int nbands, pool *p)
+{
+    int64_t nruns = 0;
+    for (int t = 0; t < nbands; t++)
+        for (int h = 0; h < bands[t].nchunks; h++) nruns += bands[t].chunks[h].used > 0;
+    s->runs = bvox__mem_alloc((size_t)(nruns ? nruns : 1) * sizeof *s->runs);
+    s->blocks = bvox__mem_alloc((size_t)(p->nblocks ? p->nblocks : 1) * sizeof *s->blocks);
+    if (!s->runs || !s->blocks) return bvox__fail(BVOX_ENOMEM, "out of memory");
+    int64_t r = 0, n = 0;
+    for (int k = 0; k < 64; k++) {
+        s->class_run[k] = r;
+        s->class_start[k] = n;
+        for (int t = 0; t < nbands; t++)
+            for (int h = 0; h < bands[t].nchunks; h++) {
+                const chunk *ch = bands[t].chunks + h;
+                if (ch->cls != k || !ch->used) continue;
+                s->runs[r++] = (bvox__surface_run){ch->at, (int64_t)ch->used};
+                n += (int64_t)ch->used;
+            }
+    }
+    s->class_run[64] = r;
+    s->class_start[64] = n;
+    s->count = n;
+    /* the surface keeps the blocks; the never-carved tail of the last one
+     * goes back to the memory budget (its pages were never touched) */
+    const size_t full = p->block_entries * sizeof(uint64_t);
+    for (int h = 0; h < p->nblocks; h++) {
+        size_t keep = h + 1 < p->nblocks ? full : p->block_used * sizeof(uint64_t);
+        bvox__budget_refund(full - keep);
+        s->blocks[s->nblocks++] = (bvox__surface_block){p->blocks[h], keep};
+    }
+    p->nblocks = 0;
+    return BVOX_OK;
 }
 
 bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
@@ -314,17 +364,21 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     if (nbands > vol->ny / 8) nbands = vol->ny / 8 > 0 ? vol->ny / 8 : 1;
     band *bands = bvox__mem_zalloc((size_t)nbands, sizeof *bands);
     bvox_status st = BVOX_OK;
-    /* one buffer: each row's box (ny * 4), then where each band's classes go (nbands * 64) */
-    size_t box_bytes = ((size_t)vol->ny * 4 + (size_t)nbands * 64) * sizeof(int64_t);
+    /* each row's box (ny * 4) */
+    size_t box_bytes = (size_t)vol->ny * 4 * sizeof(int64_t);
     size_t row_bytes = (size_t)vol->nx * vol->wpc * sizeof(uint64_t);
     int64_t *rowbox = NULL;
     uint64_t *zero_row = NULL;
     if (!s || !bands) st = bvox__fail(BVOX_ENOMEM, "out of memory");
     if (!st) rowbox = bvox__alloc(box_bytes, false, "surface rows", &st);
     if (!st) zero_row = bvox__alloc(row_bytes, true, "surface rows", &st);
+    /* blocks of 8 MiB (huge pages, see alloc.c), less in a small volume */
+    pool pl = {.block_entries = (size_t)1 << 20};
+    const size_t voxels = (size_t)vol->ny * (size_t)vol->nx * vol->wpc * 64;
+    if (voxels < pl.block_entries) pl.block_entries = voxels > 64 ? voxels : 64;
+    pthread_mutex_init(&pl.lock, NULL);
     build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
-                   .rowbox = rowbox, .place = rowbox ? rowbox + (size_t)vol->ny * 4 : NULL,
-                   .kernels = choose_kernels()};
+                   .rowbox = rowbox, .kernels = choose_kernels(), .pool = &pl};
     if (!st) bvox__parallel_for_dynamic(nbands, 1, collect_bands, &c);
     for (int t = 0; !st && t < nbands; t++)
         if (bands[t].failed)
@@ -332,6 +386,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     bvox__free(zero_row, row_bytes);
     if (st) {
         if (bands) release_bands(bands, nbands);
+        release_pool(&pl);
         bvox__free(rowbox, box_bytes);
         free(s);
         return st;
@@ -351,40 +406,43 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     s->empty = bb.x1 < 0;
     s->bbox = s->empty ? (bvox_box){0, 0, 0, 0, 0, 0}
                        : (bvox_box){bb.x0, bb.y0, bb.z0, bb.x1 + 1, bb.y1 + 1, bb.z1 + 1};
-    /* entries grouped by class, the bands (so the rows) in order within a class */
-    int64_t n = 0;
-    for (int k = 0; k < 64; k++) {
-        s->class_start[k] = n;
-        for (int t = 0; t < nbands; t++) {
-            c.place[t * 64 + k] = n;
-            n += bands[t].count[k];
-        }
-    }
-    s->class_start[64] = n;
-    s->bytes = (size_t)(n ? n : 1) * sizeof(uint64_t);
-    s->entries = bvox__alloc(s->bytes, false, "surface voxels", &st);
-    if (s->entries) {
-        c.entries = s->entries;
-        bvox__parallel_for_dynamic(nbands, 1, place_bands, &c);
-    }
-    release_bands(bands, nbands);
     bvox__free(rowbox, box_bytes);
-    if (!s->entries) {
-        free(s);
+    st = adopt_bands(s, bands, nbands, &pl);
+    release_bands(bands, nbands);
+    release_pool(&pl);
+    if (st) {
+        bvox_surface_destroy(s);
         return st;
     }
-    s->count = n;
     s->dims = (bvox_dims){vol->nx, vol->ny, vol->nz};
     memcpy(s->spacing, vol->geom.spacing, sizeof s->spacing);
     *out = s;
     return BVOX_OK;
 }
 
+void bvox__surface_release(bvox_surface *s)
+{
+    for (int h = 0; h < s->nblocks; h++) bvox__free(s->blocks[h].at, s->blocks[h].bytes);
+    free(s->blocks);
+    free(s->runs);
+    s->blocks = NULL;
+    s->runs = NULL;
+    s->nblocks = 0;
+}
+
 void bvox_surface_destroy(bvox_surface *surf)
 {
     if (!surf) return;
-    bvox__free(surf->entries, surf->bytes);
+    bvox__surface_release(surf);
     free(surf);
+}
+
+void bvox__surface_flatten(const bvox_surface *s, uint64_t *out)
+{
+    for (int64_t r = 0; r < s->class_run[64]; r++) {
+        memcpy(out, s->runs[r].at, (size_t)s->runs[r].n * sizeof *out);
+        out += s->runs[r].n;
+    }
 }
 
 int64_t bvox_surface_count(const bvox_surface *surf) { return surf ? surf->count : 0; }

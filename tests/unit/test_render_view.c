@@ -330,9 +330,21 @@ static int check_surface_entries(const voxref *r, const bvox_surface *s)
     CHECK_EQ(bvox_surface_count(s), want);
     CHECK_EQ(s->class_start[0], 0);
     CHECK_EQ(s->class_start[64], want);
+    /* the runs of class k hold class_start's range of it, laid end to end */
+    int64_t nruns_entries = 0;
+    for (int64_t q = 0; q < s->class_run[64]; q++) nruns_entries += s->runs[q].n;
+    CHECK_EQ(nruns_entries, want);
+    for (unsigned k = 0; k < 64; k++) {
+        int64_t in_class = 0;
+        for (int64_t q = s->class_run[k]; q < s->class_run[k + 1]; q++) in_class += s->runs[q].n;
+        CHECK_EQ(in_class, s->class_start[k + 1] - s->class_start[k]);
+    }
+    uint64_t *entries = malloc((size_t)(want ? want : 1) * sizeof *entries);
+    CHECK(entries != NULL);
+    bvox__surface_flatten(s, entries);
     for (unsigned k = 0; k < 64; k++)
         for (int64_t i = s->class_start[k]; i < s->class_start[k + 1]; i++) {
-            uint64_t e = s->entries[i];
+            uint64_t e = entries[i];
             int x = SURF_X(e), y = SURF_Y(e), z = SURF_Z(e);
             unsigned bits = (unsigned)voxref_get(r, x - 1, y, z) * NB_XM |
                             (unsigned)voxref_get(r, x + 1, y, z) * NB_XP |
@@ -344,11 +356,12 @@ static int check_surface_entries(const voxref *r, const bvox_surface *s)
             CHECK_EQ(SURF_NB(e), k);
             CHECK_EQ(bits, k);
             if (i > s->class_start[k]) { /* strictly increasing: no voxel twice */
-                uint64_t p = s->entries[i - 1];
+                uint64_t p = entries[i - 1];
                 int64_t a = ((int64_t)SURF_Y(p) * r->nx + SURF_X(p)) * r->nz + SURF_Z(p);
                 CHECK(a < ((int64_t)y * r->nx + x) * r->nz + z);
             }
         }
+    free(entries);
     return 0;
 }
 
