@@ -121,9 +121,9 @@ static void close_chunk(band *bd, int k)
 }
 
 /* A new chunk for class k, the class's current one being full (or there is
- * none yet): the class's chunks double from 512 entries (fewer in a small
- * volume) up to CHUNK_MAX, so that a band's rare classes take little room
- * and its common ones not many chunks. Returns where the entry goes;
+ * none yet): the class's chunks double from 64 entries up to CHUNK_MAX,
+ * so that a band's rare classes take little room and its common ones not
+ * many chunks. Returns where the entry goes;
  * NULL when out of memory. */
 static uint64_t *band_new_chunk(band *bd, int k)
 {
@@ -248,11 +248,13 @@ static void collect_band(build_ctx *c, int64_t t)
      * this pass's samples on a divide per nonzero word. Exact for
      * i * wpc < 2^64 (i < 2^32). */
     const uint64_t recip = wpc > 1 ? UINT64_MAX / wpc + 1 : 0;
-    /* each class's first chunk: 512 entries, less in small volumes (a 64th
-     * of the block), so that a small volume's classes share a block or few */
+    /* each class's first chunk: 64 entries (a cache-line multiple, so
+     * chunks of two threads never share a line), then doubling: a list's
+     * last chunk, which the surface keeps half empty on average, is never
+     * much bigger than the list (with 512 a 384^3 sphere at 48 bands held
+     * twice its entries' bytes) */
     const size_t block_entries = c->pool->block_entries;
-    size_t first = block_entries / 64 < 16 ? 16 : block_entries / 64;
-    if (first > 512) first = 512;
+    size_t first = block_entries < 64 ? block_entries : 64;
     for (int k = 0; k < 64; k++) bd->last[k] = -1, bd->next_size[k] = first;
     for (int32_t y = (int32_t)y0; y < (int32_t)y1; y++) {
         /* the bounding box comes from the boundary (every extreme 1-voxel is

@@ -376,7 +376,7 @@ TEST(surface_count)
          * columns a row (the row pass's end columns only) */
         {1, 40, 70, 7}, {2, 33, 64, 5}, {17, 45, 129, 8}, {6, 64, 1, 6},
         /* bands of more than a million voxels: each class in several
-         * chunks, a band's chunks in several blocks (surface.c) */
+         * chunks, the chunks in several of the pool's blocks (surface.c) */
         {128, 16, 1100, 5}};
     const int threads[] = {1, 3, 16};
     int saved = bvox_threads();
@@ -406,6 +406,38 @@ TEST(surface_count)
     }
     CHECK_OK(bvox_simd_set(saved_simd));
     bvox_set_threads(saved);
+    return 0;
+}
+
+/* The surface keeps its build's lists (surface.c): what it holds in the
+ * memory budget stays near its entries' bytes however many bands the build
+ * had (one partly used 8 MiB block per band would be 64 MiB and more at 16
+ * threads), and all of it comes back on destroy. */
+TEST(surface_memory)
+{
+    const int n = 384;
+    bvox_volume *vol;
+    CHECK_OK(bvox_volume_create((bvox_dims){n, n, n}, &vol));
+    bvox_shape ball = {BVOX_SHAPE_SPHERE, {(n - 1) / 2.0, (n - 1) / 2.0, (n - 1) / 2.0},
+                       {0, 0, 0}, {0, 0, 0}, n * 0.45, 0, 0};
+    CHECK_OK(bvox_shape_draw(vol, &ball, BVOX_CSG_UNION));
+    int saved = bvox_threads();
+    const int threads[] = {1, 2, 16};
+    for (size_t t = 0; t < sizeof threads / sizeof *threads; t++) {
+        bvox_set_threads(threads[t]);
+        size_t before = bvox_memory_in_use();
+        bvox_surface *s;
+        CHECK_OK(bvox_surface_build(vol, &s));
+        size_t held = bvox_memory_in_use() - before;
+        size_t entries = (size_t)bvox_surface_count(s) * sizeof(uint64_t);
+        CHECK(bvox_surface_count(s) > 300000);
+        CHECK(held >= entries);
+        CHECK(held <= entries * 3 / 2 + ((size_t)1 << 20));
+        bvox_surface_destroy(s);
+        CHECK_EQ(bvox_memory_in_use(), before);
+    }
+    bvox_set_threads(saved);
+    bvox_volume_destroy(vol);
     return 0;
 }
 
