@@ -17,6 +17,8 @@
  *    "speedup": ref_ms / ms, "mismatch": pixels differing from the reference}
  *
  * "surface_build" is the one-off boundary extraction of arbitrary views;
+ * "surface_rebuild" the same into the built surface, its memory reused
+ * (bvox_surface_rebuild: the viewer's rebuild when a cut moves);
  * "arbitrary_view" times bvox_surface_cast ("cast_ms") and the cast plus
  * bvox_lut_light + bvox_shade_into ("ms", the per-frame cost when the object
  * turns), median over several directions. "shading" times the publishable
@@ -436,7 +438,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_render [--quick] [--runs N (1..99)] "
                         "[--sizes 256,512,1024 | --n N (8..2048)] [--no-ref]\n"
                         "       [--threads-list 1,2,4,8,16] "
-                        "[--case reshade|axis_view|surface_build|arbitrary_view|shading]\n");
+                        "[--case reshade|axis_view|surface_build|surface_rebuild|arbitrary_view|shading]\n");
         return 2;
     }
 
@@ -471,6 +473,21 @@ int main(int argc, char **argv)
                 }
             for (int k = 0; wanted(&o, "surface_build") && k < o.tl.n; k++)
                 printf("{\"case\": \"surface_build\", \"pattern\": \"%s\", \"n\": %d, "
+                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, "
+                       "\"cpu_ms\": %.3f}\n",
+                       pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),
+                       (long long)bvox_surface_count(s), median(tcpu[k], o.runs));
+            /* the same volume rebuilt into the surface, its memory reused
+             * (the viewer's rebuild when a cut moves) */
+            for (int r = -1; wanted(&o, "surface_rebuild") && r < o.runs; r++)
+                for (int k = 0; k < o.tl.n; k++) {
+                    bvox_set_threads(o.tl.t[k]);
+                    double t0 = now_ms(), c0 = cpu_ms();
+                    if (bvox_surface_rebuild(s, vol)) die("surface rebuild");
+                    if (r >= 0) t[k][r] = now_ms() - t0, tcpu[k][r] = cpu_ms() - c0;
+                }
+            for (int k = 0; wanted(&o, "surface_rebuild") && k < o.tl.n; k++)
+                printf("{\"case\": \"surface_rebuild\", \"pattern\": \"%s\", \"n\": %d, "
                        "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, "
                        "\"cpu_ms\": %.3f}\n",
                        pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),

@@ -981,6 +981,11 @@ BVOX_API int64_t bvox_surface_count(const bvox_surface *surf);
  * at the cost of the box plus one pass over the entries (interactive edits).
  * On failure surf is unchanged. BVOX_EINVAL for other dimensions. */
 BVOX_API bvox_status bvox_surface_update(bvox_surface *surf, const bvox_volume *vol, bvox_box box);
+/* Rebuild surf from vol (any volume, other dimensions too): what
+ * bvox_surface_build(vol) makes, reusing surf's memory instead of fresh
+ * pages (the viewer's rebuild when a cut moves). On failure surf is left
+ * empty (no voxels), still to be destroyed; BVOX_EINVAL for a NULL input. */
+BVOX_API bvox_status bvox_surface_rebuild(bvox_surface *surf, const bvox_volume *vol);
 /* The bounding box of the surface's voxels (the object's); 0 and a zero box
  * when empty. */
 BVOX_API int bvox_surface_bbox(const bvox_surface *surf, bvox_box *box);

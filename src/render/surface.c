@@ -40,6 +40,8 @@ typedef struct pool {
     uint64_t **blocks; /* from bvox__alloc, block_entries each */
     int nblocks, block_slots;
     size_t block_entries, block_used; /* block_used: entries carved from the last block */
+    uint64_t **spare;  /* a rebuilt surface's blocks, charged in full, taken first */
+    int nspare;
 } pool;
 
 /* One band of rows: its entries of each class in row order, in chunks carved
@@ -89,7 +91,8 @@ static uint64_t *pool_carve(pool *p, size_t size)
         bvox_status st;
         uint64_t *b = NULL;
         if (grow_slots((void **)&p->blocks, p->nblocks, &p->block_slots, sizeof *p->blocks))
-            b = bvox__alloc(p->block_entries * sizeof *b, false, "surface voxels", &st);
+            b = p->nspare ? p->spare[--p->nspare]
+                          : bvox__alloc(p->block_entries * sizeof *b, false, "surface voxels", &st);
         if (b) {
             p->blocks[p->nblocks++] = b;
             p->block_used = 0;
@@ -315,12 +318,15 @@ static void release_bands(band *bands, int n)
     free(bands);
 }
 
-/* The pool's blocks, unless the surface took them. */
+/* The pool's blocks, unless the surface took them, and its spare ones. */
 static void release_pool(pool *p)
 {
     for (int h = 0; h < p->nblocks; h++)
         bvox__free(p->blocks[h], p->block_entries * sizeof(uint64_t));
+    for (int h = 0; h < p->nspare; h++)
+        bvox__free(p->spare[h], p->block_entries * sizeof(uint64_t));
     free(p->blocks);
+    free(p->spare);
     pthread_mutex_destroy(&p->lock);
 }
 
@@ -357,13 +363,39 @@ static bvox_status adopt_bands(bvox_surface *s, const band *bands, int nbands, p
     for (int h = 0; h < p->nblocks; h++) {
         size_t keep = h + 1 < p->nblocks ? full : p->block_used * sizeof(uint64_t);
         bvox__budget_refund(full - keep);
-        s->blocks[s->nblocks++] = (bvox__surface_block){p->blocks[h], keep};
+        s->blocks[s->nblocks++] = (bvox__surface_block){p->blocks[h], keep, p->block_entries};
     }
     p->nblocks = 0;
     return BVOX_OK;
 }
 
-bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
+/* The blocks of old (a surface being rebuilt, or NULL) of the pool's block
+ * size, charged to the budget in full again, as the pool's spares; old's
+ * other blocks and its runs freed: old is left empty. */
+static void take_spares(pool *p, bvox_surface *old)
+{
+    if (!old) return;
+    p->spare = bvox__mem_alloc((size_t)(old->nblocks ? old->nblocks : 1) * sizeof *p->spare);
+    for (int h = 0; h < old->nblocks; h++) {
+        bvox__surface_block *b = old->blocks + h;
+        const size_t full = p->block_entries * sizeof(uint64_t);
+        bvox_status st;
+        if (p->spare && b->capacity == p->block_entries &&
+            bvox__budget_charge(full - b->bytes, "surface voxels", &st)) {
+            p->spare[p->nspare++] = b->at;
+            b->at = NULL; /* now the pool's */
+        }
+    }
+    bvox__surface_release(old); /* frees the blocks not taken */
+    old->count = 0;
+    old->empty = 1;
+    old->bbox = (bvox_box){0, 0, 0, 0, 0, 0};
+    memset(old->class_start, 0, sizeof old->class_start);
+    memset(old->class_run, 0, sizeof old->class_run);
+}
+
+/* bvox_surface_build, with the memory of old (or NULL) reused. */
+static bvox_status build_with(const bvox_volume *vol, bvox_surface *old, bvox_surface **out)
 {
     *out = NULL;
     if (!vol) return bvox__fail(BVOX_EINVAL, "surface: no volume");
@@ -388,6 +420,7 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     const size_t voxels = (size_t)vol->ny * (size_t)vol->nx * vol->wpc * 64;
     if (voxels < pl.block_entries) pl.block_entries = voxels > 64 ? voxels : 64;
     pthread_mutex_init(&pl.lock, NULL);
+    take_spares(&pl, old);
     build_ctx c = {.v = vol, .zero_row = zero_row, .bands = bands, .nbands = nbands,
                    .rowbox = rowbox, .kernels = choose_kernels(), .pool = &pl};
     if (!st) bvox__parallel_for_dynamic(nbands, 1, collect_bands, &c);
@@ -428,6 +461,23 @@ bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
     s->dims = (bvox_dims){vol->nx, vol->ny, vol->nz};
     memcpy(s->spacing, vol->geom.spacing, sizeof s->spacing);
     *out = s;
+    return BVOX_OK;
+}
+
+bvox_status bvox_surface_build(const bvox_volume *vol, bvox_surface **out)
+{
+    return build_with(vol, NULL, out);
+}
+
+bvox_status bvox_surface_rebuild(bvox_surface *surf, const bvox_volume *vol)
+{
+    if (!surf) return bvox__fail(BVOX_EINVAL, "surface rebuild: no surface");
+    bvox_surface *s;
+    bvox_status st = build_with(vol, vol ? surf : NULL, &s);
+    if (st) return st;
+    bvox__surface_release(surf); /* nothing left in it: take_spares emptied it */
+    *surf = *s;
+    free(s);
     return BVOX_OK;
 }
 

@@ -144,7 +144,7 @@ bvox_status bvox_surface_update(bvox_surface *surf, const bvox_volume *vol, bvox
     run_at[64] = nruns;
     bvox__free(tmp, tbytes);
     bvox__surface_release(surf);
-    blocks[0] = (bvox__surface_block){out, bytes};
+    blocks[0] = (bvox__surface_block){out, bytes, (size_t)(total ? total : 1)};
     surf->blocks = blocks;
     surf->nblocks = 1;
     surf->runs = runs;

@@ -964,7 +964,8 @@ TEST(journal_edits)
     return 0;
 }
 
-/* Surface built, updated after an edit, cast; shaded, filtered, zoomed. */
+/* Surface built, updated after an edit, rebuilt, cast; shaded, filtered,
+ * zoomed. */
 static bvox_status op_surface_images(void)
 {
     bvox_volume *v;
@@ -976,6 +977,7 @@ static bvox_status op_surface_images(void)
     if (st) s = NULL;
     if (!st) st = bvox_edit_fill_box(v, (bvox_box){3, 3, 50, 9, 9, 60}, 1, NULL);
     if (!st) st = bvox_surface_update(s, v, (bvox_box){3, 3, 50, 9, 9, 60});
+    if (!st) st = bvox_surface_rebuild(s, v);
     bvox_preimage *pre = NULL;
     bvox_projection proj = BVOX_PROJECTION_INIT;
     proj.azimuth = 30, proj.elevation = 20, proj.width = 40, proj.height = 36;

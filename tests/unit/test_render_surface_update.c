@@ -98,6 +98,81 @@ TEST(update_equals_build)
     return 0;
 }
 
+static bvox_volume *random_volume(bvox_dims d, int in_ten)
+{
+    bvox_volume *v;
+    if (bvox_volume_create(d, &v)) return NULL;
+    for (int32_t z = 0; z < d.nz; z++)
+        for (int32_t y = 0; y < d.ny; y++)
+            for (int32_t x = 0; x < d.nx; x++)
+                if ((int)(harness_rand() % 10) < in_ten) bvox_volume_set(v, x, y, z, 1);
+    return v;
+}
+
+/* bvox_surface_rebuild (surface.c) gives what a fresh build gives, from
+ * any surface: one of other dimensions, an empty one, one of several
+ * blocks (reused), one that bvox_surface_update left in a single block of
+ * another size; at 1, 3 and 16 threads; and the memory all comes back. */
+TEST(rebuild_equals_build)
+{
+    static const struct { bvox_dims d; int in_ten; } seq[] = {
+        {{40, 33, 130}, 5}, {{40, 33, 130}, 3}, {{17, 9, 65}, 6}, {{17, 9, 65}, 0},
+        {{128, 16, 1100}, 5}, {{128, 16, 1100}, 4}, {{9, 7, 1}, 4}, {{40, 33, 130}, 5}};
+    const int threads[] = {1, 3, 16};
+    int saved = bvox_threads();
+    size_t base = bvox_memory_in_use();
+    for (size_t t = 0; t < sizeof threads / sizeof *threads; t++) {
+        bvox_set_threads(threads[t]);
+        bvox_volume *v = random_volume(seq[0].d, seq[0].in_ten);
+        CHECK(v != NULL);
+        bvox_surface *s;
+        CHECK_OK(bvox_surface_build(v, &s));
+        for (size_t k = 1; k < sizeof seq / sizeof *seq; k++) {
+            bvox_volume_destroy(v);
+            v = random_volume(seq[k].d, seq[k].in_ten);
+            CHECK(v != NULL);
+            if (k == 6) { /* a surface an update has put in one block */
+                bvox_volume_set(v, 3, 3, 0, !bvox_volume_get(v, 3, 3, 0));
+                CHECK_OK(bvox_surface_rebuild(s, v));
+                bvox_volume_set(v, 3, 3, 0, !bvox_volume_get(v, 3, 3, 0));
+                CHECK_OK(bvox_surface_update(s, v, (bvox_box){3, 3, 0, 4, 4, 1}));
+            }
+            CHECK_OK(bvox_surface_rebuild(s, v));
+            bvox_surface *ref;
+            CHECK_OK(bvox_surface_build(v, &ref));
+            CHECK(same(s, ref));
+            CHECK(!memcmp(&s->dims, &ref->dims, sizeof s->dims));
+            CHECK(bvox_surface_count(s) > 0 || seq[k].in_ten == 0);
+            bvox_surface_destroy(ref);
+        }
+        bvox_surface_destroy(s);
+        bvox_volume_destroy(v);
+        CHECK_EQ(bvox_memory_in_use(), base);
+    }
+    bvox_set_threads(saved);
+    /* misuse; a failure leaves the surface empty, still to be destroyed */
+    bvox_volume *v = random_volume((bvox_dims){12, 10, 70}, 5);
+    bvox_surface *s;
+    CHECK_OK(bvox_surface_build(v, &s));
+    CHECK_STATUS(bvox_surface_rebuild(NULL, v), BVOX_EINVAL);
+    CHECK_STATUS(bvox_surface_rebuild(s, NULL), BVOX_EINVAL);
+    CHECK(bvox_surface_count(s) > 0);
+    bvox__alloc_fail_after(1);
+    bvox_status st = bvox_surface_rebuild(s, v);
+    bvox__alloc_fail_after(0);
+    CHECK_STATUS(st, BVOX_ENOMEM);
+    CHECK_EQ(bvox_surface_count(s), 0);
+    CHECK_OK(bvox_surface_rebuild(s, v));
+    bvox_surface *ref;
+    CHECK_OK(bvox_surface_build(v, &ref));
+    CHECK(same(s, ref));
+    bvox_surface_destroy(ref);
+    bvox_surface_destroy(s);
+    bvox_volume_destroy(v);
+    CHECK_EQ(bvox_memory_in_use(), base);
+    return 0;
+}
+
 TEST(nothing_to_do_and_misuse)
 {
     bvox_volume *v, *w;
