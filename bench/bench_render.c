@@ -166,6 +166,33 @@ static int wanted(const options *o, const char *c)
     return !o->only || !strcmp(o->only, c);
 }
 
+/* The surface of vol built (rebuild 0: destroyed and built afresh, as the
+ * one-off build is) or rebuilt into itself, its memory reused (the viewer's
+ * rebuild when a cut moves): the runs of the counts interleaved. */
+static void time_surfaces(const options *o, const bvox_volume *vol, bvox_surface **s,
+                          int rebuild, double t[16][100], double tcpu[16][100])
+{
+    for (int r = -1; r < o->runs; r++)
+        for (int k = 0; k < o->tl.n; k++) {
+            bvox_set_threads(o->tl.t[k]);
+            if (!rebuild) bvox_surface_destroy(*s), *s = NULL;
+            double t0 = now_ms(), c0 = cpu_ms();
+            if (rebuild ? bvox_surface_rebuild(*s, vol) : bvox_surface_build(vol, s))
+                die("surface");
+            if (r >= 0) t[k][r] = now_ms() - t0, tcpu[k][r] = cpu_ms() - c0;
+        }
+}
+
+static void print_surfaces(const options *o, const char *name, const char *pattern, int n,
+                           const bvox_surface *s, double t[16][100], double tcpu[16][100])
+{
+    for (int k = 0; k < o->tl.n; k++)
+        printf("{\"case\": \"%s\", \"pattern\": \"%s\", \"n\": %d, \"threads\": %d, "
+               "\"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, \"cpu_ms\": %.3f}\n",
+               name, pattern, n, o->tl.t[k], o->runs, median(t[k], o->runs),
+               (long long)bvox_surface_count(s), median(tcpu[k], o->runs));
+}
+
 /* The counts of o->tl, then 1 (for "ms_1thread"): the runs of every count are
  * interleaved, run r at each count before run r + 1, so that the ratios
  * between counts survive a machine whose load changes. */
@@ -438,7 +465,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_render [--quick] [--runs N (1..99)] "
                         "[--sizes 256,512,1024 | --n N (8..2048)] [--no-ref]\n"
                         "       [--threads-list 1,2,4,8,16] "
-                        "[--case reshade|axis_view|surface_build|surface_rebuild|arbitrary_view|shading]\n");
+                        "[--case reshade|axis_view|surface_build|surface_rebuild|\n"
+                        "        arbitrary_view|shading]\n");
         return 2;
     }
 
@@ -463,35 +491,13 @@ int main(int argc, char **argv)
 
             double t[16][100], tcpu[16][100];
             bvox_surface *s = NULL;
-            for (int r = -1; r < o.runs; r++)
-                for (int k = 0; k < o.tl.n; k++) {
-                    bvox_set_threads(o.tl.t[k]);
-                    bvox_surface_destroy(s);
-                    double t0 = now_ms(), c0 = cpu_ms();
-                    if (bvox_surface_build(vol, &s)) die("surface");
-                    if (r >= 0) t[k][r] = now_ms() - t0, tcpu[k][r] = cpu_ms() - c0;
-                }
-            for (int k = 0; wanted(&o, "surface_build") && k < o.tl.n; k++)
-                printf("{\"case\": \"surface_build\", \"pattern\": \"%s\", \"n\": %d, "
-                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, "
-                       "\"cpu_ms\": %.3f}\n",
-                       pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),
-                       (long long)bvox_surface_count(s), median(tcpu[k], o.runs));
-            /* the same volume rebuilt into the surface, its memory reused
-             * (the viewer's rebuild when a cut moves) */
-            for (int r = -1; wanted(&o, "surface_rebuild") && r < o.runs; r++)
-                for (int k = 0; k < o.tl.n; k++) {
-                    bvox_set_threads(o.tl.t[k]);
-                    double t0 = now_ms(), c0 = cpu_ms();
-                    if (bvox_surface_rebuild(s, vol)) die("surface rebuild");
-                    if (r >= 0) t[k][r] = now_ms() - t0, tcpu[k][r] = cpu_ms() - c0;
-                }
-            for (int k = 0; wanted(&o, "surface_rebuild") && k < o.tl.n; k++)
-                printf("{\"case\": \"surface_rebuild\", \"pattern\": \"%s\", \"n\": %d, "
-                       "\"threads\": %d, \"runs\": %d, \"ms\": %.3f, \"voxels\": %lld, "
-                       "\"cpu_ms\": %.3f}\n",
-                       pattern, n, o.tl.t[k], o.runs, median(t[k], o.runs),
-                       (long long)bvox_surface_count(s), median(tcpu[k], o.runs));
+            time_surfaces(&o, vol, &s, 0, t, tcpu);
+            if (wanted(&o, "surface_build"))
+                print_surfaces(&o, "surface_build", pattern, n, s, t, tcpu);
+            if (wanted(&o, "surface_rebuild")) {
+                time_surfaces(&o, vol, &s, 1, t, tcpu);
+                print_surfaces(&o, "surface_rebuild", pattern, n, s, t, tcpu);
+            }
             fflush(stdout);
             for (int k = 0; wanted(&o, "arbitrary_view") && k < 2; k++)
                 bench_arbitrary(&o, vol, s, pattern, o.images[k]);

@@ -64,7 +64,6 @@ typedef struct band {
     chunk *chunks;
     int nchunks, chunk_slots;
     pool *pool;
-    int64_t count[64]; /* entries of each class, once the band is done */
     bool failed;       /* out of memory (reported by the caller: a worker cannot) */
 } band;
 
@@ -145,13 +144,10 @@ static uint64_t *band_new_chunk(band *bd, int k)
     return at;
 }
 
-/* The band's last chunks closed and its count per class. */
+/* The band's last chunks closed: each chunk knows its count. */
 static void band_finish(band *bd)
 {
     for (int k = 0; k < 64; k++) close_chunk(bd, k);
-    memset(bd->count, 0, sizeof bd->count);
-    for (int h = 0; h < bd->nchunks; h++)
-        bd->count[bd->chunks[h].cls] += (int64_t)bd->chunks[h].used;
 }
 
 typedef struct row_kernels {
