@@ -984,7 +984,8 @@ BVOX_API bvox_status bvox_surface_update(bvox_surface *surf, const bvox_volume *
 /* Rebuild surf from vol (any volume, other dimensions too): what
  * bvox_surface_build(vol) makes, reusing surf's memory instead of fresh
  * pages (the viewer's rebuild when a cut moves). On failure surf is left
- * empty (no voxels), still to be destroyed; BVOX_EINVAL for a NULL input. */
+ * empty (no voxels), still to be destroyed; BVOX_EINVAL for a NULL input
+ * (surf then unchanged). */
 BVOX_API bvox_status bvox_surface_rebuild(bvox_surface *surf, const bvox_volume *vol);
 /* The bounding box of the surface's voxels (the object's); 0 and a zero box
  * when empty. */

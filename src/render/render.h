@@ -175,8 +175,8 @@ struct bvox_surface {
     int empty;
 };
 
-/* surface.c: every entry, in order, into out (count entries): for the tests
- * and for an update's merge. */
+/* surface.c: every entry, in order, into out (count entries): the tests
+ * compare surfaces whose runs split the entries differently. */
 void bvox__surface_flatten(const bvox_surface *s, uint64_t *out);
 /* surface.c: frees what a surface's runs point into, and the runs. */
 void bvox__surface_release(bvox_surface *s);

@@ -31,7 +31,7 @@
 #include <string.h>
 
 /* The blocks that every band's chunks are carved from, shared by the bands
- * (under a lock: a chunk holds 512 entries or more, so it is rarely taken)
+ * (under a lock, taken once a chunk: 64 entries or more)
  * because the surface keeps them: blocks per band left one partly used 8 MiB
  * block per band, and its first huge page, resident for the surface's life
  * (a 1024^3 sphere's 18 MB of entries held 126 MB at 64 bands). */
@@ -108,9 +108,9 @@ static uint64_t *pool_carve(pool *p, size_t size)
 /* The largest chunk, in entries (128 KiB). The surface keeps the chunks, so
  * each list's last one, half empty on average, stays allocated for the
  * surface's life: chunks of up to an eighth of a block held 1.6 times the
- * entries' bytes (a 1024^3 sphere at 1 thread), these 1.2 (1.5 at 64
- * bands). 4096 held 1.1 and measured no different; bigger chunks mean
- * fewer runs for a view to walk. */
+ * entries' bytes (a 1024^3 sphere at 1 thread), these 1.14 (1.4 at 64
+ * bands); 4096 measured no different in time; bigger chunks mean fewer
+ * runs for a view to walk. */
 #define CHUNK_MAX 16384
 
 /* Class k's current chunk (if any) given its count of entries: the hot loop

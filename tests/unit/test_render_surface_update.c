@@ -137,7 +137,18 @@ TEST(rebuild_equals_build)
                 bvox_volume_set(v, 3, 3, 0, !bvox_volume_get(v, 3, 3, 0));
                 CHECK_OK(bvox_surface_update(s, v, (bvox_box){3, 3, 0, 4, 4, 1}));
             }
+            /* the old surface's blocks, to see them reused below */
+            const bool same_dims = !memcmp(&seq[k].d, &seq[k - 1].d, sizeof seq[k].d);
+            void *old_blocks[64];
+            int nold = s->nblocks < 64 ? s->nblocks : 64;
+            for (int h = 0; h < nold; h++) old_blocks[h] = s->blocks[h].at;
             CHECK_OK(bvox_surface_rebuild(s, v));
+            if (same_dims && k != 6 && s->count > 0) { /* same block size: a block reused */
+                bool reused = false;
+                for (int h = 0; h < s->nblocks; h++)
+                    for (int g = 0; g < nold; g++) reused |= s->blocks[h].at == old_blocks[g];
+                CHECK(reused);
+            }
             bvox_surface *ref;
             CHECK_OK(bvox_surface_build(v, &ref));
             CHECK(same(s, ref));
