@@ -96,22 +96,14 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
 bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
                         int max_sweeps, uint64_t *reached, int32_t *row_sweep);
 
-/* Grows reached (a subset of m holding whole runs of its columns, all of
- * m in the border ring of columns) to the voxels of m 26-connected to it,
- * by at most max_sweeps sweeps; false when that was not enough to settle.
- * row_sweep: ny entries of scratch. measure_flood.c. */
-bool bvox__flood_26(const uint64_t *m, size_t nx, size_t ny, size_t wpc, int max_sweeps,
-                    uint64_t *reached, int32_t *row_sweep);
-
 /* Test hook of measure_cavities.c: -1 (default) chooses the route; 0 always
  * labels the background; n > 0 always floods first, at most n sweeps. */
 extern int bvox__cavity_flood_sweeps;
 
-/* Test hook of measure_cavities.c, on the flood's route: -1 (default) the
- * 26-cavities by the 26-flood of bvox__flood_26, at most FLOOD_MAX_SWEEPS
- * sweeps; 0 always by labelling K; n > 0 the 26-flood, at most n sweeps
- * (the labelling of K takes over when it does not settle). */
-extern int bvox__cavity_flood26_sweeps;
+/* Test hook of measure_cavities.c, on the flood's route: 0 (default) the
+ * 26-cavities by labelling only the cavity voxels that no dilation of the
+ * reached background covers; 1 by labelling all of them. */
+extern int bvox__cavity_label_k;
 
 /* Test hook of measure_cavities.c: -1 (default) or 1, the labelling route
  * labels only the background enclosed along z (measure_enclosed.c); 0, all

@@ -78,38 +78,9 @@ typedef struct flood_job {
     int64_t nslabs;
     int sweep, backward;
     int changed;
-    int conn26;        /* 26-connected steps between columns (bvox__flood_26) */
 } flood_job;
 
 #define LOAD(p) __atomic_load_n((p), __ATOMIC_RELAXED)
-
-/* sweep_column for bvox__flood_26: the eight neighbour columns' reached
- * words are ORed first, then dilated by one along z (the dilation of a union
- * is the union of the dilations); no seeds at the column's ends. */
-static int sweep_column26(const flood_job *j, const uint64_t *m, uint64_t *r, uint64_t *t)
-{
-    size_t wpc = j->wpc, row = j->nx * wpc;
-    const uint64_t *nbc[8] = {r - wpc,       r + wpc,       r - row - wpc, r - row,
-                              r - row + wpc, r + row - wpc, r + row,       r + row + wpc};
-    for (size_t k = 0; k < wpc; k++) {
-        uint64_t o = 0;
-        for (int c = 0; c < 8; c++) o |= LOAD(&nbc[c][k]);
-        t[k] = o;
-    }
-    uint64_t grew = 0, below = 0;
-    for (size_t k = 0; k < wpc; k++) {
-        uint64_t o = t[k], above = k + 1 < wpc ? t[k + 1] : 0;
-        uint64_t nb = o | (o << 1) | (o >> 1) | (below >> 63) | (above << 63);
-        below = o;
-        uint64_t old = LOAD(&r[k]);
-        t[k] = (old | nb) & m[k];
-        grew |= t[k] ^ old;
-    }
-    if (!grew) return 0;
-    fill_column(m, t, wpc);
-    for (size_t k = 0; k < wpc; k++) __atomic_store_n(&r[k], t[k], __ATOMIC_RELAXED);
-    return 1;
-}
 
 /* One column (x, y) inside the border ring; 1 when it grew. */
 static int sweep_column(const flood_job *j, size_t x, size_t y, uint64_t *t)
@@ -119,7 +90,6 @@ static int sweep_column(const flood_job *j, size_t x, size_t y, uint64_t *t)
     uint64_t *r = j->r + col * wpc;
     const uint64_t *w = r - wpc, *e = r + wpc, *s = r - j->nx * wpc, *n = r + j->nx * wpc;
     uint64_t grew = 0;
-    if (j->conn26) return sweep_column26(j, m, r, t);
     for (size_t k = 0; k < wpc; k++) {
         uint64_t old = LOAD(&r[k]);
         uint64_t nb = LOAD(&w[k]) | LOAD(&e[k]) | LOAD(&s[k]) | LOAD(&n[k]);
@@ -165,10 +135,10 @@ static void sweep_slabs(void *ctx, int64_t begin, int64_t end)
 
 /* Sweeps until one changes nothing (true) or max_sweeps were spent. */
 static bool run_sweeps(const uint64_t *m, size_t nx, size_t ny, size_t wpc, uint64_t top,
-                       int conn26, int max_sweeps, uint64_t *reached, int32_t *row_sweep)
+                       int max_sweeps, uint64_t *reached, int32_t *row_sweep)
 {
     for (size_t y = 0; y < ny; y++) row_sweep[y] = -1; /* every row visited first */
-    flood_job j = {m, reached, nx, ny, wpc, top, row_sweep, 1, 0, 0, 0, conn26};
+    flood_job j = {m, reached, nx, ny, wpc, top, row_sweep, 1, 0, 0, 0};
     int64_t threads = bvox__parallelism(), max_slabs = (int64_t)(ny - 2) / 8;
     j.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
     for (int sweep = 0; sweep < max_sweeps; sweep++) {
@@ -192,13 +162,5 @@ bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, si
                 memcpy(reached + off, bg + off, wpc * sizeof *bg);
             }
     if (nx < 3 || ny < 3) return true; /* every column is on the ring */
-    return run_sweeps(bg, nx, ny, wpc, 1ull << ((nz - 1) % 64), 0, max_sweeps, reached,
-                      row_sweep);
-}
-
-bool bvox__flood_26(const uint64_t *m, size_t nx, size_t ny, size_t wpc, int max_sweeps,
-                    uint64_t *reached, int32_t *row_sweep)
-{
-    if (nx < 3 || ny < 3) return true; /* no column inside the ring */
-    return run_sweeps(m, nx, ny, wpc, 0, 1, max_sweeps, reached, row_sweep);
+    return run_sweeps(bg, nx, ny, wpc, 1ull << ((nz - 1) % 64), max_sweeps, reached, row_sweep);
 }
