@@ -88,12 +88,31 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
 bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
                                    int64_t *cav26);
 
-/* Grows reached (zeroed, nx * ny columns of wpc words like bg) to the
+/* Where a box's background is read from without a copy: box column (x, y)
+ * is words + ((y0 + y) * nx + x0 + x) * wpc, each word XORed with flip (~0:
+ * words holds the object, so a volume's complement is read in place; 0:
+ * words holds the background itself), the last word of a column ANDed with
+ * tail (the bits beyond nz). */
+typedef struct bvox__bgsrc {
+    const uint64_t *words;
+    size_t nx, x0, y0;
+    uint64_t flip, tail;
+} bvox__bgsrc;
+
+/* Word k (of wpc) of box column (x, y) of bg. */
+static inline uint64_t bvox__bg_word(const bvox__bgsrc *bg, size_t x, size_t y, size_t wpc,
+                                     size_t k)
+{
+    uint64_t w = bg->words[((bg->y0 + y) * bg->nx + bg->x0 + x) * wpc + k] ^ bg->flip;
+    return k + 1 == wpc ? w & bg->tail : w;
+}
+
+/* Grows reached (zeroed, nx * ny columns of wpc words, the box's) to the
  * voxels of bg 6-connected to the border of the box (its ring of columns,
  * z = 0 and z = nz - 1) by at most max_sweeps sweeps; false when that was
  * not enough to settle (reached is then a subset). row_sweep: ny entries of
  * scratch. measure_flood.c. */
-bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
+bool bvox__flood_border(const bvox__bgsrc *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
                         int max_sweeps, uint64_t *reached, int32_t *row_sweep);
 
 /* Test hook of measure_cavities.c: -1 (default) chooses the route; 0 always

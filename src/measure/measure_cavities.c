@@ -120,11 +120,6 @@ typedef struct exterior_src {
     uint64_t tail;
 } exterior_src;
 
-static exterior_src plain_exterior(const uint64_t *bg, colbox lb)
-{
-    return (exterior_src){bg, lb.nx, 0, 0, false, ~0ull};
-}
-
 /* The 26-cavities by labelling all of the box's background: cheaper than
  * going through K when the cavities are everywhere (a coin toss has a
  * million of them). */
@@ -322,18 +317,6 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, uint64_t *words,
     return st;
 }
 
-/* dst = a & ~b, word by word. */
-typedef struct and_not_job {
-    uint64_t *dst;
-    const uint64_t *a, *b;
-} and_not_job;
-
-static void and_not_words(void *ctx, int64_t begin, int64_t end)
-{
-    const and_not_job *j = ctx;
-    for (int64_t i = begin; i < end; i++) j->dst[i] = j->a[i] & ~j->b[i];
-}
-
 /* -1: choose (see bvox__measure_cavities); 0: always label the background;
  * n > 0: always flood first, at most n sweeps (tests force each route). */
 int bvox__cavity_flood_sweeps = -1;
@@ -344,72 +327,108 @@ int bvox__cavity_flood_sweeps = -1;
 
 int bvox__cavity_label_k = 0;
 
-/* L = K & ~dilate26(R) in place in K's words (k), R in r, one row of inner
- * columns per index (the ring of columns holds no voxel of K). */
+/* K = bg & ~R in place in R's words. */
+typedef struct cavity_job {
+    uint64_t *r;
+    const bvox__bgsrc *bg;
+    size_t nx, wpc;
+} cavity_job;
+
+static void cavity_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const cavity_job *j = ctx;
+    size_t nx = j->nx, wpc = j->wpc;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+        for (size_t x = 0; x < nx; x++) {
+            uint64_t *c = j->r + (y * nx + x) * wpc;
+            for (size_t w = 0; w < wpc; w++) c[w] = bvox__bg_word(j->bg, x, y, wpc, w) & ~c[w];
+        }
+}
+
+/* L = K & ~dilate26(R) in place in K's words (k), R = bg & ~K read from
+ * them, the inner rows of one parity (the ring of columns holds no voxel of
+ * K), one per index: a row reads the rows beside it, of the other parity,
+ * which no task writes meanwhile. Rows stripped before make R read as R +
+ * some voxels of T; the count does not change: every voxel of T is still
+ * stripped, and a voxel next to one of T is in a component of K that holds a
+ * voxel of T (it is not a 26-cavity either way), so no voxel of a 26-cavity
+ * is ever stripped. */
 typedef struct strip_job {
     uint64_t *k;
-    const uint64_t *r;
-    size_t nx, wpc;
+    const bvox_volume *vol;
+    colbox lb;
+    size_t parity;
 } strip_job;
 
 static void strip_rows(void *ctx, int64_t begin, int64_t end)
 {
     const strip_job *j = ctx;
-    size_t nx = j->nx, wpc = j->wpc;
-    uint64_t o[(BVOX_MAX_DIM + 63) / 64];
-    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
+    const bvox_volume *vol = j->vol;
+    size_t nx = j->lb.nx, wpc = vol->wpc, vnx = (size_t)vol->nx;
+    uint64_t d[(BVOX_MAX_DIM + 63) / 64];
+    for (size_t i = (size_t)begin; i < (size_t)end; i++) {
+        size_t y = 1 + 2 * i + j->parity;
         for (size_t x = 1; x + 1 < nx; x++) {
             uint64_t *kc = j->k + (y * nx + x) * wpc, any = 0;
             for (size_t w = 0; w < wpc; w++) any |= kc[w];
             if (!any) continue;
-            /* the dilation of a union is the union of the dilations: the
-             * nine columns' words ORed, then dilated along z */
-            const uint64_t *r0 = j->r + ((y - 1) * nx + x - 1) * wpc;
-            for (size_t w = 0; w < wpc; w++) {
-                uint64_t v = 0;
-                for (size_t dy = 0; dy < 3; dy++)
-                    for (size_t dx = 0; dx < 3; dx++) v |= r0[(dy * nx + dx) * wpc + w];
-                o[w] = v;
+            /* the dilation of a union is the union of the dilations: R's
+             * words of the nine columns ORed (R = ~(object | K), within
+             * nz), then dilated along z */
+            const uint64_t *kq[9], *oq[9];
+            for (size_t c = 0; c < 9; c++) {
+                size_t cx = x + c % 3 - 1, cy = y + c / 3 - 1;
+                kq[c] = j->k + (cy * nx + cx) * wpc;
+                oq[c] = vol->words + ((j->lb.y0 + cy) * vnx + j->lb.x0 + cx) * wpc;
             }
+            for (size_t w = 0; w < wpc; w++) {
+                uint64_t closed = ~0ull;
+                for (size_t c = 0; c < 9; c++) closed &= oq[c][w] | kq[c][w];
+                d[w] = ~closed;
+            }
+            d[wpc - 1] &= vol->tail_mask;
             for (size_t w = 0; w < wpc; w++)
-                kc[w] &= ~zdilate(w ? o[w - 1] : 0, o[w], w + 1 < wpc ? o[w + 1] : 0);
+                kc[w] &= ~zdilate(w ? d[w - 1] : 0, d[w], w + 1 < wpc ? d[w + 1] : 0);
         }
+    }
 }
 
-/* Both counts through the flood of measure_flood.c: R = the background
- * reached from the border, the cavity voxels K = bg & ~R are labelled
- * 6-connected (the 6-cavities). The 26-cavities are the 26-components of K
- * with no voxel 26-adjacent to R. Those voxels of K that are (T, on a coin
- * toss nearly all of its 1.4 million at 512^3) are stripped by one dilation
- * of R, leaving L = K & ~dilate26(R) (a handful): a 26-component of K
- * without a voxel of T lies in L whole and is a 26-component of L no voxel
- * of which is 26-adjacent to T (a neighbour in T would be in the same
- * component of K), and a 26-component of L with no neighbour in T is one of
- * K, since K = L + T. So L is labelled 26-connected and its components
- * with no voxel next to bg & ~L (which is R + T, and none is next to R) are
- * counted. This replaced a 26-flood of R through K (9 ms of a 131 ms
- * measure at 2 threads; the dilation takes 1-2): its second sweep visited
- * every row to change 16. bvox__cavity_label_k = 1 labels all of K
- * 26-connected instead, the components with a voxel next to R left out.
- * *settled = false, bg untouched, when the 6-flood did not settle. */
-static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_t nz,
-                                     int max_sweeps, bool *settled, int64_t *cav6,
-                                     int64_t *cav26)
+/* Both counts through the flood of measure_flood.c, which reads the
+ * background in place (the complement of vol's words in the box lb): R =
+ * the background reached from the border, and the cavity voxels K = bg & ~R
+ * (written over R: the one buffer of the route) are labelled 6-connected
+ * (the 6-cavities). The 26-cavities are the 26-components of K with no
+ * voxel 26-adjacent to R. Those voxels of K that are (T, on a coin toss
+ * nearly all of its 1.4 million at 512^3) are stripped by one dilation of
+ * R, leaving L = K & ~dilate26(R) (a handful): a 26-component of K without
+ * a voxel of T lies in L whole and is a 26-component of L no voxel of which
+ * is 26-adjacent to T (a neighbour in T would be in the same component of
+ * K), and a 26-component of L with no neighbour in T is one of K, since K =
+ * L + T. So L is labelled 26-connected and its components with no voxel
+ * next to bg & ~L (which is R + T, and none is next to R) are counted. This
+ * replaced a 26-flood of R through K (9 ms of a 131 ms measure at 2
+ * threads; the dilation takes 1-2): its second sweep visited every row to
+ * change 16. bvox__cavity_label_k = 1 labels all of K 26-connected instead,
+ * the components with a voxel next to R = bg & ~K left out. *settled =
+ * false when the 6-flood did not settle. */
+static bvox_status cavities_by_flood(const bvox_volume *vol, colbox lb, int max_sweeps,
+                                     bool *settled, int64_t *cav6, int64_t *cav26)
 {
-    size_t nw = lb.nx * lb.ny * wpc;
+    size_t wpc = vol->wpc, nw = lb.nx * lb.ny * wpc;
     bvox_status st = BVOX_OK;
-    /* R (zeroed) and the flood's row scratch; K, written whole before it
-     * is read (zeroing it too took as long as the flood's first sweep on a
-     * 2-core VM) */
-    size_t nr = 2 * nw + lb.ny / 2 + 1;
+    /* R (zeroed) and the flood's row scratch; a copy of the background and
+     * separate R, K and T buffers (64 MiB of fresh pages at 512^3) cost a
+     * tenth of the call in page faults */
+    size_t nr = nw + lb.ny / 2 + 1;
     uint64_t *r = bvox__alloc(nr * sizeof *r, true, "reached background", &st);
     if (!r) return st;
-    uint64_t *k = r + nw;
-    int32_t *rows = (int32_t *)(k + nw);
-    *settled = bvox__flood_border(bg, lb.nx, lb.ny, wpc, (size_t)nz, max_sweeps, r, rows);
+    int32_t *rows = (int32_t *)(r + nw);
+    bvox__bgsrc bg = {vol->words, (size_t)vol->nx, lb.x0, lb.y0, ~0ull, vol->tail_mask};
+    *settled = bvox__flood_border(&bg, lb.nx, lb.ny, wpc, (size_t)vol->nz, max_sweeps, r, rows);
     if (!*settled) goto done;
-    and_not_job aj = {k, bg, r};
-    bvox__parallel_for((int64_t)nw, 1 << 14, and_not_words, &aj);
+    cavity_job cj = {r, &bg, lb.nx, wpc};
+    bvox__parallel_for((int64_t)lb.ny, 4, cavity_rows, &cj);
+    uint64_t *k = r;
     bvox__labelruns r6;
     st = bvox__labelruns_find(k, NULL, lb.nx, lb.ny, wpc, 6, 1, &r6);
     if (st) goto done;
@@ -419,15 +438,17 @@ static bvox_status cavities_by_flood(uint64_t *bg, colbox lb, size_t wpc, int32_
     st = bvox__progress(0.8);
     if (st || *cav6 == 0) goto done;
     colbox kb = {0, 0, lb.nx, lb.ny};
-    if (bvox__cavity_label_k) {
-        /* the exterior of K is R; K has no voxel in the ring of border
-         * columns (reached whole) */
-        st = count_marked_26(k, kb, plain_exterior(r, lb), wpc, cav26);
-        goto done;
+    /* the exterior of the labelled voxels (K, or L) is the rest of the
+     * background; neither has a voxel in the ring of border columns
+     * (reached whole) */
+    exterior_src ext = {vol->words, (size_t)vol->nx, lb.x0, lb.y0, true, vol->tail_mask};
+    if (!bvox__cavity_label_k) {
+        for (size_t parity = 0; parity < 2 && lb.nx > 2 && lb.ny > 2; parity++) {
+            strip_job sj = {k, vol, lb, parity};
+            bvox__parallel_for((int64_t)(lb.ny - 2 - parity + 1) / 2, 4, strip_rows, &sj);
+        }
     }
-    strip_job sj = {k, r, lb.nx, wpc};
-    if (lb.nx > 2 && lb.ny > 2) bvox__parallel_for((int64_t)lb.ny - 2, 4, strip_rows, &sj);
-    st = count_marked_26(k, kb, plain_exterior(bg, lb), wpc, cav26);
+    st = count_marked_26(k, kb, ext, wpc, cav26);
 done:
     bvox__free(r, nr * sizeof *r);
     return st;
@@ -569,16 +590,13 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
     size_t x1 = bbox[3] < vol->nx ? (size_t)bbox[3] + 1 : (size_t)vol->nx;
     size_t y1 = bbox[4] < vol->ny ? (size_t)bbox[4] + 1 : (size_t)vol->ny;
     colbox lb = {x0, y0, x1 - x0, y1 - y0};
-    size_t wpc = vol->wpc, nw = lb.nx * lb.ny * wpc;
+    size_t wpc = vol->wpc;
     bvox_status st = BVOX_OK;
     int sweeps = bvox__cavity_flood_sweeps;
     if (sweeps < 0) sweeps = flood_pays(sc, lb, vol->nz, wpc) ? FLOOD_MAX_SWEEPS : 0;
     if (sweeps > 0) {
-        uint64_t *bg = background_words(vol, lb, &st);
-        if (!bg) return st;
         bool settled = false;
-        st = cavities_by_flood(bg, lb, wpc, vol->nz, sweeps, &settled, cav6, cav26);
-        bvox__free(bg, nw * sizeof *bg);
+        st = cavities_by_flood(vol, lb, sweeps, &settled, cav6, cav26);
         if (st || settled) return st;
     }
     if (bvox__cavity_hull != 0) return cavities_in_hull(vol, lb, cav6, cav26);

@@ -31,8 +31,6 @@
  */
 #include "measure/measure.h"
 
-#include <string.h>
-
 /* Kogge-Stone fill of seeds x downwards (towards bit 0) through the bits of m. */
 static inline uint64_t fill_down(uint64_t x, uint64_t m)
 {
@@ -70,7 +68,7 @@ static void fill_column(const uint64_t *m, uint64_t *s, size_t wpc)
 }
 
 typedef struct flood_job {
-    const uint64_t *m; /* background words, nx * ny columns */
+    const bvox__bgsrc *m; /* the background, nx * ny columns */
     uint64_t *r;       /* reached, grows */
     size_t nx, ny, wpc;
     uint64_t top;      /* bit of z = nz - 1 in a column's last word */
@@ -86,11 +84,12 @@ typedef struct flood_job {
 static int sweep_column(const flood_job *j, size_t x, size_t y, uint64_t *t)
 {
     size_t wpc = j->wpc, col = y * j->nx + x;
-    const uint64_t *m = j->m + col * wpc;
+    uint64_t m[(BVOX_MAX_DIM + 63) / 64];
     uint64_t *r = j->r + col * wpc;
     const uint64_t *w = r - wpc, *e = r + wpc, *s = r - j->nx * wpc, *n = r + j->nx * wpc;
     uint64_t grew = 0;
     for (size_t k = 0; k < wpc; k++) {
+        m[k] = bvox__bg_word(j->m, x, y, wpc, k);
         uint64_t old = LOAD(&r[k]);
         uint64_t nb = LOAD(&w[k]) | LOAD(&e[k]) | LOAD(&s[k]) | LOAD(&n[k]);
         t[k] = (old | nb) & m[k];
@@ -134,7 +133,7 @@ static void sweep_slabs(void *ctx, int64_t begin, int64_t end)
 }
 
 /* Sweeps until one changes nothing (true) or max_sweeps were spent. */
-static bool run_sweeps(const uint64_t *m, size_t nx, size_t ny, size_t wpc, uint64_t top,
+static bool run_sweeps(const bvox__bgsrc *m, size_t nx, size_t ny, size_t wpc, uint64_t top,
                        int max_sweeps, uint64_t *reached, int32_t *row_sweep)
 {
     for (size_t y = 0; y < ny; y++) row_sweep[y] = -1; /* every row visited first */
@@ -151,15 +150,15 @@ static bool run_sweeps(const uint64_t *m, size_t nx, size_t ny, size_t wpc, uint
     return false;
 }
 
-bool bvox__flood_border(const uint64_t *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
+bool bvox__flood_border(const bvox__bgsrc *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
                         int max_sweeps, uint64_t *reached, int32_t *row_sweep)
 {
     /* the border ring of columns: all of their background is reached */
     for (size_t y = 0; y < ny; y++)
         for (size_t x = 0; x < nx; x++)
             if (x == 0 || y == 0 || x + 1 == nx || y + 1 == ny) {
-                size_t off = (y * nx + x) * wpc;
-                memcpy(reached + off, bg + off, wpc * sizeof *bg);
+                uint64_t *col = reached + (y * nx + x) * wpc;
+                for (size_t k = 0; k < wpc; k++) col[k] = bvox__bg_word(bg, x, y, wpc, k);
             }
     if (nx < 3 || ny < 3) return true; /* every column is on the ring */
     return run_sweeps(bg, nx, ny, wpc, 1ull << ((nz - 1) % 64), max_sweeps, reached, row_sweep);

@@ -105,6 +105,8 @@ static int check_ref(const voxref *r)
     return bad;
 }
 
+static void vset(voxref *r, int x, int y, int z, uint8_t value) { *voxref_at(r, x, y, z) = value; }
+
 TEST(random_densities_vs_reference)
 {
     /* sizes past one word in z and rows enough for 3- and 16-way splits */
@@ -122,10 +124,19 @@ TEST(random_densities_vs_reference)
             }
             voxref_destroy(r);
         }
+    /* a coin toss in a box away from the volume's sides: the flood reads
+     * the background in place from an offset box */
+    voxref *r = voxref_create(41, 37, 70);
+    voxref *c = voxref_create(25, 22, 60);
+    voxref_random(c, 5, 10, harness_rand);
+    for (int z = 0; z < 60; z++)
+        for (int y = 0; y < 22; y++)
+            for (int x = 0; x < 25; x++) vset(r, x + 9, y + 4, z + 3, *voxref_at(c, x, y, z));
+    voxref_destroy(c);
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
     return 0;
 }
-
-static void vset(voxref *r, int x, int y, int z, uint8_t value) { *voxref_at(r, x, y, z) = value; }
 
 /* Hollow box shell [x0, x1) etc. of thickness 1 (value 1), inside cleared. */
 static void shell(voxref *r, int x0, int y0, int z0, int x1, int y1, int z1)
@@ -313,7 +324,8 @@ static bool flood(const bvox_volume *v, int max_sweeps, uint64_t *got, int32_t *
 {
     memset(got, 0, v->nwords * sizeof *got);
     size_t nx = (size_t)v->nx, ny = (size_t)v->ny;
-    return bvox__flood_border(v->words, nx, ny, v->wpc, (size_t)v->nz, max_sweeps, got, rows);
+    bvox__bgsrc bg = {v->words, nx, 0, 0, 0, v->tail_mask}; /* v holds the background */
+    return bvox__flood_border(&bg, nx, ny, v->wpc, (size_t)v->nz, max_sweeps, got, rows);
 }
 
 static int check_flood(const voxref *r, int max_short, int short_settles)
