@@ -87,9 +87,12 @@ static int sweep_column(const flood_job *j, size_t x, size_t y, uint64_t *t)
     uint64_t m[(BVOX_MAX_DIM + 63) / 64];
     uint64_t *r = j->r + col * wpc;
     const uint64_t *w = r - wpc, *e = r + wpc, *s = r - j->nx * wpc, *n = r + j->nx * wpc;
+    const bvox__bgsrc *bg = j->m;
+    const uint64_t *src = bg->words + ((bg->y0 + y) * bg->nx + bg->x0 + x) * wpc;
+    for (size_t k = 0; k < wpc; k++) m[k] = src[k] ^ bg->flip;
+    m[wpc - 1] &= bg->tail;
     uint64_t grew = 0;
     for (size_t k = 0; k < wpc; k++) {
-        m[k] = bvox__bg_word(j->m, x, y, wpc, k);
         uint64_t old = LOAD(&r[k]);
         uint64_t nb = LOAD(&w[k]) | LOAD(&e[k]) | LOAD(&s[k]) | LOAD(&n[k]);
         t[k] = (old | nb) & m[k];
