@@ -108,17 +108,13 @@ static inline uint64_t zdilate(uint64_t prev, uint64_t w, uint64_t next)
     return w | (w << 1) | (prev >> 63) | (w >> 1) | (next << 63);
 }
 
-/* Where the exterior of the cavity voxels K is read from: the columns of
- * the labelled box lb, column (x, y) of lb at w + ((y0 + y) * nx + x0 + x) *
- * wpc; complement: w holds the object (bits beyond nz masked by tail), else
- * the background voxels that may be exterior themselves. The exterior is
- * that minus K. */
-typedef struct exterior_src {
-    const uint64_t *w;
-    size_t nx, x0, y0;
-    bool complement;
-    uint64_t tail;
-} exterior_src;
+/* The background of vol in the columns of box lb, read in place (the
+ * complement of its words): the flood's input and the exterior of the
+ * cavity voxels K (which is this minus K). */
+static bvox__bgsrc volume_background(const bvox_volume *vol, colbox lb)
+{
+    return (bvox__bgsrc){vol->words, (size_t)vol->nx, lb.x0, lb.y0, ~0ull, vol->tail_mask};
+}
 
 /* The 26-cavities by labelling all of the box's background: cheaper than
  * going through K when the cavities are everywhere (a coin toss has a
@@ -138,13 +134,12 @@ static bvox_status label_all_26(const uint64_t *bg, colbox lb, size_t wpc, int32
 
 /* The 26-components of the cavity voxels K (words k, box kb inside the
  * labelled box; its ring of columns empty) that touch no voxel of the
- * exterior (ext minus K, ext in the labelled box's columns; ext.w NULL: no
- * exterior). K is labelled 26-connected; then, a row of groups per task,
+ * exterior (ext minus K, ext in the labelled box's columns). K is labelled 26-connected; then, a row of groups per task,
  * each group's voxels of T = K & dilate26(exterior) mark the roots of their
  * runs, and the unmarked roots are counted. */
 typedef struct mark26_job {
     const bvox__labelruns *r;
-    exterior_src ext;
+    bvox__bgsrc ext;
     colbox kb;
     uint8_t *touched;
 } mark26_job;
@@ -154,14 +149,14 @@ static inline uint64_t touching_word(const mark26_job *j, size_t x, size_t y, si
 {
     const uint64_t *k = j->r->words;
     colbox kb = j->kb;
-    exterior_src ex = j->ext;
+    bvox__bgsrc ex = j->ext;
     size_t wpc = j->r->wpc;
-    uint64_t flip = ex.complement ? ~0ull : 0, d = 0;
+    uint64_t flip = ex.flip, d = 0;
     for (size_t dy = 0; dy < 3; dy++)
         for (size_t dx = 0; dx < 3; dx++) {
             const uint64_t *kk = k + ((y + dy - 1) * kb.nx + (x + dx - 1)) * wpc;
             const uint64_t *bb =
-                ex.w + ((ex.y0 + kb.y0 + y + dy - 1) * ex.nx + (ex.x0 + kb.x0 + x + dx - 1)) * wpc;
+                ex.words + ((ex.y0 + kb.y0 + y + dy - 1) * ex.nx + (ex.x0 + kb.x0 + x + dx - 1)) * wpc;
             uint64_t e = (bb[w] ^ flip) & (w + 1 == wpc ? ex.tail : ~0ull) & ~kk[w];
             uint64_t ep = w ? (bb[w - 1] ^ flip) & ~kk[w - 1] : 0;
             uint64_t en =
@@ -198,7 +193,7 @@ static void mark26_rows(void *ctx, int64_t begin, int64_t end)
         }
 }
 
-static bvox_status count_marked_26(const uint64_t *k, colbox kb, exterior_src ext, size_t wpc,
+static bvox_status count_marked_26(const uint64_t *k, colbox kb, bvox__bgsrc ext, size_t wpc,
                                    int64_t *out)
 {
     bvox__labelruns r26;
@@ -210,11 +205,9 @@ static bvox_status count_marked_26(const uint64_t *k, colbox kb, exterior_src ex
         bvox__labelruns_free(&r26);
         return bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     }
-    if (ext.w) {
-        flatten(&r26);
-        mark26_job mj = {&r26, ext, kb, touched};
-        bvox__parallel_for((int64_t)r26.gy, 4, mark26_rows, &mj);
-    }
+    flatten(&r26);
+    mark26_job mj = {&r26, ext, kb, touched};
+    bvox__parallel_for((int64_t)r26.gy, 4, mark26_rows, &mj);
     root_job rj = {r26.parent, touched, 0};
     bvox__parallel_for((int64_t)r26.nruns, 1 << 16, count_roots, &rj);
     *out = rj.roots;
@@ -287,7 +280,7 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, uint64_t *words,
 {
     size_t wpc = r->wpc;
     uint32_t outside = r->parent[r->nruns];
-    exterior_src ext = {vol->words, (size_t)vol->nx, lb.x0, lb.y0, true, vol->tail_mask};
+    bvox__bgsrc ext = volume_background(vol, lb);
     /* the columns holding cavity runs */
     size_t x0 = lb.nx, x1 = 0, y0 = lb.ny, y1 = 0;
     for (size_t col = 0; col < lb.nx * lb.ny; col++) {
@@ -423,7 +416,7 @@ static bvox_status cavities_by_flood(const bvox_volume *vol, colbox lb, int max_
     uint64_t *r = bvox__alloc(nr * sizeof *r, true, "reached background", &st);
     if (!r) return st;
     int32_t *rows = (int32_t *)(r + nw);
-    bvox__bgsrc bg = {vol->words, (size_t)vol->nx, lb.x0, lb.y0, ~0ull, vol->tail_mask};
+    bvox__bgsrc bg = volume_background(vol, lb);
     *settled = bvox__flood_border(&bg, lb.nx, lb.ny, wpc, (size_t)vol->nz, max_sweeps, r, rows);
     if (!*settled) goto done;
     cavity_job cj = {r, &bg, lb.nx, wpc};
@@ -441,14 +434,13 @@ static bvox_status cavities_by_flood(const bvox_volume *vol, colbox lb, int max_
     /* the exterior of the labelled voxels (K, or L) is the rest of the
      * background; neither has a voxel in the ring of border columns
      * (reached whole) */
-    exterior_src ext = {vol->words, (size_t)vol->nx, lb.x0, lb.y0, true, vol->tail_mask};
     if (!bvox__cavity_label_k) {
         for (size_t parity = 0; parity < 2 && lb.nx > 2 && lb.ny > 2; parity++) {
             strip_job sj = {k, vol, lb, parity};
             bvox__parallel_for((int64_t)(lb.ny - 2 - parity + 1) / 2, 4, strip_rows, &sj);
         }
     }
-    st = count_marked_26(k, kb, ext, wpc, cav26);
+    st = count_marked_26(k, kb, bg, wpc, cav26);
 done:
     bvox__free(r, nr * sizeof *r);
     return st;

@@ -68,7 +68,7 @@ static void fill_column(const uint64_t *m, uint64_t *s, size_t wpc)
 }
 
 typedef struct flood_job {
-    const bvox__bgsrc *m; /* the background, nx * ny columns */
+    const bvox__bgsrc *bg; /* the background, nx * ny columns */
     uint64_t *r;       /* reached, grows */
     size_t nx, ny, wpc;
     uint64_t top;      /* bit of z = nz - 1 in a column's last word */
@@ -87,7 +87,7 @@ static int sweep_column(const flood_job *j, size_t x, size_t y, uint64_t *t)
     uint64_t m[(BVOX_MAX_DIM + 63) / 64];
     uint64_t *r = j->r + col * wpc;
     const uint64_t *w = r - wpc, *e = r + wpc, *s = r - j->nx * wpc, *n = r + j->nx * wpc;
-    const bvox__bgsrc *bg = j->m;
+    const bvox__bgsrc *bg = j->bg;
     const uint64_t *src = bg->words + ((bg->y0 + y) * bg->nx + bg->x0 + x) * wpc;
     for (size_t k = 0; k < wpc; k++) m[k] = src[k] ^ bg->flip;
     m[wpc - 1] &= bg->tail;
@@ -136,11 +136,11 @@ static void sweep_slabs(void *ctx, int64_t begin, int64_t end)
 }
 
 /* Sweeps until one changes nothing (true) or max_sweeps were spent. */
-static bool run_sweeps(const bvox__bgsrc *m, size_t nx, size_t ny, size_t wpc, uint64_t top,
+static bool run_sweeps(const bvox__bgsrc *bg, size_t nx, size_t ny, size_t wpc, uint64_t top,
                        int max_sweeps, uint64_t *reached, int32_t *row_sweep)
 {
     for (size_t y = 0; y < ny; y++) row_sweep[y] = -1; /* every row visited first */
-    flood_job j = {m, reached, nx, ny, wpc, top, row_sweep, 1, 0, 0, 0};
+    flood_job j = {bg, reached, nx, ny, wpc, top, row_sweep, 1, 0, 0, 0};
     int64_t threads = bvox__parallelism(), max_slabs = (int64_t)(ny - 2) / 8;
     j.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
     for (int sweep = 0; sweep < max_sweeps; sweep++) {

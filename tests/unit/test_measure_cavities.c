@@ -316,10 +316,8 @@ static uint8_t *reached_ref(const voxref *r)
     return seen;
 }
 
-/* bvox__flood_border on the complement of r's words: settled, the reached
- * set is the reference's bit for bit at 1, 3 and 16 threads; cut short at
- * max_short sweeps it must not settle (when short_settles is 0) and must be
- * a subset. */
+/* bvox__flood_border into got (zeroed first), v holding the background;
+ * whether it settled within max_sweeps. */
 static bool flood(const bvox_volume *v, int max_sweeps, uint64_t *got, int32_t *rows)
 {
     memset(got, 0, v->nwords * sizeof *got);
@@ -328,6 +326,10 @@ static bool flood(const bvox_volume *v, int max_sweeps, uint64_t *got, int32_t *
     return bvox__flood_border(&bg, nx, ny, v->wpc, (size_t)v->nz, max_sweeps, got, rows);
 }
 
+/* bvox__flood_border on the complement of r's words: settled, the reached
+ * set is the reference's bit for bit at 1, 3 and 16 threads; cut short at
+ * max_short sweeps it must not settle (when short_settles is 0) and must be
+ * a subset. */
 static int check_flood(const voxref *r, int max_short, int short_settles)
 {
     bvox_volume *v = voxref_to_volume(r);
