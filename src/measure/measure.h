@@ -11,7 +11,8 @@
  *                      plus the topology that needs labelling;
  *   measure_components.c  bvox_measure_components;
  *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure;
- *   measure_flood.c    the background reached from the border, by sweeps.
+ *   measure_flood.c    the background reached from the border, by sweeps
+ *                      (measure_flood_avx512.c: a row of them, a vector a column).
  */
 #ifndef BVOX_MEASURE_H
 #define BVOX_MEASURE_H
@@ -110,10 +111,44 @@ static inline uint64_t bvox__bg_word(const bvox__bgsrc *bg, size_t x, size_t y, 
 /* Grows reached (zeroed, nx * ny columns of wpc words, the box's) to the
  * voxels of bg 6-connected to the border of the box (its ring of columns,
  * z = 0 and z = nz - 1) by at most max_sweeps sweeps; false when that was
- * not enough to settle (reached is then a subset). row_sweep: ny entries of
- * scratch. measure_flood.c. */
+ * not enough to settle (reached is then a subset). stamps: ny + nx * ny
+ * entries of scratch. measure_flood.c. */
 bool bvox__flood_border(const bvox__bgsrc *bg, size_t nx, size_t ny, size_t wpc, size_t nz,
-                        int max_sweeps, uint64_t *reached, int32_t *row_sweep);
+                        int max_sweeps, uint64_t *reached, int32_t *stamps);
+
+/* One row of a flood sweep (measure_flood.c): the columns x = 1 .. nx - 2,
+ * backward or forward, each visited when bvox__flood_due and then grown to
+ * fill_z(bg, R | R of its four neighbours | its two end voxels), its stamp
+ * set to sweep when it grew. Pointers are to the row's column x = 0. */
+typedef struct bvox__flood_row {
+    const uint64_t *bg; /* the row's background columns, wpc words each */
+    uint64_t *r;        /* reached; the rows beside it are r -+ nx * wpc */
+    int32_t *stamps;    /* per column: the last sweep that grew it, or -1 */
+    size_t nx, wpc;
+    uint64_t flip, tail; /* bg's words are XORed with flip, the last ANDed with tail */
+    uint64_t top;        /* bit of z = nz - 1 in a column's last word */
+    int32_t sweep;
+    int backward;
+} bvox__flood_row;
+
+/* 1 when the row grew anywhere. */
+typedef int (*bvox__flood_row_fn)(const bvox__flood_row *row);
+/* wpc <= 8, a column one vector; NULL when not built (measure_flood_avx512.c) */
+extern const bvox__flood_row_fn bvox__flood_row_avx512;
+
+/* Whether the column with stamp s is due in row->sweep: one of its four
+ * neighbours grew since the sweep before began. Else its inputs are as at
+ * its last visit, which left it settled. */
+static inline int bvox__flood_due(const bvox__flood_row *row, const int32_t *s)
+{
+    size_t nx = row->nx;
+    int32_t a = __atomic_load_n(&s[-1], __ATOMIC_RELAXED);
+    int32_t b = __atomic_load_n(&s[1], __ATOMIC_RELAXED);
+    int32_t c = __atomic_load_n(&s[-(ptrdiff_t)nx], __ATOMIC_RELAXED);
+    int32_t d = __atomic_load_n(&s[nx], __ATOMIC_RELAXED);
+    int32_t m = a > b ? a : b, n = c > d ? c : d;
+    return (m > n ? m : n) >= row->sweep - 1;
+}
 
 /* Test hook of measure_cavities.c: -1 (default) chooses the route; 0 always
  * labels the background; n > 0 always floods first, at most n sweeps. */

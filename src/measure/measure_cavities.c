@@ -409,10 +409,10 @@ static bvox_status cavities_by_flood(const bvox_volume *vol, colbox lb, int max_
 {
     size_t wpc = vol->wpc, nw = lb.nx * lb.ny * wpc;
     bvox_status st = BVOX_OK;
-    /* R (zeroed) and the flood's row scratch; a copy of the background and
-     * separate R, K and T buffers (64 MiB of fresh pages at 512^3) cost a
-     * tenth of the call in page faults */
-    size_t nr = nw + lb.ny / 2 + 1;
+    /* R (zeroed) and the flood's row and column stamps; a copy of the
+     * background and separate R, K and T buffers (64 MiB of fresh pages at
+     * 512^3) cost a tenth of the call in page faults */
+    size_t nr = nw + (lb.ny + lb.nx * lb.ny) / 2 + 1;
     uint64_t *r = bvox__alloc(nr * sizeof *r, true, "reached background", &st);
     if (!r) return st;
     int32_t *rows = (int32_t *)(r + nw);

@@ -327,9 +327,9 @@ static bool flood(const bvox_volume *v, int max_sweeps, uint64_t *got, int32_t *
 }
 
 /* bvox__flood_border on the complement of r's words: settled, the reached
- * set is the reference's bit for bit at 1, 3 and 16 threads; cut short at
- * max_short sweeps it must not settle (when short_settles is 0) and must be
- * a subset. */
+ * set is the reference's bit for bit at every SIMD level and 1, 3 and 16
+ * threads; cut short at max_short sweeps it must not settle (when
+ * short_settles is 0) and must be a subset. */
 static int check_flood(const voxref *r, int max_short, int short_settles)
 {
     bvox_volume *v = voxref_to_volume(r);
@@ -338,10 +338,13 @@ static int check_flood(const voxref *r, int max_short, int short_settles)
     uint8_t *want = reached_ref(r);
     size_t nw = v->nwords;
     uint64_t *got = calloc(nw, sizeof *got);
-    int32_t *rows = calloc((size_t)v->ny, sizeof *rows);
+    int32_t *rows = calloc((size_t)v->ny * (1 + (size_t)v->nx), sizeof *rows);
     int threads = bvox_threads();
-    for (size_t t = 0; t < 3; t++) {
-        bvox_set_threads(thread_counts[t]);
+    bvox_simd saved = bvox_simd_active();
+    for (size_t t = 0; t < 3 * (BVOX_SIMD_AVX512 + 1); t++) {
+        if (!bvox_simd_supported((bvox_simd)(t / 3))) continue;
+        CHECK_OK(bvox_simd_set((bvox_simd)(t / 3)));
+        bvox_set_threads(thread_counts[t % 3]);
         CHECK(flood(v, 1 << 20, got, rows));
         for (int z = 0; z < r->nz; z++)
             for (int y = 0; y < r->ny; y++)
@@ -361,6 +364,7 @@ static int check_flood(const voxref *r, int max_short, int short_settles)
                 }
     }
     bvox_set_threads(threads);
+    CHECK_OK(bvox_simd_set(saved));
     free(got);
     free(rows);
     free(want);
@@ -372,14 +376,46 @@ TEST(flood_vs_breadth_first)
 {
     /* random densities on both sides of the percolation threshold, runs
      * across word boundaries, thin volumes (every column on the ring) */
-    static const int sizes[][3] = {{1, 1, 70}, {2, 9, 64}, {9, 7, 65}, {23, 40, 130}, {40, 19, 200}};
+    static const int sizes[][3] = {{1, 1, 70},    {2, 9, 64},   {9, 7, 65},
+                                   {23, 40, 130}, {40, 19, 200}, {16, 13, 500}};
     for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++)
-        for (unsigned d = 2; d <= 8; d += 2) {
+        for (unsigned d = 1; d <= 9; d += 2) {
             voxref *r = voxref_create(sizes[i][0], sizes[i][1], sizes[i][2]);
             voxref_random(r, d, 10, harness_rand);
             CHECK(!check_flood(r, 1, 1));
             voxref_destroy(r);
         }
+    /* columns of 8 words (one AVX-512 vector) and of 9 (the portable row):
+     * a column of background [z0, z1) reached only at one z, through a
+     * tunnel from the border, fills up and down across whole words of
+     * background (the vector's carries between lanes, up to 7 lanes away),
+     * or to both ends of the column, in one visit (it has no other
+     * neighbour to pass a part on and take the rest back from): nz, z0,
+     * z1, the tunnel's z */
+    static const int spans[][4] = {{500, 10, 490, 20}, {500, 10, 490, 480}, {512, 64, 448, 250},
+                                   {512, 0, 512, 250}, {520, 5, 515, 300}};
+    for (size_t i = 0; i < sizeof spans / sizeof *spans; i++) {
+        const int *sp = spans[i];
+        voxref *c = voxref_create(6, 5, sp[0]);
+        voxref_fill_box(c, (bvox_box){0, 0, 0, 6, 5, sp[0]}, 1);
+        voxref_fill_box(c, (bvox_box){2, 2, sp[1], 3, 3, sp[2]}, 0);
+        voxref_fill_box(c, (bvox_box){0, 2, sp[3], 2, 3, sp[3] + 1}, 0); /* the tunnel */
+        CHECK(!check_flood(c, 1 << 20, 1));
+        vset(c, 1, 2, sp[3], 1); /* closed: the column is a cavity */
+        CHECK(!check_flood(c, 1 << 20, 1));
+        voxref_destroy(c);
+    }
+    /* a fill down from the seed at z = 50 must stop at the object voxel
+     * z = 26; below it, 16 background voxels (a cavity) are a full window
+     * for the Kogge-Stone mask after four steps, so a mask not narrowed at
+     * the fifth would let the last step (32 down, from z = 42) jump the gap */
+    voxref *c = voxref_create(5, 5, 64);
+    voxref_fill_box(c, (bvox_box){0, 0, 0, 5, 5, 64}, 1);
+    voxref_fill_box(c, (bvox_box){2, 2, 10, 3, 3, 26}, 0);
+    voxref_fill_box(c, (bvox_box){2, 2, 27, 3, 3, 60}, 0);
+    voxref_fill_box(c, (bvox_box){0, 2, 50, 2, 3, 51}, 0); /* the tunnel */
+    CHECK(!check_flood(c, 1 << 20, 1));
+    voxref_destroy(c);
     /* a corridor that winds back and forth in x, open at its far end: each
      * turn needs another sweep, so 3 sweeps cannot settle it */
     voxref *r = voxref_create(30, 41, 5);
