@@ -133,8 +133,30 @@ typedef struct bvox__flood_row {
 
 /* 1 when the row grew anywhere. */
 typedef int (*bvox__flood_row_fn)(const bvox__flood_row *row);
-/* wpc <= 8, a column one vector; NULL when not built (measure_flood_avx512.c) */
+/* wpc <= 8, a column one vector (measure_flood_avx512.c) or two
+ * (measure_flood_avx2.c); NULL when not built */
 extern const bvox__flood_row_fn bvox__flood_row_avx512;
+extern const bvox__flood_row_fn bvox__flood_row_avx2;
+
+/* The SIMD rows' carries between the eight words of a column (bit i of a
+ * mask: word i): word i passes a carry on to word i + 1 (up) or i - 1
+ * (down) when it generates one (g) or receives one and propagates it (p,
+ * its background all ones); the words that receive one. */
+static inline unsigned bvox__lane_carry_up(unsigned g, unsigned p)
+{
+    g |= p & (g << 1), p &= p << 1;
+    g |= p & (g << 2), p &= p << 2;
+    g |= p & (g << 4);
+    return (g << 1) & 0xff;
+}
+
+static inline unsigned bvox__lane_carry_down(unsigned g, unsigned p)
+{
+    g |= p & (g >> 1), p &= p >> 1;
+    g |= p & (g >> 2), p &= p >> 2;
+    g |= p & (g >> 4);
+    return g >> 1;
+}
 
 /* Whether the column with stamp s is due in row->sweep: one of its four
  * neighbours grew since the sweep before began. Else its inputs are as at

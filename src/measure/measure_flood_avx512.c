@@ -28,25 +28,6 @@
 /* a | (b & c) */
 #define OR_AND(a, b, c) _mm512_ternarylogic_epi64(a, b, c, 0xf8)
 
-/* Carries across lanes: lane i passes a carry on to lane i + 1 (up) or
- * i - 1 (down) when it generates one (g) or receives one and propagates it
- * (p); the lanes that receive one. */
-static inline unsigned carry_up(unsigned g, unsigned p)
-{
-    g |= p & (g << 1), p &= p << 1;
-    g |= p & (g << 2), p &= p << 2;
-    g |= p & (g << 4);
-    return (g << 1) & 0xff;
-}
-
-static inline unsigned carry_down(unsigned g, unsigned p)
-{
-    g |= p & (g >> 1), p &= p >> 1;
-    g |= p & (g >> 2), p &= p >> 2;
-    g |= p & (g >> 4);
-    return g >> 1;
-}
-
 /* Seeds x downwards through the bits of m, within each lane. */
 static inline __m512i fill_down(__m512i x, __m512i m)
 {
@@ -75,13 +56,13 @@ static inline __m512i fill_runs(__m512i s, __m512i m)
     unsigned full = _mm512_cmpeq_epi64_mask(m, _mm512_set1_epi64(-1));
     __mmask8 out;
     s = fill_up(s, m, &out);
-    unsigned in = carry_up(out, full);
+    unsigned in = bvox__lane_carry_up(out, full);
     if (in) {
         s = _mm512_mask_or_epi64(s, (__mmask8)in, s, _mm512_and_si512(m, one));
         s = fill_up(s, m, &out);
     }
     s = fill_down(s, m);
-    in = carry_down(_mm512_test_epi64_mask(s, one), full);
+    in = bvox__lane_carry_down(_mm512_test_epi64_mask(s, one), full);
     if (in) s = fill_down(_mm512_mask_or_epi64(s, (__mmask8)in, s, _mm512_and_si512(m, high)), m);
     return s;
 }
