@@ -6,11 +6,15 @@
  * a note when mricron-data is missing) and a coin toss per voxel. Besides the
  * wall-clock median (ms) each line has the median process CPU time per call
  * (cpu_ms, all threads): on a shared machine the wall clock also counts the
- * time other processes hold the cores, the CPU time much less so.
+ * time other processes hold the cores, the CPU time much less so. The
+ * measure's three parts are also timed alone (wall ms): scan_ms (the one
+ * pass: counts, moments, Euler number, faces), components_ms (the 26-count)
+ * and cavities_ms (measure_cavities.c, its route chosen as in bvox_measure).
  *
  *   bench_label [--quick] [--sizes 512] [--runs N] [--threads-list L]
  */
 #include "bench_util.h"
+#include "measure/measure.h"
 
 #include <stdio.h>
 
@@ -59,6 +63,20 @@ static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
     bvox_components_destroy(c);
     bvox_measures m;
     TIME_BOTH(runs, mw, mc, bad |= bvox_measure(a, &m) != BVOX_OK);
+    bvox__scan sc;
+    int64_t count = 0, cav6 = 0, cav26 = 0;
+    double sw, sc_cpu, kw, kc, cw, cc;
+    TIME_BOTH(runs, sw, sc_cpu, bad |= bvox__measure_scan(a, &sc) != BVOX_OK);
+    TIME_BOTH(runs, kw, kc, bad |= bvox__components_count(a, 26, 0, &count) != BVOX_OK);
+    if (!bad && sc.count > 0)
+        TIME_BOTH(runs, cw, cc, bad |= bvox__measure_cavities(a, &sc, &cav6, &cav26) != BVOX_OK);
+    else
+        cw = 0;
+    (void)sc_cpu, (void)kc, (void)cc;
+    if (!bad && (count != m.components || cav6 != m.cavities || cav26 != m.cavities_26)) {
+        fprintf(stderr, "bench_label: measure's parts alone disagree with bvox_measure\n");
+        return 1;
+    }
     if (bad) {
         fprintf(stderr, "bench_label: %s\n", bvox_errmsg());
         return 1;
@@ -66,10 +84,11 @@ static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
     printf("{\"bench\":\"label\",\"n\":%d,\"pattern\":\"%s\",\"threads\":%d,\"runs\":%d,"
            "\"label26_ms\":%.3f,\"label26_cpu_ms\":%.3f,\"measure_ms\":%.3f,"
            "\"measure_cpu_ms\":%.3f,\"ratio\":%.2f,\"ratio_cpu\":%.2f,\"components\":%lld,"
-           "\"cavities\":%lld,\"cavities_26\":%lld,\"euler\":%lld}\n",
+           "\"cavities\":%lld,\"cavities_26\":%lld,\"euler\":%lld,\"scan_ms\":%.3f,"
+           "\"components_ms\":%.3f,\"cavities_ms\":%.3f}\n",
            n, pattern, bvox_threads(), runs, lw, lc, mw, mc, mw / lw, mc / lc,
            (long long)ncomp, (long long)m.cavities, (long long)m.cavities_26,
-           (long long)m.euler);
+           (long long)m.euler, sw, kw, cw);
     return 0;
 }
 
