@@ -158,6 +158,19 @@ static inline unsigned bvox__lane_carry_down(unsigned g, unsigned p)
     return g >> 1;
 }
 
+/* The SIMD rows' per-word constants of a column (wpc <= 8, the words past
+ * wpc 0): tail, ANDed with the background (the last word's bits beyond nz
+ * cleared), and ends, the column's two end voxels (z = 0 and z = nz - 1),
+ * which lie on the border. */
+static inline void bvox__flood_row_masks(const bvox__flood_row *row, uint64_t tail[8],
+                                         uint64_t ends[8])
+{
+    for (size_t k = 0; k < 8; k++) tail[k] = k < row->wpc ? ~0ull : 0, ends[k] = 0;
+    tail[row->wpc - 1] = row->tail;
+    ends[0] = 1;
+    ends[row->wpc - 1] |= row->top;
+}
+
 /* Whether the column with stamp s is due in row->sweep: one of its four
  * neighbours grew since the sweep before began. Else its inputs are as at
  * its last visit, which left it settled. */

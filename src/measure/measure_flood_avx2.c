@@ -128,13 +128,8 @@ static inline __attribute__((always_inline)) int row(const bvox__flood_row *w, i
     size_t wpc = w->wpc, ystride = w->nx * wpc;
     col lanes = lanes_of((1u << wpc) - 1);
     const __m256i flip = _mm256_set1_epi64x((long long)w->flip);
-    /* the last word ANDed with tail; the column's two end voxels (z = 0 and
-     * z = nz - 1) lie on the border */
-    uint64_t tail[8] = {0}, ends[8] = {0};
-    for (size_t k = 0; k < wpc; k++) tail[k] = ~0ull;
-    tail[wpc - 1] = w->tail;
-    ends[0] = 1;
-    ends[wpc - 1] |= w->top;
+    uint64_t tail[8], ends[8];
+    bvox__flood_row_masks(w, tail, ends);
     const col vtail = {_mm256_loadu_si256((const __m256i *)tail),
                        _mm256_loadu_si256((const __m256i *)(tail + 4))};
     const col vends = {_mm256_loadu_si256((const __m256i *)ends),

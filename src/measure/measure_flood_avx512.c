@@ -72,13 +72,8 @@ static int sweep_row(const bvox__flood_row *w)
     size_t wpc = w->wpc, ystride = w->nx * wpc;
     __mmask8 lanes = (__mmask8)((1u << wpc) - 1);
     const __m512i flip = _mm512_set1_epi64((long long)w->flip);
-    /* the last lane ANDed with tail; the column's two end voxels (z = 0 and
-     * z = nz - 1) lie on the border */
-    uint64_t tail[8] = {0}, ends[8] = {0};
-    for (size_t k = 0; k < wpc; k++) tail[k] = ~0ull;
-    tail[wpc - 1] = w->tail;
-    ends[0] = 1;
-    ends[wpc - 1] |= w->top;
+    uint64_t tail[8], ends[8];
+    bvox__flood_row_masks(w, tail, ends);
     const __m512i vtail = _mm512_loadu_si512(tail), vends = _mm512_loadu_si512(ends);
     int changed = 0;
     for (size_t xi = 1; xi + 1 < w->nx; xi++) {
