@@ -12,7 +12,8 @@
  *   measure_components.c  bvox_measure_components;
  *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure;
  *   measure_flood.c    the background reached from the border, by sweeps
- *                      (measure_flood_avx512.c: a row of them, a vector a column).
+ *                      (measure_flood_avx512.c, _avx2.c: a row of them, a
+ *                      column one or two vectors).
  */
 #ifndef BVOX_MEASURE_H
 #define BVOX_MEASURE_H

@@ -26,7 +26,7 @@
  * only the columns due took the flood from 64 to 59 ms at 1 thread.
  *
  * A column of up to eight words is one AVX-512 vector: measure_flood_avx512.c
- * sweeps a row so, at the avx512 SIMD level (59 to 27 ms); or two AVX2
+ * sweeps a row so, at the avx512 SIMD level (59 to 24 ms); or two AVX2
  * vectors, measure_flood_avx2.c (59 to 34 ms on the same Xeon).
  *
  * Threads: the rows are split into one slab per thread, every sweep of every
