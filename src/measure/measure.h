@@ -90,6 +90,16 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
 bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
                                    int64_t *cav26);
 
+/* Bits of word k of a column that lie in [lo, hi). */
+static inline uint64_t bvox__range_bits(int32_t lo, int32_t hi, size_t k)
+{
+    int64_t base = (int64_t)k * 64, a = lo - base, b = hi - base;
+    if (b <= 0 || a >= 64 || hi <= lo) return 0;
+    uint64_t upto_b = b >= 64 ? ~0ull : (1ull << b) - 1;
+    uint64_t below_a = a <= 0 ? 0 : (1ull << a) - 1;
+    return upto_b & ~below_a;
+}
+
 /* Where a box's background is read from without a copy: box column (x, y)
  * is words + ((y0 + y) * nx + x0 + x) * wpc, each word XORed with flip (~0:
  * words holds the object, so a volume's complement is read in place; 0:
@@ -213,5 +223,20 @@ void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, siz
 struct bvox__labelruns;
 void bvox__enclosed_mark_exterior(const struct bvox__labelruns *r, const bvox_volume *vol,
                                   size_t x0, size_t y0, const int32_t *zr, uint8_t *touched);
+
+/* The 26-cavities from r, the flattened 6-labelling of words (the box's
+ * columns, at x0, y0 in vol) whose runs not in the component of
+ * parent[nruns] are the cavity voxels K, none in the box's ring: K's runs
+ * listed and joined alone (measure_cavities_sparse.c). first: per box
+ * column, the index of its first run of K (prefix sums, ncol + 1 entries).
+ * K's columns of words are overwritten with K. BVOX_ENOMEM. */
+bvox_status bvox__cavities_26_sparse(const struct bvox__labelruns *r, uint64_t *words,
+                                     const bvox_volume *vol, size_t x0, size_t y0,
+                                     const uint32_t *first, int64_t *out);
+
+/* Test hook of measure_cavities.c: -1 (default) chooses; 0, the
+ * 26-cavities of the labelling routes by relabelling K's box; 1, from K's
+ * runs (bvox__cavities_26_sparse). */
+extern int bvox__cavity_sparse_26;
 
 #endif /* BVOX_MEASURE_H */

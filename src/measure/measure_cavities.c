@@ -278,15 +278,19 @@ static void fill_rows(void *ctx, int64_t begin, int64_t end)
 static bvox_status count_cavities_26(const bvox__labelruns *r, uint64_t *words,
                                      const bvox_volume *vol, colbox lb, int64_t *out)
 {
-    size_t wpc = r->wpc;
+    size_t wpc = r->wpc, ncol = lb.nx * lb.ny;
     uint32_t outside = r->parent[r->nruns];
     bvox__bgsrc ext = volume_background(vol, lb);
-    /* the columns holding cavity runs */
+    uint32_t *first = bvox__mem_alloc((ncol + 1) * sizeof *first);
+    if (!first) return bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    /* the columns holding cavity runs, and their runs' first indices */
     size_t x0 = lb.nx, x1 = 0, y0 = lb.ny, y1 = 0;
-    for (size_t col = 0; col < lb.nx * lb.ny; col++) {
-        size_t n = 0;
+    first[0] = 0;
+    for (size_t col = 0; col < ncol; col++) {
+        uint32_t n = 0;
         for (uint32_t i = r->grp_start[col]; i < r->grp_start[col + 1]; i++)
             n += r->parent[i] != outside;
+        first[col + 1] = first[col] + n;
         if (!n) continue;
         size_t x = col % lb.nx, y = col / lb.nx;
         if (x < x0) x0 = x;
@@ -294,6 +298,15 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, uint64_t *words,
         if (y < y0) y0 = y;
         if (y + 1 > y1) y1 = y + 1;
     }
+    /* K's runs alone when they are few: each costs a merge and a look at
+     * nine columns, against a labelling of every word of K's box */
+    bool sparse = bvox__cavity_sparse_26 < 0 ? first[ncol] <= ncol : bvox__cavity_sparse_26;
+    if (sparse) {
+        bvox_status st = bvox__cavities_26_sparse(r, words, vol, lb.x0, lb.y0, first, out);
+        free(first);
+        return st;
+    }
+    free(first);
     /* never on the labelled box's border (joined to outside there) */
     colbox kb = {x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2};
     bool in_place = 4 * kb.nx * kb.ny > lb.nx * lb.ny;
@@ -309,6 +322,8 @@ static bvox_status count_cavities_26(const bvox__labelruns *r, uint64_t *words,
     if (!in_place) bvox__free(k, nw * sizeof *k);
     return st;
 }
+
+int bvox__cavity_sparse_26 = -1;
 
 /* -1: choose (see bvox__measure_cavities); 0: always label the background;
  * n > 0: always flood first, at most n sweeps (tests force each route). */

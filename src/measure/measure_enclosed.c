@@ -28,16 +28,6 @@ typedef struct enclosed_job {
     int32_t *zr; /* per box column: U's hull [lo, hi) along z */
 } enclosed_job;
 
-/* Bits of word k of a column that lie in [lo, hi). */
-static inline uint64_t range_bits(int32_t lo, int32_t hi, size_t k)
-{
-    int64_t base = (int64_t)k * 64, a = lo - base, b = hi - base;
-    if (b <= 0 || a >= 64 || hi <= lo) return 0;
-    uint64_t upto_b = b >= 64 ? ~0ull : (1ull << b) - 1;
-    uint64_t below_a = a <= 0 ? 0 : (1ull << a) - 1;
-    return upto_b & ~below_a;
-}
-
 static void enclosed_rows(void *ctx, int64_t begin, int64_t end)
 {
     const enclosed_job *j = ctx;
@@ -58,7 +48,7 @@ static void enclosed_rows(void *ctx, int64_t begin, int64_t end)
                 hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
             }
             j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
-            for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & range_bits(lo, hi, k);
+            for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & bvox__range_bits(lo, hi, k);
         }
 }
 
@@ -76,7 +66,7 @@ static inline uint64_t exterior_word(const bvox_volume *v, const uint64_t *o, co
     int64_t base = (int64_t)k * 64;
     if (zr[2 * col] <= base && zr[2 * col + 1] >= base + 64) return 0; /* inside the hull */
     uint64_t bg = ~o[k] & (k + 1 == v->wpc ? v->tail_mask : ~0ull);
-    return bg & ~range_bits(zr[2 * col], zr[2 * col + 1], k);
+    return bg & ~bvox__range_bits(zr[2 * col], zr[2 * col + 1], k);
 }
 
 typedef struct mark_job {

@@ -44,9 +44,13 @@ static const int thread_counts[] = {1, 3, 16};
  * 26-cavities): by default (labelling K minus the dilation of the reached
  * background), and after a settled flood also by labelling all of K; with
  * bvox__cavity_hull, the labelling of the background enclosed along z (-1,
- * the default) or of all of the box's background (0). */
-static const int routes[][3] = {{-1, 0, -1}, {0, 0, -1}, {0, 0, 0},
-                                {1, 0, -1},  {1, 0, 0},  {1 << 20, 0, -1}, {1 << 20, 1, -1}};
+ * the default) or of all of the box's background (0); with
+ * bvox__cavity_sparse_26, the labelling routes' 26-cavities as chosen (-1),
+ * by relabelling K's box (0) or from K's runs alone (1). */
+static const int routes[][4] = {{-1, 0, -1, -1}, {0, 0, -1, -1},     {0, 0, 0, -1},
+                                {1, 0, -1, -1},  {1, 0, 0, -1},      {1 << 20, 0, -1, -1},
+                                {1 << 20, 1, -1, -1}, {0, 0, -1, 0}, {0, 0, 0, 0},
+                                {0, 0, -1, 1},   {0, 0, 0, 1}};
 #define NROUTES (sizeof routes / sizeof *routes)
 
 /* bvox_measure at every SIMD level, thread count and route gives cav6 and
@@ -64,15 +68,18 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
             bvox__cavity_flood_sweeps = routes[t / 3][0];
             bvox__cavity_label_k = routes[t / 3][1];
             bvox__cavity_hull = routes[t / 3][2];
+            bvox__cavity_sparse_26 = routes[t / 3][3];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
             if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
                 m.tunnels != m.components + m.cavities - m.euler) {
                 fprintf(stderr,
-                        "  %dx%dx%d simd %s threads %d route %d/%d (flood*100+label_k, hull): components %lld cavities "
-                        "%lld/%lld, expected %lld %lld/%lld\n",
+                        "  %dx%dx%d simd %s threads %d route %d/%d/%d (flood*100+label_k, "
+                        "hull, sparse 26): components %lld cavities %lld/%lld, expected %lld "
+                        "%lld/%lld\n",
                         v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t % 3],
                         routes[t / 3][0] * 100 + routes[t / 3][1], routes[t / 3][2],
+                        routes[t / 3][3],
                         (long long)m.components, (long long)m.cavities,
                         (long long)m.cavities_26, (long long)comp, (long long)cav6,
                         (long long)cav26);
@@ -85,6 +92,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
     bvox__cavity_flood_sweeps = -1;
     bvox__cavity_label_k = 0;
     bvox__cavity_hull = -1;
+    bvox__cavity_sparse_26 = -1;
     return bad;
 }
 
