@@ -212,10 +212,17 @@ extern int bvox__cavity_hull;
 
 /* U: the background of vol's columns [x0, x0 + nx) x [y0, y0 + ny) strictly
  * between the first and the last object voxel of each column (none in the
- * box's ring of columns), nx * ny * wpc words; zr: per column that z range
- * [lo, hi), 2 int32 each. measure_enclosed.c. */
-void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, size_t nx,
-                               size_t ny, uint64_t *u, int32_t *zr);
+ * box's ring of columns), nx * ny columns of wpc words, made a column at a
+ * time by bvox__enclosed_column (a bvox__column_maker of
+ * components_label.h, ctx a bvox__enclosed) while the labeller counts its
+ * runs; zr: per column that z range [lo, hi), 2 int32 each.
+ * measure_enclosed.c. */
+typedef struct bvox__enclosed {
+    const bvox_volume *vol;
+    size_t x0, y0, nx, ny;
+    int32_t *zr;
+} bvox__enclosed;
+void bvox__enclosed_column(void *ctx, size_t x, size_t y, uint64_t *u);
 
 /* touched[root] = 1 for the component of every run of r, the 6-labelling
  * of U above (box at x0, y0, parents flattened), holding a 6-neighbour of

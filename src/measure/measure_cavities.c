@@ -537,8 +537,9 @@ static bvox_status cavities_in_hull(const bvox_volume *vol, colbox lb, int64_t *
     if (u) zr = bvox__alloc(2 * ncol * sizeof *zr, false, "column hulls", &st);
     bvox__labelruns r;
     if (zr) {
-        bvox__enclosed_background(vol, lb.x0, lb.y0, lb.nx, lb.ny, u, zr);
-        st = bvox__labelruns_find(u, NULL, lb.nx, lb.ny, vol->wpc, 6, 1, &r);
+        bvox__enclosed ej = {vol, lb.x0, lb.y0, lb.nx, lb.ny, zr};
+        st = bvox__labelruns_find_made(bvox__enclosed_column, &ej, u, lb.nx, lb.ny, vol->wpc,
+                                       6, 1, &r);
     }
     if (zr && !st) {
         r.parent[r.nruns] = (uint32_t)r.nruns;

@@ -21,42 +21,23 @@
 #include "measure/measure.h"
 #include "ops/components_label.h"
 
-typedef struct enclosed_job {
-    const bvox_volume *v;
-    size_t x0, y0, nx, ny;
-    uint64_t *u;
-    int32_t *zr; /* per box column: U's hull [lo, hi) along z */
-} enclosed_job;
-
-static void enclosed_rows(void *ctx, int64_t begin, int64_t end)
+void bvox__enclosed_column(void *ctx, size_t x, size_t y, uint64_t *u)
 {
-    const enclosed_job *j = ctx;
-    const bvox_volume *v = j->v;
-    size_t wpc = v->wpc, vnx = (size_t)v->nx;
-    for (size_t y = (size_t)begin; y < (size_t)end; y++)
-        for (size_t x = 0; x < j->nx; x++) {
-            size_t col = y * j->nx + x;
-            const uint64_t *o = v->words + ((j->y0 + y) * vnx + j->x0 + x) * wpc;
-            uint64_t *u = j->u + col * wpc;
-            int32_t lo = 0, hi = 0;
-            bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
-            size_t k0 = 0, k1 = wpc;
-            while (k0 < wpc && !o[k0]) k0++;
-            while (k1 > k0 && !o[k1 - 1]) k1--;
-            if (!ring && k0 < k1) {
-                lo = (int32_t)(k0 * 64) + __builtin_ctzll(o[k0]) + 1;
-                hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
-            }
-            j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
-            for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & bvox__range_bits(lo, hi, k);
-        }
-}
-
-void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, size_t nx,
-                               size_t ny, uint64_t *u, int32_t *zr)
-{
-    enclosed_job j = {vol, x0, y0, nx, ny, u, zr};
-    bvox__parallel_for((int64_t)ny, 8, enclosed_rows, &j);
+    const bvox__enclosed *j = ctx;
+    const bvox_volume *v = j->vol;
+    size_t wpc = v->wpc, col = y * j->nx + x;
+    const uint64_t *o = v->words + ((j->y0 + y) * (size_t)v->nx + j->x0 + x) * wpc;
+    int32_t lo = 0, hi = 0;
+    bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
+    size_t k0 = 0, k1 = wpc;
+    while (k0 < wpc && !o[k0]) k0++;
+    while (k1 > k0 && !o[k1 - 1]) k1--;
+    if (!ring && k0 < k1) {
+        lo = (int32_t)(k0 * 64) + __builtin_ctzll(o[k0]) + 1;
+        hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
+    }
+    j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
+    for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & bvox__range_bits(lo, hi, k);
 }
 
 /* E's words of box column col (the background outside its hull), word k. */
