@@ -27,6 +27,10 @@ void bvox__enclosed_column(void *ctx, size_t x, size_t y, uint64_t *u)
     const bvox_volume *v = j->vol;
     size_t wpc = v->wpc, col = y * j->nx + x;
     const uint64_t *o = v->words + ((j->y0 + y) * (size_t)v->nx + j->x0 + x) * wpc;
+    /* the columns are read in order, yet on the VMs measured the hardware
+     * prefetcher left each one a miss: 1 KiB ahead took the atlas's cavities
+     * from 17 to 14.5 ms at 1 thread */
+    __builtin_prefetch(o + 16 * wpc);
     int32_t lo = 0, hi = 0;
     bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
     size_t k0 = 0, k1 = wpc;
