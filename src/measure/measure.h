@@ -231,13 +231,32 @@ struct bvox__labelruns;
 void bvox__enclosed_mark_exterior(const struct bvox__labelruns *r, const bvox_volume *vol,
                                   size_t x0, size_t y0, const int32_t *zr, uint8_t *touched);
 
-/* The 26-cavities from r, the flattened 6-labelling of words (the box's
- * columns, at x0, y0 in vol) whose runs not in the component of
- * parent[nruns] are the cavity voxels K, none in the box's ring: K's runs
- * listed and joined alone (measure_cavities_sparse.c). first: per box
- * column, the index of its first run of K (prefix sums, ncol + 1 entries).
- * K's columns of words are overwritten with K. BVOX_ENOMEM. */
-bvox_status bvox__cavities_26_sparse(const struct bvox__labelruns *r, uint64_t *words,
+/* A run of a column along z, [z0, z1). */
+typedef struct bvox__zrun {
+    int32_t z0, z1;
+} bvox__zrun;
+
+/* Unites the runs a[0, na) (union-find indices ia..) with the runs b[0, nb)
+ * (ib..) of a neighbour column that they touch: faces when reach is 0,
+ * z-diagonals too when it is 1 ([z0, z1) and [z0', z1') with
+ * z0 < z1' + reach and z0' < z1 + reach). Both lists in z order, their runs
+ * disjoint, so one merge finds every pair. measure_cavities_sparse.c. */
+void bvox__zruns_join(uint32_t *parent, const bvox__zrun *a, uint32_t ia, uint32_t na,
+                      const bvox__zrun *b, uint32_t ib, uint32_t nb, int32_t reach);
+
+/* The 26-cavities of K, given as runs kr (column by column of the box of
+ * nx * ny columns at x0, y0 in vol, in z order; first: per column the index
+ * of its first run, ncol + 1 entries), none in the box's ring: the
+ * 26-components of K with no voxel 26-adjacent to the rest of the
+ * background. measure_cavities_sparse.c. BVOX_ENOMEM. */
+bvox_status bvox__cavities_26_runs(const bvox__zrun *kr, const uint32_t *first, size_t nx,
+                                   size_t ny, const bvox_volume *vol, size_t x0, size_t y0,
+                                   int64_t *out);
+
+/* The same from r, the flattened 6-labelling of words (the box's columns)
+ * whose runs not in the component of parent[nruns] are K; first counts
+ * those per column as above. */
+bvox_status bvox__cavities_26_sparse(const struct bvox__labelruns *r, const uint64_t *words,
                                      const bvox_volume *vol, size_t x0, size_t y0,
                                      const uint32_t *first, int64_t *out);
 

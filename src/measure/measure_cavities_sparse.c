@@ -1,39 +1,124 @@
 /*
  * measure_cavities_sparse.c — the 26-cavities when the cavity voxels K are
- * a few pockets (the AAL atlas: 41 cavities in 158 thousand runs of the
- * enclosed background), from K's runs alone.
+ * given as runs, or are a few pockets of a labelled box (the AAL atlas: 41
+ * cavities in 158 thousand runs of the enclosed background).
  *
  * The dense route of measure_cavities.c clears every other run out of the
  * labelled words and labels the whole box again 26-connected: on the atlas
  * that streamed 11 MiB three more times for a few hundred runs. Here K's
- * runs are listed (per column, in z order, from the 6-labelling's roots),
- * joined 26-connected by a merge of each column's runs with those of its
- * four earlier neighbours, and a run is touched when a voxel of the
- * exterior E (the background minus K) lies in its 26-neighbourhood: the
- * nine columns around it over [z0 - 1, z1 + 1), read as the complement of
- * the object minus K, word by word. A 26-component of K is a 26-cavity
- * unless one of its runs is touched; the same rule as the dense route,
- * where T = K & dilate26(E) marks the roots.
+ * runs (per column, in z order) are joined 26-connected by a merge of each
+ * column's runs with those of its four earlier neighbours, and a run is
+ * touched when a voxel of the exterior E (the background minus K) lies in
+ * its 26-neighbourhood: the nine columns around it over [z0 - 1, z1 + 1),
+ * read as the complement of the object minus K's runs there, word by word.
+ * A 26-component of K is a 26-cavity unless one of its runs is touched; the
+ * same rule as the dense route, where T = K & dilate26(E) marks the roots.
  */
 #include "measure/measure.h"
 #include "ops/components_label.h"
 
 #include <string.h>
 
-typedef struct krun {
-    int32_t z0, z1; /* [z0, z1) */
-} krun;
+void bvox__zruns_join(uint32_t *parent, const bvox__zrun *a, uint32_t ia, uint32_t na,
+                      const bvox__zrun *b, uint32_t ib, uint32_t nb, int32_t reach)
+{
+    uint32_t q = 0;
+    for (uint32_t i = 0; i < na; i++) {
+        /* b[q] ends before a[i]'s reach, so before the next run's too */
+        while (q < nb && b[q].z1 + reach <= a[i].z0) q++;
+        for (uint32_t j = q; j < nb && b[j].z0 < a[i].z1 + reach; j++)
+            bvox__uf_unite(parent, ia + i, ib + j);
+    }
+}
 
-/* K's runs of column col listed into kr (from index first[col]); the other
- * runs of the column cleared out of its words. */
-static void list_column(const bvox__labelruns *r, uint64_t *words, size_t col,
-                        uint32_t outside, krun *kr)
+/* Word w of the voxels of runs r[0, n) (z order) that lie in [lo, hi). */
+static uint64_t runs_word(const bvox__zrun *r, uint32_t n, int32_t lo, int32_t hi, size_t w)
+{
+    uint32_t a = 0, b = n; /* the first run ending after lo */
+    while (a < b) {
+        uint32_t m = a + (b - a) / 2;
+        if (r[m].z1 <= lo) a = m + 1;
+        else b = m;
+    }
+    uint64_t bits = 0;
+    for (uint32_t i = a; i < n && r[i].z0 < hi; i++) bits |= bvox__range_bits(r[i].z0, r[i].z1, w);
+    return bits;
+}
+
+/* Whether run k of column (x, y) has a voxel of E in its 26-neighbourhood. */
+static bool touches_exterior(const bvox__zrun *kr, const uint32_t *first, size_t nx,
+                             const bvox_volume *vol, size_t x0, size_t y0, size_t x, size_t y,
+                             bvox__zrun k)
+{
+    size_t wpc = vol->wpc, vnx = (size_t)vol->nx;
+    int32_t lo = k.z0 > 0 ? k.z0 - 1 : 0, hi = k.z1 < vol->nz ? k.z1 + 1 : vol->nz;
+    size_t w0 = (size_t)lo / 64, w1 = (size_t)(hi - 1) / 64;
+    for (size_t dy = 0; dy < 3; dy++)
+        for (size_t dx = 0; dx < 3; dx++) {
+            size_t cx = x + dx - 1, cy = y + dy - 1, c = cy * nx + cx;
+            const uint64_t *o = vol->words + ((y0 + cy) * vnx + x0 + cx) * wpc;
+            uint32_t n = first[c + 1] - first[c];
+            for (size_t w = w0; w <= w1; w++) {
+                int32_t wlo = lo > (int32_t)w * 64 ? lo : (int32_t)w * 64;
+                int32_t whi = hi < (int32_t)w * 64 + 64 ? hi : (int32_t)w * 64 + 64;
+                uint64_t e = ~o[w] & bvox__range_bits(lo, hi, w);
+                if (e && n) e &= ~runs_word(kr + first[c], n, wlo, whi, w);
+                if (e) return true;
+            }
+        }
+    return false;
+}
+
+bvox_status bvox__cavities_26_runs(const bvox__zrun *kr, const uint32_t *first, size_t nx,
+                                   size_t ny, const bvox_volume *vol, size_t x0, size_t y0,
+                                   int64_t *out)
+{
+    size_t ncol = nx * ny;
+    uint32_t nk = first[ncol];
+    *out = 0;
+    if (!nk) return BVOX_OK;
+    bvox_status st = BVOX_OK;
+    size_t bytes = (size_t)nk * (sizeof(uint32_t) + 1);
+    uint32_t *parent = bvox__alloc(bytes, false, "cavity runs", &st);
+    if (!parent) return st;
+    uint8_t *touched = (uint8_t *)(parent + nk);
+    memset(touched, 0, nk);
+    for (uint32_t i = 0; i < nk; i++) parent[i] = i;
+    /* K's columns are never in the box's ring (joined to outside there), so
+     * their eight neighbours are all in the box */
+    for (size_t col = 0; col < ncol; col++) {
+        uint32_t a = first[col], na = first[col + 1] - a;
+        if (!na) continue;
+        const size_t nb[4] = {col - 1, col - nx - 1, col - nx, col - nx + 1};
+        for (int i = 0; i < 4; i++) {
+            uint32_t b = first[nb[i]], n = first[nb[i] + 1] - b;
+            if (n) bvox__zruns_join(parent, kr + a, a, na, kr + b, b, n, 1);
+        }
+    }
+    for (size_t col = 0; col < ncol; col++)
+        for (uint32_t i = first[col]; i < first[col + 1]; i++) {
+            uint32_t root = bvox__uf_find(parent, i);
+            if (touched[root]) continue; /* its component is out already */
+            if (touches_exterior(kr, first, nx, vol, x0, y0, col % nx, col / nx, kr[i]))
+                touched[root] = 1;
+        }
+    int64_t n = 0;
+    for (uint32_t i = 0; i < nk; i++) n += parent[i] == i && !touched[i];
+    *out = n;
+    bvox__free(parent, bytes);
+    return BVOX_OK;
+}
+
+/* K's runs of column col listed into kr: those of r not in outside's
+ * component. */
+static void list_column(const bvox__labelruns *r, const uint64_t *words, size_t col,
+                        uint32_t outside, bvox__zrun *kr)
 {
     size_t wpc = r->wpc;
-    uint64_t *src = words + col * wpc;
+    const uint64_t *src = words + col * wpc;
     uint32_t run = r->grp_start[col];
     int32_t z0 = -1;
-    uint64_t lo = 0; /* the top bit of the word below, as it was */
+    uint64_t lo = 0; /* the top bit of the word below */
     for (size_t w = 0; w < wpc; w++) {
         uint64_t v = src[w];
         uint64_t hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
@@ -47,91 +132,28 @@ static void list_column(const bvox__labelruns *r, uint64_t *words, size_t col,
                 s &= s - 1;
                 continue;
             }
-            int32_t z1 = (int32_t)(w * 64 + pe) + 1;
-            if (r->parent[run] != outside) *kr++ = (krun){z0, z1};
-            else bvox__column_fill(src, z0, z1, 0); /* it ends in word w: read already */
+            if (r->parent[run] != outside)
+                *kr++ = (bvox__zrun){z0, (int32_t)(w * 64 + pe) + 1};
             run++;
             e &= e - 1;
         }
     }
 }
 
-/* Unites the runs a[0, na) (indices ia..) with the runs b[0, nb) (ib..)
- * they touch 26-connected across columns: [z0, z1) and [z0', z1') with
- * z0 <= z1' and z0' <= z1. Both lists are in z order and their runs
- * disjoint, so one merge finds every pair. */
-static void join_lists(uint32_t *parent, const krun *a, uint32_t ia, uint32_t na, const krun *b,
-                       uint32_t ib, uint32_t nb)
-{
-    uint32_t q = 0;
-    for (uint32_t i = 0; i < na; i++) {
-        while (q < nb && b[q].z1 < a[i].z0) q++; /* ends before a's reach: and before the next */
-        for (uint32_t j = q; j < nb && b[j].z0 <= a[i].z1; j++)
-            bvox__uf_unite(parent, ia + i, ib + j);
-    }
-}
-
-/* Whether run k of column (x, y) has a voxel of E in its 26-neighbourhood. */
-static bool touches_exterior(const bvox__labelruns *r, const uint64_t *words,
-                             const bvox_volume *vol, size_t x0, size_t y0, const uint32_t *first,
-                             size_t x, size_t y, krun k)
-{
-    size_t wpc = r->wpc, nx = r->nx, vnx = (size_t)vol->nx;
-    int32_t lo = k.z0 > 0 ? k.z0 - 1 : 0, hi = k.z1 < vol->nz ? k.z1 + 1 : vol->nz;
-    size_t w0 = (size_t)lo / 64, w1 = (size_t)(hi - 1) / 64;
-    for (size_t dy = 0; dy < 3; dy++)
-        for (size_t dx = 0; dx < 3; dx++) {
-            size_t cx = x + dx - 1, cy = y + dy - 1, c = cy * nx + cx;
-            const uint64_t *o = vol->words + ((y0 + cy) * vnx + x0 + cx) * wpc;
-            const uint64_t *kc = first[c] < first[c + 1] ? words + c * wpc : NULL;
-            for (size_t w = w0; w <= w1; w++) {
-                uint64_t e = ~o[w] & bvox__range_bits(lo, hi, w);
-                if (kc) e &= ~kc[w];
-                if (e) return true;
-            }
-        }
-    return false;
-}
-
-bvox_status bvox__cavities_26_sparse(const bvox__labelruns *r, uint64_t *words,
+bvox_status bvox__cavities_26_sparse(const bvox__labelruns *r, const uint64_t *words,
                                      const bvox_volume *vol, size_t x0, size_t y0,
                                      const uint32_t *first, int64_t *out)
 {
-    size_t nx = r->nx, ncol = nx * r->ny;
+    size_t ncol = r->nx * r->ny;
     uint32_t nk = first[ncol], outside = r->parent[r->nruns];
     *out = 0;
     if (!nk) return BVOX_OK;
     bvox_status st = BVOX_OK;
-    size_t bytes = (size_t)nk * (sizeof(krun) + sizeof(uint32_t) + 1);
-    krun *kr = bvox__alloc(bytes, false, "cavity runs", &st);
+    bvox__zrun *kr = bvox__alloc((size_t)nk * sizeof *kr, false, "cavity runs", &st);
     if (!kr) return st;
-    uint32_t *parent = (uint32_t *)(kr + nk);
-    uint8_t *touched = (uint8_t *)(parent + nk);
-    memset(touched, 0, nk);
     for (size_t col = 0; col < ncol; col++)
         if (first[col] < first[col + 1]) list_column(r, words, col, outside, kr + first[col]);
-    for (uint32_t i = 0; i < nk; i++) parent[i] = i;
-    /* K's columns are never in the box's ring (joined to outside there), so
-     * their eight neighbours are all in the box */
-    for (size_t col = 0; col < ncol; col++) {
-        uint32_t a = first[col], na = first[col + 1] - a;
-        if (!na) continue;
-        const size_t nb[4] = {col - 1, col - nx - 1, col - nx, col - nx + 1};
-        for (int i = 0; i < 4; i++) {
-            uint32_t b = first[nb[i]], n = first[nb[i] + 1] - b;
-            if (n) join_lists(parent, kr + a, a, na, kr + b, b, n);
-        }
-    }
-    for (size_t col = 0; col < ncol; col++)
-        for (uint32_t i = first[col]; i < first[col + 1]; i++) {
-            uint32_t root = bvox__uf_find(parent, i);
-            if (touched[root]) continue; /* its component is out already */
-            if (touches_exterior(r, words, vol, x0, y0, first, col % nx, col / nx, kr[i]))
-                touched[root] = 1;
-        }
-    int64_t n = 0;
-    for (uint32_t i = 0; i < nk; i++) n += parent[i] == i && !touched[i];
-    *out = n;
-    bvox__free(kr, bytes);
-    return BVOX_OK;
+    st = bvox__cavities_26_runs(kr, first, r->nx, r->ny, vol, x0, y0, out);
+    bvox__free(kr, (size_t)nk * sizeof *kr);
+    return st;
 }
