@@ -10,7 +10,10 @@
  *   measure.c          bvox_measure: the scan turned into physical measures,
  *                      plus the topology that needs labelling;
  *   measure_components.c  bvox_measure_components;
- *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure;
+ *   measure_cavities.c  the cavities (6- and 26-connected) of bvox_measure:
+ *                      measure_hull_runs.c, from the enclosed background's
+ *                      runs; measure_enclosed.c, from its words labelled;
+ *                      measure_cavities_sparse.c, the 26-cavities from runs;
  *   measure_flood.c    the background reached from the border, by sweeps
  *                      (measure_flood_avx512.c, _avx2.c: a row of them, a
  *                      column one or two vectors).
@@ -205,10 +208,18 @@ extern int bvox__cavity_flood_sweeps;
  * reached background covers; 1 by labelling all of them. */
 extern int bvox__cavity_label_k;
 
-/* Test hook of measure_cavities.c: -1 (default) or 1, the labelling route
- * labels only the background enclosed along z (measure_enclosed.c); 0, all
- * of the box's background. */
+/* Test hook of measure_cavities.c: -1 (default), the labelling route lists
+ * and joins the runs of the background enclosed along z
+ * (measure_hull_runs.c); 1, it labels that background's words
+ * (measure_enclosed.c); 0, all of the box's background. */
 extern int bvox__cavity_hull;
+
+/* Both cavity counts of vol from the runs of the background enclosed along z
+ * in the columns [x0, x0 + nx) x [y0, y0 + ny) (the object's x-y box grown
+ * by one, so its ring of columns is background). measure_hull_runs.c.
+ * BVOX_ENOMEM / BVOX_ETOOBIG. */
+bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, size_t x0, size_t y0,
+                                          size_t nx, size_t ny, int64_t *cav6, int64_t *cav26);
 
 /* U: the background of vol's columns [x0, x0 + nx) x [y0, y0 + ny) strictly
  * between the first and the last object voxel of each column (none in the

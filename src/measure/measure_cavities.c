@@ -518,8 +518,9 @@ static bvox_status join_exterior(bvox__labelruns *r, const bvox_volume *vol, col
     return BVOX_OK;
 }
 
-/* -1 (default) or 1: the labelling route labels only the background
- * enclosed along z (measure_enclosed.c); 0: all of the box's background. */
+/* -1 (default): the labelling route lists the runs of the background
+ * enclosed along z (measure_hull_runs.c); 1: labels its words
+ * (measure_enclosed.c); 0: labels all of the box's background. */
 int bvox__cavity_hull = -1;
 
 /* Both counts from the background U enclosed along z alone (see
@@ -607,6 +608,8 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
         st = cavities_by_flood(vol, lb, sweeps, &settled, cav6, cav26);
         if (st || settled) return st;
     }
-    if (bvox__cavity_hull != 0) return cavities_in_hull(vol, lb, cav6, cav26);
+    if (bvox__cavity_hull < 0)
+        return bvox__cavities_from_hull_runs(vol, lb.x0, lb.y0, lb.nx, lb.ny, cav6, cav26);
+    if (bvox__cavity_hull > 0) return cavities_in_hull(vol, lb, cav6, cav26);
     return cavities_by_labelling(vol, lb, cav6, cav26);
 }

@@ -43,14 +43,16 @@ static const int thread_counts[] = {1, 3, 16};
  * it), a flood that settles; with bvox__cavity_label_k (the flood's
  * 26-cavities): by default (labelling K minus the dilation of the reached
  * background), and after a settled flood also by labelling all of K; with
- * bvox__cavity_hull, the labelling of the background enclosed along z (-1,
- * the default) or of all of the box's background (0); with
+ * bvox__cavity_hull, the runs of the background enclosed along z listed and
+ * joined (-1, the default), its words labelled (1), or all of the box's
+ * background labelled (0); with
  * bvox__cavity_sparse_26, the labelling routes' 26-cavities as chosen (-1),
  * by relabelling K's box (0) or from K's runs alone (1). */
-static const int routes[][4] = {{-1, 0, -1, -1}, {0, 0, -1, -1},     {0, 0, 0, -1},
-                                {1, 0, -1, -1},  {1, 0, 0, -1},      {1 << 20, 0, -1, -1},
-                                {1 << 20, 1, -1, -1}, {0, 0, -1, 0}, {0, 0, 0, 0},
-                                {0, 0, -1, 1},   {0, 0, 0, 1}};
+static const int routes[][4] = {{-1, 0, -1, -1}, {0, 0, -1, -1},     {0, 0, 1, -1},
+                                {0, 0, 0, -1},   {1, 0, -1, -1},      {1, 0, 1, -1},
+                                {1, 0, 0, -1},   {1 << 20, 0, -1, -1}, {1 << 20, 1, -1, -1},
+                                {0, 0, 1, 0},    {0, 0, 0, 0},        {0, 0, 1, 1},
+                                {0, 0, 0, 1}};
 #define NROUTES (sizeof routes / sizeof *routes)
 
 /* bvox_measure at every SIMD level, thread count and route gives cav6 and

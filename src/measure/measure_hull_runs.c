@@ -1,0 +1,287 @@
+/*
+ * measure_hull_runs.c — the cavities of bvox_measure from the runs of U,
+ * the background enclosed along z (measure_enclosed.c), listed: no words of
+ * U are written and no labeller reads them.
+ *
+ * On the AAL atlas at 512^3 U is 11 MiB of mostly zero words holding 158
+ * thousand runs; writing it, the labeller's two passes over it and the
+ * search for its contacts with the exterior each streamed all of it. Here:
+ *   1. per column, U's hull [lo, hi) and the number of U's runs (one read
+ *      of the object's words);
+ *   2. per column, its runs (z0, z1) listed, and each marked touched when
+ *      one of its voxels is a 6-neighbour across x or y of the exterior E
+ *      (the background outside the neighbour columns' hulls; U's runs end
+ *      on object voxels along z), from the object's words and the hulls;
+ *   3. the runs joined 6-connected by a merge of each column's list with
+ *      those of the columns at x - 1 and y - 1, in slabs of rows (union by
+ *      smaller index keeps every write in the slab), then the seams;
+ *   4. a component is a 6-cavity unless one of its runs is touched; the
+ *      cavities' runs are K, whose 26-cavities bvox__cavities_26_runs counts.
+ * A run list costs 8 bytes a run against U's 8 bytes a word. The same rule
+ * as the labelled route of measure_cavities.c (bvox__cavity_hull = 1).
+ */
+#include "measure/measure.h"
+#include "ops/components_label.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct hull_job {
+    const bvox_volume *v;
+    size_t x0, y0, nx, ny;
+    int32_t *zr;     /* per column: U's hull [lo, hi) along z */
+    uint32_t *first; /* per column: its runs' count in first[col + 1], then prefix sums */
+    bvox__zrun *runs;
+    uint8_t *touched; /* per run: 1 when it touches E; 2 on a root: its component does */
+    uint32_t *parent;
+    int64_t nslabs;
+} hull_job;
+
+static inline const uint64_t *object_column(const hull_job *j, size_t x, size_t y)
+{
+    return j->v->words + ((j->y0 + y) * (size_t)j->v->nx + j->x0 + x) * j->v->wpc;
+}
+
+/* U's word w of a column with object words o and hull [lo, hi). */
+static inline uint64_t u_word(const uint64_t *o, int32_t lo, int32_t hi, size_t w)
+{
+    return ~o[w] & bvox__range_bits(lo, hi, w);
+}
+
+/* 1. Hulls and run counts. popcnt: the instruction (a clone built for it). */
+static inline __attribute__((always_inline)) void hull_body(const hull_job *j, int64_t begin,
+                                                            int64_t end, bool popcnt)
+{
+    size_t wpc = j->v->wpc;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+        for (size_t x = 0; x < j->nx; x++) {
+            size_t col = y * j->nx + x;
+            const uint64_t *o = object_column(j, x, y);
+            /* read in order, yet the hardware prefetcher of the VMs
+             * measured left each column a miss */
+            __builtin_prefetch(o + 16 * wpc);
+            int32_t lo = 0, hi = 0;
+            bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
+            size_t k0 = 0, k1 = wpc;
+            while (k0 < wpc && !o[k0]) k0++;
+            while (k1 > k0 && !o[k1 - 1]) k1--;
+            if (!ring && k0 < k1) {
+                lo = (int32_t)(k0 * 64) + __builtin_ctzll(o[k0]) + 1;
+                hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
+            }
+            j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
+            uint32_t n = 0;
+            uint64_t carry = 0;
+            for (size_t w = (size_t)lo / 64; hi > lo && w <= (size_t)(hi - 1) / 64; w++) {
+                uint64_t u = u_word(o, lo, hi, w), s = bvox__run_starts(u, carry);
+                n += popcnt ? (uint32_t)__builtin_popcountll(s) : bvox__popcount64(s);
+                carry = u >> 63;
+            }
+            j->first[col + 1] = n;
+        }
+}
+
+static void hull_rows_portable(void *ctx, int64_t begin, int64_t end)
+{
+    hull_body(ctx, begin, end, false);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("popcnt"))) static void hull_rows_popcnt(void *ctx, int64_t begin,
+                                                               int64_t end)
+{
+    hull_body(ctx, begin, end, true);
+}
+#endif
+
+static bvox__range_fn choose_hull_rows(void)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (bvox_simd_active() != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt"))
+        return hull_rows_popcnt;
+#endif
+    return hull_rows_portable;
+}
+
+/* Whether o has a background voxel in [a, b) (within nz). */
+static inline bool any_background(const uint64_t *o, int32_t a, int32_t b)
+{
+    for (size_t w = (size_t)a / 64; w <= (size_t)(b - 1) / 64; w++)
+        if (~o[w] & bvox__range_bits(a, b, w)) return true;
+    return false;
+}
+
+/* Whether U's run [z0, z1) of a column touches E across x or y: E of a
+ * neighbour column is its background outside its hull, so only the parts of
+ * the run outside that hull are looked at, and most runs have none (the
+ * words were read for every run, 90 ns a column on the atlas). */
+static bool touches_exterior(const hull_job *j, const uint64_t *const onb[4], const size_t nb[4],
+                             int32_t z0, int32_t z1)
+{
+    for (int k = 0; k < 4; k++) {
+        int32_t lo = j->zr[2 * nb[k]], hi = j->zr[2 * nb[k] + 1];
+        int32_t below = z1 < lo ? z1 : lo, above = z0 > hi ? z0 : hi;
+        if (z0 < below && any_background(onb[k], z0, below)) return true;
+        if (above < z1 && any_background(onb[k], above, z1)) return true;
+    }
+    return false;
+}
+
+/* 2. The runs of column (x, y), an inner one with runs, listed and marked. */
+static void list_column(const hull_job *j, size_t x, size_t y)
+{
+    size_t nx = j->nx, col = y * nx + x;
+    int32_t lo = j->zr[2 * col], hi = j->zr[2 * col + 1];
+    const uint64_t *o = object_column(j, x, y);
+    const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
+    const uint64_t *const onb[4] = {object_column(j, x - 1, y), object_column(j, x + 1, y),
+                                    object_column(j, x, y - 1), object_column(j, x, y + 1)};
+    uint32_t i = j->first[col];
+    size_t w0 = (size_t)lo / 64, w1 = (size_t)(hi - 1) / 64;
+    int32_t z0 = -1;
+    uint64_t below = 0; /* U's top bit of the word below */
+    uint64_t u = u_word(o, lo, hi, w0);
+    for (size_t w = w0; w <= w1; w++) {
+        uint64_t next = w < w1 ? u_word(o, lo, hi, w + 1) : 0;
+        uint64_t s = bvox__run_starts(u, below), ends = u & ~((u >> 1) | (next << 63));
+        while (s | ends) {
+            unsigned ps = s ? (unsigned)__builtin_ctzll(s) : 64;
+            unsigned pe = ends ? (unsigned)__builtin_ctzll(ends) : 64;
+            if (ps <= pe && s) {
+                z0 = (int32_t)(w * 64 + ps);
+                s &= s - 1;
+                continue;
+            }
+            int32_t z1 = (int32_t)(w * 64 + pe) + 1;
+            j->runs[i] = (bvox__zrun){z0, z1};
+            j->touched[i++] = touches_exterior(j, onb, nb, z0, z1);
+            ends &= ends - 1;
+        }
+        below = u >> 63;
+        u = next;
+    }
+}
+
+static void list_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const hull_job *j = ctx;
+    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
+        for (size_t x = 1; x + 1 < j->nx; x++) {
+            size_t col = y * j->nx + x;
+            if (j->first[col] < j->first[col + 1]) list_column(j, x, y);
+        }
+}
+
+/* 3. The runs of column col joined with those of col - 1 (when with_left)
+ * and col - nx (when with_prev). */
+static void join_column(const hull_job *j, size_t col, bool with_left, bool with_prev)
+{
+    const uint32_t *f = j->first;
+    uint32_t a = f[col], na = f[col + 1] - a;
+    if (!na) return;
+    const size_t nb[2] = {col - 1, col - j->nx};
+    const bool use[2] = {with_left, with_prev};
+    for (int k = 0; k < 2; k++) {
+        uint32_t b = f[nb[k]], n = f[nb[k] + 1] - b;
+        if (use[k] && n) bvox__zruns_join(j->parent, j->runs + a, a, na, j->runs + b, b, n, 0);
+    }
+}
+
+static size_t slab_row(const hull_job *j, int64_t s)
+{
+    return 1 + (size_t)s * (j->ny - 2) / (size_t)j->nslabs; /* the inner rows */
+}
+
+static void join_slabs(void *ctx, int64_t begin, int64_t end)
+{
+    const hull_job *j = ctx;
+    for (int64_t s = begin; s < end; s++) {
+        size_t y0 = slab_row(j, s), y1 = slab_row(j, s + 1);
+        for (uint32_t i = j->first[y0 * j->nx]; i < j->first[y1 * j->nx]; i++) j->parent[i] = i;
+        for (size_t y = y0; y < y1; y++)
+            for (size_t x = 1; x + 1 < j->nx; x++) join_column(j, y * j->nx + x, true, y > y0);
+    }
+}
+
+/* 4. Both counts from the joined runs. */
+static bvox_status count_cavities(const hull_job *j, uint32_t nruns, int64_t *cav6,
+                                  int64_t *cav26)
+{
+    uint32_t *parent = j->parent;
+    uint8_t *touched = j->touched;
+    /* roots are the smallest run of their component: one pass in order
+     * flattens, and marks the components that touch E on their roots */
+    for (uint32_t i = 0; i < nruns; i++) {
+        parent[i] = parent[parent[i]];
+        if (touched[i] & 1) touched[parent[i]] |= 2;
+    }
+    size_t ncol = j->nx * j->ny;
+    int64_t n6 = 0;
+    for (uint32_t i = 0; i < nruns; i++) n6 += parent[i] == i && !(touched[i] & 2);
+    *cav6 = n6;
+    if (!n6) return BVOX_OK;
+    /* K: the cavities' runs, column by column */
+    bvox_status st = BVOX_OK;
+    uint32_t *kfirst = bvox__mem_alloc((ncol + 1) * sizeof *kfirst);
+    if (!kfirst) return bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    uint32_t nk = 0;
+    kfirst[0] = 0;
+    for (size_t col = 0; col < ncol; col++) {
+        for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++)
+            if (!(touched[parent[i]] & 2)) j->runs[nk++] = j->runs[i]; /* nk <= i */
+        kfirst[col + 1] = nk;
+    }
+    st = bvox__cavities_26_runs(j->runs, kfirst, j->nx, j->ny, j->v, j->x0, j->y0, cav26);
+    free(kfirst);
+    return st;
+}
+
+bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, size_t x0, size_t y0,
+                                          size_t nx, size_t ny, int64_t *cav6, int64_t *cav26)
+{
+    *cav6 = *cav26 = 0;
+    if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
+    size_t ncol = nx * ny;
+    bvox_status st = BVOX_OK;
+    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, 1};
+    size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
+    j.zr = bvox__alloc(zr_bytes, false, "column hulls", &st);
+    if (j.zr) j.first = bvox__mem_alloc((ncol + 1) * sizeof *j.first);
+    if (j.zr && !j.first) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    if (st) goto done;
+    bvox__parallel_for((int64_t)ny, 8, choose_hull_rows(), &j);
+    uint64_t total = 0;
+    j.first[0] = 0;
+    for (size_t c = 0; c < ncol; c++) {
+        total += j.first[c + 1];
+        if (total >= UINT32_MAX) {
+            st = bvox__fail(BVOX_ETOOBIG, "more than %u background runs: too many to label",
+                            (unsigned)(UINT32_MAX - 1));
+            goto done;
+        }
+        j.first[c + 1] = (uint32_t)total;
+    }
+    if (!total) goto done;
+    /* runs, parents and touched flags in one block from the budget */
+    run_bytes = (size_t)total * (sizeof *j.runs + sizeof *j.parent + 1);
+    j.runs = bvox__alloc(run_bytes, false, "enclosed background runs", &st);
+    if (!j.runs) goto done;
+    j.parent = (uint32_t *)(j.runs + total);
+    j.touched = (uint8_t *)(j.parent + total);
+    bvox__parallel_for((int64_t)ny - 2, 8, list_rows, &j);
+    /* slabs of at least 16 rows: the seams redo one row each */
+    int threads = bvox__parallelism();
+    int64_t max_slabs = (int64_t)(ny - 2) / 16;
+    j.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
+    bvox__parallel_for(j.nslabs, 1, join_slabs, &j);
+    for (int64_t s = 1; s < j.nslabs; s++) {
+        size_t y = slab_row(&j, s);
+        for (size_t x = 1; x + 1 < nx; x++) join_column(&j, y * nx + x, false, true);
+    }
+    st = count_cavities(&j, (uint32_t)total, cav6, cav26);
+done:
+    if (j.runs) bvox__free(j.runs, run_bytes);
+    free(j.first);
+    if (j.zr) bvox__free(j.zr, zr_bytes);
+    return st;
+}
