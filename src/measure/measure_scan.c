@@ -197,9 +197,11 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
             const uint64_t *prev = y > 0 ? v->words + (size_t)(y - 1) * nx * wpc : NULL;
             const uint64_t *cur = y < v->ny ? v->words + (size_t)y * nx * wpc : NULL;
             j->cells(prev, cur, nx, wpc, extra, j->zero, s);
-            if (cur)
+            if (cur) {
                 for (size_t x = 0; x < nx; x++)
                     j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
+                bvox__moments_row(s, (int32_t)y);
+            }
         }
     }
 }

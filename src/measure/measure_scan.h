@@ -10,6 +10,7 @@
 #define BVOX_MEASURE_SCAN_H
 
 #include "measure/measure.h"
+#include <string.h>
 
 /* Adds the Euler number and the transitions of the vertex row between voxel
  * rows prev (y - 1) and cur (y) to s; either may be NULL (outside the
@@ -79,7 +80,7 @@ static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_
                                      int64_t szz, int32_t zlo, int32_t zhi)
 {
     if (!n) return;
-    if (!s->count) {
+    if (!s->count && !s->row[0]) {
         s->bbox[0] = s->bbox[3] = x;
         s->bbox[1] = s->bbox[4] = y;
         s->bbox[2] = zlo;
@@ -90,11 +91,21 @@ static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_
     if (y + 1 > s->bbox[4]) s->bbox[4] = y + 1; /* rows come in increasing y */
     if (zlo < s->bbox[2]) s->bbox[2] = zlo;
     if (zhi > s->bbox[5]) s->bbox[5] = zhi;
-    s->count += n;
-    bvox__wide X = x, Y = y;
-    s->s[0] += X * n, s->s[1] += Y * n, s->s[2] += sz;
-    s->ss[0] += X * X * n, s->ss[1] += Y * Y * n, s->ss[2] += szz;
-    s->ss[3] += X * Y * n, s->ss[4] += X * sz, s->ss[5] += Y * sz;
+    uint64_t X = (uint64_t)x, N = (uint64_t)n, SZ = (uint64_t)sz;
+    s->row[0] += N, s->row[1] += X * N, s->row[2] += X * X * N;
+    s->row[3] += SZ, s->row[4] += (uint64_t)szz, s->row[5] += X * SZ;
+}
+
+/* Row y's sums (s->row) moved into s's totals. */
+static inline void bvox__moments_row(bvox__scan *s, int32_t y)
+{
+    const uint64_t *r = s->row;
+    bvox__wide Y = y;
+    s->count += (int64_t)r[0];
+    s->s[0] += r[1], s->s[1] += Y * r[0], s->s[2] += r[3];
+    s->ss[0] += r[2], s->ss[1] += Y * Y * r[0], s->ss[2] += r[4];
+    s->ss[3] += Y * r[1], s->ss[4] += r[5], s->ss[5] += Y * r[3];
+    memset(s->row, 0, sizeof s->row);
 }
 
 #endif
