@@ -95,15 +95,17 @@ static void principal(bvox_measures *m)
 }
 
 /* 26-components of vol, and the cavities (measure_cavities.c, which takes
- * the object's voxel box and its faces along z from the scan sc). */
-static bvox_status topology(const bvox_volume *vol, const bvox__scan *sc, bvox_measures *m)
+ * the object's voxel box and its faces along z from the scan sc, and the
+ * columns' hulls from the scan too). */
+static bvox_status topology(const bvox_volume *vol, const bvox__scan *sc,
+                            const bvox__colhull *hulls, bvox_measures *m)
 {
     int64_t count = sc->count;
     bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
     if (!st) st = bvox__progress(0.6);
     if (st) return st;
     if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
-    return bvox__measure_cavities(vol, sc, &m->cavities, &m->cavities_26);
+    return bvox__measure_cavities(vol, sc, hulls, &m->cavities, &m->cavities_26);
 }
 
 void bvox__measure_from_scan(const bvox__scan *sc, const bvox_geometry *geom,
@@ -163,15 +165,19 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
 {
     BVOX_CHECK_VOLUME(vol);
     bvox__scan s;
-    bvox_status st = bvox__measure_scan(vol, &s);
+    bvox_status st = BVOX_OK;
+    size_t hull_bytes = (size_t)vol->nx * (size_t)vol->ny * sizeof(bvox__colhull);
+    bvox__colhull *hulls = bvox__alloc(hull_bytes, true, "column hulls", &st);
+    if (!hulls) return st;
+    st = bvox__measure_scan_hulls(vol, hulls, &s);
     if (!st) st = bvox__progress(0.4); /* then the labellings of topology() */
-    if (st) return st;
     bvox_measures m;
-    bvox__measure_from_scan(&s, &vol->geom, weight, bbox_shift, &m);
-    if (s.count) {
-        st = topology(vol, &s, &m);
-        if (st) return st;
+    if (!st) {
+        bvox__measure_from_scan(&s, &vol->geom, weight, bbox_shift, &m);
+        if (s.count) st = topology(vol, &s, hulls, &m);
     }
+    bvox__free(hulls, hull_bytes);
+    if (st) return st;
     m.tunnels = m.components + m.cavities - m.euler;
     *out = m;
     return BVOX_OK;

@@ -62,11 +62,28 @@ typedef struct bvox__scan {
      * 128-bit multiply-add per sum and column cost a sixth of the scan. All
      * are below 2^64, the dimensions being below 2^16. */
     uint64_t row[6];
+    /* When not NULL, the current row's column hulls (bvox__measure_scan_hulls). */
+    struct bvox__colhull *hull_row;
 } bvox__scan;
+
+/* Per column of a volume: the z range [lo, hi) strictly between its first
+ * and last object voxel, which holds its enclosed background, and that
+ * background's runs (the object's runs less one); all 0 in a column without
+ * object. */
+typedef struct bvox__colhull {
+    int32_t lo, hi;
+    uint32_t runs;
+} bvox__colhull;
 
 /* One pass, split over the worker threads; the result does not depend on
  * the thread count. BVOX_ENOMEM if the scratch cannot be allocated. */
 bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out);
+
+/* The same, with every column's hull written into hulls (nx * ny entries,
+ * zeroed by the caller): the cavities' first pass, done while the scan has
+ * each column in cache. */
+bvox_status bvox__measure_scan_hulls(const bvox_volume *vol, bvox__colhull *hulls,
+                                     bvox__scan *out);
 
 /* Crofton weights: the area estimate is sum over classes of
  * weight[c] * trans[c]. weight[c] = (solid angle of the spherical Voronoi
@@ -94,9 +111,11 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
 /* Cavities of vol: 6-connected background components not reaching the
  * border (cav6), and the 26-connected ones (cav26); sc is vol's scan (the
  * object's voxel box, its count and z faces choose the route), the object
- * not empty. BVOX_ENOMEM / BVOX_ETOOBIG, or a progress cancel. */
-bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
-                                   int64_t *cav26);
+ * not empty; hulls, its columns' hulls from bvox__measure_scan_hulls, or
+ * NULL (the route that needs them finds them). BVOX_ENOMEM / BVOX_ETOOBIG,
+ * or a progress cancel. */
+bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
+                                   const bvox__colhull *hulls, int64_t *cav6, int64_t *cav26);
 
 /* Bits of word k of a column that lie in [lo, hi). */
 static inline uint64_t bvox__range_bits(int32_t lo, int32_t hi, size_t k)
@@ -223,8 +242,9 @@ extern int bvox__cavity_hull;
  * in the columns [x0, x0 + nx) x [y0, y0 + ny) (the object's x-y box grown
  * by one, so its ring of columns is background). measure_hull_runs.c.
  * BVOX_ENOMEM / BVOX_ETOOBIG. */
-bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, size_t x0, size_t y0,
-                                          size_t nx, size_t ny, int64_t *cav6, int64_t *cav26);
+bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__colhull *hulls,
+                                          size_t x0, size_t y0, size_t nx, size_t ny,
+                                          int64_t *cav6, int64_t *cav26);
 
 /* U: the background of vol's columns [x0, x0 + nx) x [y0, y0 + ny) strictly
  * between the first and the last object voxel of each column (none in the

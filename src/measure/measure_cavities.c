@@ -590,8 +590,8 @@ static bvox_status cavities_by_labelling(const bvox_volume *vol, colbox lb, int6
     return st;
 }
 
-bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc, int64_t *cav6,
-                                   int64_t *cav26)
+bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
+                                   const bvox__colhull *hulls, int64_t *cav6, int64_t *cav26)
 {
     const int32_t *bbox = sc->bbox;
     *cav6 = *cav26 = 0;
@@ -609,7 +609,8 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
         if (st || settled) return st;
     }
     if (bvox__cavity_hull < 0)
-        return bvox__cavities_from_hull_runs(vol, lb.x0, lb.y0, lb.nx, lb.ny, cav6, cav26);
+        return bvox__cavities_from_hull_runs(vol, hulls, lb.x0, lb.y0, lb.nx, lb.ny, cav6,
+                                             cav26);
     if (bvox__cavity_hull > 0) return cavities_in_hull(vol, lb, cav6, cav26);
     return cavities_by_labelling(vol, lb, cav6, cav26);
 }

@@ -236,8 +236,31 @@ static bvox_status count_cavities(const hull_job *j, uint32_t nruns, int64_t *ca
     return st;
 }
 
-bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, size_t x0, size_t y0,
-                                          size_t nx, size_t ny, int64_t *cav6, int64_t *cav26)
+/* 1. from the scan's hulls: the box's columns, the ring's left empty. */
+typedef struct copy_job {
+    hull_job *j;
+    const bvox__colhull *hulls;
+} copy_job;
+
+static void copy_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const copy_job *c = ctx;
+    hull_job *j = c->j;
+    size_t vnx = (size_t)j->v->nx;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+        for (size_t x = 0; x < j->nx; x++) {
+            size_t col = y * j->nx + x;
+            bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
+            bvox__colhull h = c->hulls[(j->y0 + y) * vnx + j->x0 + x];
+            if (ring) h = (bvox__colhull){0, 0, 0};
+            j->zr[2 * col] = h.lo, j->zr[2 * col + 1] = h.hi;
+            j->first[col + 1] = h.runs;
+        }
+}
+
+bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__colhull *hulls,
+                                          size_t x0, size_t y0, size_t nx, size_t ny,
+                                          int64_t *cav6, int64_t *cav26)
 {
     *cav6 = *cav26 = 0;
     if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
@@ -249,7 +272,9 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, size_t x0, siz
     if (j.zr) j.first = bvox__mem_alloc((ncol + 1) * sizeof *j.first);
     if (j.zr && !j.first) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
-    bvox__parallel_for((int64_t)ny, 8, choose_hull_rows(), &j);
+    copy_job cj = {&j, hulls};
+    if (hulls) bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
+    else bvox__parallel_for((int64_t)ny, 8, choose_hull_rows(), &j);
     uint64_t total = 0;
     j.first[0] = 0;
     for (size_t c = 0; c < ncol; c++) {

@@ -57,6 +57,7 @@ typedef struct scan_job {
     bvox__scan *parts;    /* one per block, reduced in block order */
     bvox__cells_row_fn cells;
     bvox__moments_fn moments;
+    bvox__colhull *hulls; /* or NULL */
 } scan_job;
 
 /* The windows of one vertex row, a word of 4 columns at a time (the
@@ -167,7 +168,9 @@ moments_body(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *
         szz += base * base * c + 2 * base * t1 + t2;
     }
 #undef pc
+    if (zlo < 0) return;
     bvox__moments_add(s, x, y, n, sz, szz, zlo, zhi);
+    if (s->hull_row) bvox__hull_add(s, x, col, zlo, zhi, hw);
 }
 
 static void moments_generic(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
@@ -198,6 +201,7 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
             const uint64_t *cur = y < v->ny ? v->words + (size_t)y * nx * wpc : NULL;
             j->cells(prev, cur, nx, wpc, extra, j->zero, s);
             if (cur) {
+                s->hull_row = j->hulls ? j->hulls + (size_t)y * nx : NULL;
                 for (size_t x = 0; x < nx; x++)
                     j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
                 bvox__moments_row(s, (int32_t)y);
@@ -207,6 +211,12 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
 }
 
 bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out)
+{
+    return bvox__measure_scan_hulls(vol, NULL, out);
+}
+
+bvox_status bvox__measure_scan_hulls(const bvox_volume *vol, bvox__colhull *hulls,
+                                     bvox__scan *out)
 {
     memset(out, 0, sizeof *out);
     int64_t rows = (int64_t)vol->ny + 1;
@@ -225,7 +235,7 @@ bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out)
     else if (cells == bvox__cells_row_avx2) moments = bvox__moments_avx2;
     else if (cells != cells_generic) moments = moments_popcnt;
 #endif
-    scan_job job = {vol, zero, nblocks, parts, cells, moments};
+    scan_job job = {vol, zero, nblocks, parts, cells, moments, hulls};
     /* Threads only pay off from about 64K words each. */
     int64_t per_block = (int64_t)((vol->nwords + (size_t)vol->nx * vol->wpc) / (size_t)nblocks) + 1;
     int64_t min_blocks = ((int64_t)1 << 16) / per_block + 1;

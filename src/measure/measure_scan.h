@@ -96,6 +96,23 @@ static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_
     s->row[3] += SZ, s->row[4] += (uint64_t)szz, s->row[5] += X * SZ;
 }
 
+/* The hull of column x of the current row (s->hull_row), a column with an
+ * object voxel, words col, first and last object voxel zlo and zhi - 1.
+ * popcnt: the instruction may be used. */
+static inline __attribute__((always_inline)) void
+bvox__hull_add(bvox__scan *s, int32_t x, const uint64_t *col, int32_t zlo, int32_t zhi,
+               bool popcnt)
+{
+    uint32_t runs = 0;
+    uint64_t carry = 0; /* the words below zlo's are 0 */
+    for (size_t w = (size_t)zlo / 64; w <= (size_t)(zhi - 1) / 64; w++) {
+        uint64_t starts = col[w] & ~((col[w] << 1) | carry);
+        runs += popcnt ? (uint32_t)__builtin_popcountll(starts) : bvox__popcount64(starts);
+        carry = col[w] >> 63;
+    }
+    s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, runs - 1};
+}
+
 /* Row y's sums (s->row) moved into s's totals. */
 static inline void bvox__moments_row(bvox__scan *s, int32_t y)
 {

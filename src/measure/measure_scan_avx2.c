@@ -189,6 +189,7 @@ static void moments(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox_
     _mm256_storeu_si256((__m256i *)szz, vszz);
     bvox__moments_add(s, x, y, n[0] + n[1] + n[2] + n[3], sz[0] + sz[1] + sz[2] + sz[3],
                       szz[0] + szz[1] + szz[2] + szz[3], zlo, zhi);
+    if (s->hull_row) bvox__hull_add(s, x, col, zlo, zhi, true);
 }
 
 const bvox__cells_row_fn bvox__cells_row_avx2 = cells_row;

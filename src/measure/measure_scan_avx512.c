@@ -134,6 +134,7 @@ static void moments(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox_
     if (zlo < 0) return;
     bvox__moments_add(s, x, y, _mm512_reduce_add_epi64(vn), _mm512_reduce_add_epi64(vsz),
                       _mm512_reduce_add_epi64(vszz), zlo, zhi);
+    if (s->hull_row) bvox__hull_add(s, x, col, zlo, zhi, true);
 }
 
 const bvox__cells_row_fn bvox__cells_row_avx512 = cells_row;

@@ -73,6 +73,17 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
             bvox__cavity_sparse_26 = routes[t / 3][3];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
+            /* and without the scan's column hulls (the route finds them) */
+            bvox__scan sc;
+            CHECK_OK(bvox__measure_scan(v, &sc));
+            int64_t n6 = 0, n26 = 0;
+            if (sc.count && sc.count < (int64_t)v->nx * v->ny * v->nz)
+                CHECK_OK(bvox__measure_cavities(v, &sc, NULL, &n6, &n26));
+            if (n6 != cav6 || n26 != cav26) {
+                fprintf(stderr, "  without hulls: cavities %lld/%lld\n", (long long)n6,
+                        (long long)n26);
+                bad = 1;
+            }
             if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
                 m.tunnels != m.components + m.cavities - m.euler) {
                 fprintf(stderr,
