@@ -127,6 +127,72 @@ static inline uint64_t bvox__range_bits(int32_t lo, int32_t hi, size_t k)
     return upto_b & ~below_a;
 }
 
+/* The runs of a column's words w[k0, k1) in z order (the words below k0
+ * and from k1 on taken as 0): bvox__runs_begin, then bvox__runs_next until
+ * it returns false. Each word's run starts and ends are found once; the
+ * words are read in order, each once, so the caller may clear a run it was
+ * given (in words it has passed) before asking for the next. */
+typedef struct bvox__runs_iter {
+    const uint64_t *w;
+    size_t k, k1;
+    uint64_t s, e, top; /* the word's starts and ends not yet passed; its bit 63 */
+    int32_t z0;         /* the start of a run that goes on into later words */
+} bvox__runs_iter;
+
+static inline void bvox__runs_load(bvox__runs_iter *it, uint64_t below)
+{
+    uint64_t v = it->w[it->k], next = it->k + 1 < it->k1 ? it->w[it->k + 1] & 1 : 0;
+    it->s = v & ~((v << 1) | below);
+    it->e = v & ~((v >> 1) | (next << 63));
+    it->top = v >> 63;
+}
+
+static inline bool bvox__runs_begin(bvox__runs_iter *it, const uint64_t *w, size_t k0, size_t k1)
+{
+    it->w = w, it->k = k0, it->k1 = k1, it->z0 = -1;
+    if (k0 >= k1) return false;
+    bvox__runs_load(it, 0);
+    return true;
+}
+
+static inline bool bvox__runs_next(bvox__runs_iter *it, int32_t *z0, int32_t *z1)
+{
+    for (;;) {
+        int32_t base = (int32_t)(it->k * 64);
+        if (it->e) {
+            /* a start at or below this end begins its run; else the run
+             * began in an earlier word */
+            if (it->s && __builtin_ctzll(it->s) <= __builtin_ctzll(it->e)) {
+                it->z0 = base + __builtin_ctzll(it->s);
+                it->s &= it->s - 1;
+            }
+            *z0 = it->z0;
+            *z1 = base + __builtin_ctzll(it->e) + 1;
+            it->e &= it->e - 1;
+            return true;
+        }
+        if (it->s) it->z0 = base + __builtin_ctzll(it->s); /* goes on upwards */
+        if (++it->k >= it->k1) return false;
+        bvox__runs_load(it, it->top);
+    }
+}
+
+/* The z range [lo, hi) strictly between the first and the last object voxel
+ * of a column o of wpc words (lo = hi = 0 when it has none, or when ring:
+ * the columns around a box are all outside it). */
+static inline void bvox__column_hull(const uint64_t *o, size_t wpc, bool ring, int32_t *lo,
+                                     int32_t *hi)
+{
+    size_t k0 = 0, k1 = wpc;
+    while (k0 < wpc && !o[k0]) k0++;
+    while (k1 > k0 && !o[k1 - 1]) k1--;
+    *lo = *hi = 0;
+    if (!ring && k0 < k1) {
+        *lo = (int32_t)(k0 * 64) + __builtin_ctzll(o[k0]) + 1;
+        *hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
+    }
+}
+
 /* Where a box's background is read from without a copy: box column (x, y)
  * is words + ((y0 + y) * nx + x0 + x) * wpc, each word XORed with flip (~0:
  * words holds the object, so a volume's complement is read in place; 0:

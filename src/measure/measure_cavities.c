@@ -242,29 +242,14 @@ static void fill_rows(void *ctx, int64_t begin, int64_t end)
             if (!in_place) memset(dst, 0, wpc * sizeof *dst);
             uint32_t run = r->grp_start[col];
             if (run == r->grp_start[col + 1]) continue;
-            const uint64_t *src = j->words + col * wpc;
-            int32_t z0 = -1;
-            uint64_t lo = 0; /* the top bit of the word below, as it was */
-            for (size_t w = 0; w < wpc; w++) {
-                uint64_t v = src[w];
-                uint64_t hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
-                uint64_t s = bvox__run_starts(v, lo), e = v & ~((v >> 1) | (hi << 63));
-                lo = v >> 63;
-                while (s | e) {
-                    unsigned ps = s ? (unsigned)__builtin_ctzll(s) : 64;
-                    unsigned pe = e ? (unsigned)__builtin_ctzll(e) : 64;
-                    if (ps <= pe && s) {
-                        z0 = (int32_t)(w * 64 + ps);
-                        s &= s - 1;
-                        continue;
-                    }
-                    int32_t z1 = (int32_t)(w * 64 + pe) + 1;
-                    bool cavity = r->parent[run] != j->outside;
-                    if (in_place && !cavity) bvox__column_fill(dst, z0, z1, 0);
-                    if (!in_place && cavity) bvox__column_fill(dst, z0, z1, 1);
-                    run++;
-                    e &= e - 1;
-                }
+            bvox__runs_iter it;
+            int32_t z0, z1;
+            /* in place, the runs cleared lie in words the iterator has passed */
+            for (bool more = bvox__runs_begin(&it, j->words + col * wpc, 0, wpc);
+                 more && bvox__runs_next(&it, &z0, &z1); run++) {
+                bool cavity = r->parent[run] != j->outside;
+                if (in_place && !cavity) bvox__column_fill(dst, z0, z1, 0);
+                if (!in_place && cavity) bvox__column_fill(dst, z0, z1, 1);
             }
         }
 }

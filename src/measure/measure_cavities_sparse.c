@@ -114,30 +114,12 @@ bvox_status bvox__cavities_26_runs(const bvox__zrun *kr, const uint32_t *first, 
 static void list_column(const bvox__labelruns *r, const uint64_t *words, size_t col,
                         uint32_t outside, bvox__zrun *kr)
 {
-    size_t wpc = r->wpc;
-    const uint64_t *src = words + col * wpc;
     uint32_t run = r->grp_start[col];
-    int32_t z0 = -1;
-    uint64_t lo = 0; /* the top bit of the word below */
-    for (size_t w = 0; w < wpc; w++) {
-        uint64_t v = src[w];
-        uint64_t hi = w + 1 < wpc ? src[w + 1] & 1 : 0;
-        uint64_t s = bvox__run_starts(v, lo), e = v & ~((v >> 1) | (hi << 63));
-        lo = v >> 63;
-        while (s | e) {
-            unsigned ps = s ? (unsigned)__builtin_ctzll(s) : 64;
-            unsigned pe = e ? (unsigned)__builtin_ctzll(e) : 64;
-            if (ps <= pe && s) {
-                z0 = (int32_t)(w * 64 + ps);
-                s &= s - 1;
-                continue;
-            }
-            if (r->parent[run] != outside)
-                *kr++ = (bvox__zrun){z0, (int32_t)(w * 64 + pe) + 1};
-            run++;
-            e &= e - 1;
-        }
-    }
+    bvox__runs_iter it;
+    int32_t z0, z1;
+    for (bool more = bvox__runs_begin(&it, words + col * r->wpc, 0, r->wpc);
+         more && bvox__runs_next(&it, &z0, &z1); run++)
+        if (r->parent[run] != outside) *kr++ = (bvox__zrun){z0, z1};
 }
 
 bvox_status bvox__cavities_26_sparse(const bvox__labelruns *r, const uint64_t *words,

@@ -31,15 +31,8 @@ void bvox__enclosed_column(void *ctx, size_t x, size_t y, uint64_t *u)
      * prefetcher left each one a miss: 1 KiB ahead took the atlas's cavities
      * from 17 to 14.5 ms at 1 thread */
     __builtin_prefetch(o + 16 * wpc);
-    int32_t lo = 0, hi = 0;
-    bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
-    size_t k0 = 0, k1 = wpc;
-    while (k0 < wpc && !o[k0]) k0++;
-    while (k1 > k0 && !o[k1 - 1]) k1--;
-    if (!ring && k0 < k1) {
-        lo = (int32_t)(k0 * 64) + __builtin_ctzll(o[k0]) + 1;
-        hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
-    }
+    int32_t lo, hi;
+    bvox__column_hull(o, wpc, x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny, &lo, &hi);
     j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
     for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & bvox__range_bits(lo, hi, k);
 }

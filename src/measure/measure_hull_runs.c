@@ -60,15 +60,9 @@ static inline __attribute__((always_inline)) void hull_body(const hull_job *j, i
             /* read in order, yet the hardware prefetcher of the VMs
              * measured left each column a miss */
             __builtin_prefetch(o + 16 * wpc);
-            int32_t lo = 0, hi = 0;
+            int32_t lo, hi;
             bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
-            size_t k0 = 0, k1 = wpc;
-            while (k0 < wpc && !o[k0]) k0++;
-            while (k1 > k0 && !o[k1 - 1]) k1--;
-            if (!ring && k0 < k1) {
-                lo = (int32_t)(k0 * 64) + __builtin_ctzll(o[k0]) + 1;
-                hi = (int32_t)((k1 - 1) * 64 + 63) - __builtin_clzll(o[k1 - 1]);
-            }
+            bvox__column_hull(o, wpc, ring, &lo, &hi);
             j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
             uint32_t n = 0;
             uint64_t carry = 0;
@@ -136,29 +130,15 @@ static void list_column(const hull_job *j, size_t x, size_t y)
     const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
     const uint64_t *const onb[4] = {object_column(j, x - 1, y), object_column(j, x + 1, y),
                                     object_column(j, x, y - 1), object_column(j, x, y + 1)};
+    uint64_t u[(BVOX_MAX_DIM + 63) / 64];
+    size_t w0 = (size_t)lo / 64, w1 = (size_t)(hi - 1) / 64 + 1;
+    for (size_t w = w0; w < w1; w++) u[w] = u_word(o, lo, hi, w);
     uint32_t i = j->first[col];
-    size_t w0 = (size_t)lo / 64, w1 = (size_t)(hi - 1) / 64;
-    int32_t z0 = -1;
-    uint64_t below = 0; /* U's top bit of the word below */
-    uint64_t u = u_word(o, lo, hi, w0);
-    for (size_t w = w0; w <= w1; w++) {
-        uint64_t next = w < w1 ? u_word(o, lo, hi, w + 1) : 0;
-        uint64_t s = bvox__run_starts(u, below), ends = u & ~((u >> 1) | (next << 63));
-        while (s | ends) {
-            unsigned ps = s ? (unsigned)__builtin_ctzll(s) : 64;
-            unsigned pe = ends ? (unsigned)__builtin_ctzll(ends) : 64;
-            if (ps <= pe && s) {
-                z0 = (int32_t)(w * 64 + ps);
-                s &= s - 1;
-                continue;
-            }
-            int32_t z1 = (int32_t)(w * 64 + pe) + 1;
-            j->runs[i] = (bvox__zrun){z0, z1};
-            j->touched[i++] = touches_exterior(j, onb, nb, z0, z1);
-            ends &= ends - 1;
-        }
-        below = u >> 63;
-        u = next;
+    bvox__runs_iter it;
+    int32_t z0, z1;
+    for (bool more = bvox__runs_begin(&it, u, w0, w1); more && bvox__runs_next(&it, &z0, &z1);) {
+        j->runs[i] = (bvox__zrun){z0, z1};
+        j->touched[i++] = touches_exterior(j, onb, nb, z0, z1);
     }
 }
 
