@@ -85,23 +85,29 @@ bvox_status bvox__cavities_26_runs(const bvox__zrun *kr, const uint32_t *first, 
     memset(touched, 0, nk);
     for (uint32_t i = 0; i < nk; i++) parent[i] = i;
     /* K's columns are never in the box's ring (joined to outside there), so
-     * their eight neighbours are all in the box */
-    for (size_t col = 0; col < ncol; col++) {
-        uint32_t a = first[col], na = first[col + 1] - a;
-        if (!na) continue;
-        const size_t nb[4] = {col - 1, col - nx - 1, col - nx, col - nx + 1};
-        for (int i = 0; i < 4; i++) {
-            uint32_t b = first[nb[i]], n = first[nb[i] + 1] - b;
-            if (n) bvox__zruns_join(parent, kr + a, a, na, kr + b, b, n, 1);
+     * their eight neighbours are all in the box; rows without K (most, when
+     * K is a few pockets) are passed over whole */
+    for (size_t y = 1; y + 1 < ny; y++) {
+        if (first[y * nx] == first[(y + 1) * nx]) continue;
+        for (size_t col = y * nx; col < (y + 1) * nx; col++) {
+            uint32_t a = first[col], na = first[col + 1] - a;
+            if (!na) continue;
+            const size_t nb[4] = {col - 1, col - nx - 1, col - nx, col - nx + 1};
+            for (int i = 0; i < 4; i++) {
+                uint32_t b = first[nb[i]], n = first[nb[i] + 1] - b;
+                if (n) bvox__zruns_join(parent, kr + a, a, na, kr + b, b, n, 1);
+            }
         }
     }
-    for (size_t col = 0; col < ncol; col++)
-        for (uint32_t i = first[col]; i < first[col + 1]; i++) {
-            uint32_t root = bvox__uf_find(parent, i);
-            if (touched[root]) continue; /* its component is out already */
-            if (touches_exterior(kr, first, nx, vol, x0, y0, col % nx, col / nx, kr[i]))
-                touched[root] = 1;
-        }
+    for (size_t y = 1; y + 1 < ny; y++) {
+        if (first[y * nx] == first[(y + 1) * nx]) continue;
+        for (size_t x = 1; x + 1 < nx; x++)
+            for (uint32_t i = first[y * nx + x]; i < first[y * nx + x + 1]; i++) {
+                uint32_t root = bvox__uf_find(parent, i);
+                if (touched[root]) continue; /* its component is out already */
+                if (touches_exterior(kr, first, nx, vol, x0, y0, x, y, kr[i])) touched[root] = 1;
+            }
+    }
     int64_t n = 0;
     for (uint32_t i = 0; i < nk; i++) n += parent[i] == i && !touched[i];
     *out = n;

@@ -6,8 +6,9 @@
  * On the AAL atlas at 512^3 U is 11 MiB of mostly zero words holding 158
  * thousand runs; writing it, the labeller's two passes over it and the
  * search for its contacts with the exterior each streamed all of it. Here:
- *   1. per column, U's hull [lo, hi) and the number of U's runs (one read
- *      of the object's words);
+ *   1. per column, U's hull [lo, hi) and the number of U's runs, from the
+ *      scan's records (bvox__measure_scan_hulls) or one read of the
+ *      object's words, and the counts' prefix sums a row at a time;
  *   2. per column, its runs (z0, z1) listed, and each marked touched when
  *      one of its voxels is a 6-neighbour across x or y of the exterior E
  *      (the background outside the neighbour columns' hulls; U's runs end
@@ -15,8 +16,10 @@
  *   3. the runs joined 6-connected by a merge of each column's list with
  *      those of the columns at x - 1 and y - 1, in slabs of rows (union by
  *      smaller index keeps every write in the slab), then the seams;
- *   4. a component is a 6-cavity unless one of its runs is touched; the
- *      cavities' runs are K, whose 26-cavities bvox__cavities_26_runs counts.
+ *   4. every run's parent made its root and the roots of touched runs
+ *      marked, in parallel; a component is a 6-cavity unless its root is
+ *      marked; the cavities' runs are K (listed a row at a time), whose
+ *      26-cavities bvox__cavities_26_runs counts.
  * A run list costs 8 bytes a run against U's 8 bytes a word. The same rule
  * as the labelled route of measure_cavities.c (bvox__cavity_hull = 1).
  */
@@ -30,9 +33,11 @@ typedef struct hull_job {
     const bvox_volume *v;
     size_t x0, y0, nx, ny;
     int32_t *zr;     /* per column: U's hull [lo, hi) along z */
-    uint32_t *first; /* per column: its runs' count in first[col + 1], then prefix sums */
+    uint32_t *first;  /* per column: its runs' count, then the index of its first run */
+    uint64_t *rowsum; /* per row: its runs' count, then the index of its first run */
     bvox__zrun *runs;
-    uint8_t *touched; /* per run: 1 when it touches E; 2 on a root: its component does */
+    uint8_t *touched; /* per run: it touches E */
+    uint8_t *marked;  /* per root: its component holds a touched run */
     uint32_t *parent;
     int64_t nslabs;
 } hull_job;
@@ -53,7 +58,8 @@ static inline __attribute__((always_inline)) void hull_body(const hull_job *j, i
                                                             int64_t end, bool popcnt)
 {
     size_t wpc = j->v->wpc;
-    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+    for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        uint64_t row = 0;
         for (size_t x = 0; x < j->nx; x++) {
             size_t col = y * j->nx + x;
             const uint64_t *o = object_column(j, x, y);
@@ -71,8 +77,11 @@ static inline __attribute__((always_inline)) void hull_body(const hull_job *j, i
                 n += popcnt ? (uint32_t)__builtin_popcountll(s) : bvox__popcount64(s);
                 carry = u >> 63;
             }
-            j->first[col + 1] = n;
+            j->first[col] = n;
+            row += n;
         }
+        j->rowsum[y] = row;
+    }
 }
 
 static void hull_rows_portable(void *ctx, int64_t begin, int64_t end)
@@ -183,36 +192,96 @@ static void join_slabs(void *ctx, int64_t begin, int64_t end)
     }
 }
 
-/* 4. Both counts from the joined runs. */
+/* 4. Every run's parent made its root, and the roots of the components
+ * holding a touched run marked. Roots are the smallest run of their
+ * component and parents never larger, so a walk up always ends; other
+ * threads' stores only shorten it (relaxed atomics: any value seen is an
+ * ancestor). */
+static void root_ranges(void *ctx, int64_t begin, int64_t end)
+{
+    const hull_job *j = ctx;
+    uint32_t *parent = j->parent;
+    for (uint32_t i = (uint32_t)begin; i < (uint32_t)end; i++) {
+        uint32_t r = i, p;
+        while ((p = __atomic_load_n(&parent[r], __ATOMIC_RELAXED)) != r) r = p;
+        __atomic_store_n(&parent[i], r, __ATOMIC_RELAXED);
+        if (j->touched[i]) __atomic_store_n(&j->marked[r], 1, __ATOMIC_RELAXED);
+    }
+}
+
+/* Per row: the 6-cavities' roots and K's runs (those of unmarked roots),
+ * counted into kcount[y] and roots; then (kr set) listed at kcount[y] on,
+ * with kfirst[col + 1] the end of column col's. */
+typedef struct k_job {
+    const hull_job *j;
+    uint64_t *kcount;
+    int64_t roots;
+    bvox__zrun *kr;
+    uint32_t *kfirst;
+    uint64_t nk; /* K's runs in all */
+} k_job;
+
+static void k_rows(void *ctx, int64_t begin, int64_t end)
+{
+    k_job *k = ctx;
+    const hull_job *j = k->j;
+    int64_t roots = 0;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        uint64_t n = k->kr ? k->kcount[y] : 0;
+        if (k->kr && n == (y + 1 < j->ny ? k->kcount[y + 1] : k->nk)) {
+            /* none in this row (most rows: K is a few pockets) */
+            for (size_t col = y * j->nx; col < (y + 1) * j->nx; col++)
+                k->kfirst[col + 1] = (uint32_t)n;
+            continue;
+        }
+        for (size_t col = y * j->nx; col < (y + 1) * j->nx; col++) {
+            for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
+                uint32_t r = j->parent[i];
+                if (j->marked[r]) continue;
+                if (k->kr) k->kr[n] = j->runs[i];
+                n++, roots += r == i;
+            }
+            if (k->kr) k->kfirst[col + 1] = (uint32_t)n;
+        }
+        if (!k->kr) k->kcount[y] = n;
+    }
+    if (!k->kr) __atomic_fetch_add(&k->roots, roots, __ATOMIC_RELAXED);
+}
+
+/* Both counts from the joined runs. */
 static bvox_status count_cavities(const hull_job *j, uint32_t nruns, int64_t *cav6,
                                   int64_t *cav26)
 {
-    uint32_t *parent = j->parent;
-    uint8_t *touched = j->touched;
-    /* roots are the smallest run of their component: one pass in order
-     * flattens, and marks the components that touch E on their roots */
-    for (uint32_t i = 0; i < nruns; i++) {
-        parent[i] = parent[parent[i]];
-        if (touched[i] & 1) touched[parent[i]] |= 2;
-    }
-    size_t ncol = j->nx * j->ny;
-    int64_t n6 = 0;
-    for (uint32_t i = 0; i < nruns; i++) n6 += parent[i] == i && !(touched[i] & 2);
-    *cav6 = n6;
-    if (!n6) return BVOX_OK;
-    /* K: the cavities' runs, column by column */
+    bvox__parallel_for((int64_t)nruns, 1 << 14, root_ranges, (void *)j);
+    size_t ncol = j->nx * j->ny, ny = j->ny;
     bvox_status st = BVOX_OK;
+    uint64_t *kcount = bvox__mem_alloc(ny * sizeof *kcount);
     uint32_t *kfirst = bvox__mem_alloc((ncol + 1) * sizeof *kfirst);
-    if (!kfirst) return bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
-    uint32_t nk = 0;
-    kfirst[0] = 0;
-    for (size_t col = 0; col < ncol; col++) {
-        for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++)
-            if (!(touched[parent[i]] & 2)) j->runs[nk++] = j->runs[i]; /* nk <= i */
-        kfirst[col + 1] = nk;
+    bvox__zrun *kr = NULL;
+    uint64_t nk = 0;
+    if (!kcount || !kfirst) {
+        st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+        goto done;
     }
-    st = bvox__cavities_26_runs(j->runs, kfirst, j->nx, j->ny, j->v, j->x0, j->y0, cav26);
+    k_job k = {j, kcount, 0, NULL, kfirst, 0};
+    bvox__parallel_for((int64_t)ny, 16, k_rows, &k);
+    *cav6 = k.roots;
+    if (!k.roots) goto done;
+    for (size_t y = 0; y < ny; y++) {
+        uint64_t n = kcount[y];
+        kcount[y] = nk;
+        nk += n;
+    }
+    kr = bvox__alloc((size_t)nk * sizeof *kr, false, "cavity runs", &st);
+    if (!kr) goto done;
+    k.kr = kr, k.nk = nk;
+    kfirst[0] = 0;
+    bvox__parallel_for((int64_t)ny, 16, k_rows, &k);
+    st = bvox__cavities_26_runs(kr, kfirst, j->nx, j->ny, j->v, j->x0, j->y0, cav26);
+done:
+    if (kr) bvox__free(kr, (size_t)nk * sizeof *kr);
     free(kfirst);
+    free(kcount);
     return st;
 }
 
@@ -227,15 +296,34 @@ static void copy_rows(void *ctx, int64_t begin, int64_t end)
     const copy_job *c = ctx;
     hull_job *j = c->j;
     size_t vnx = (size_t)j->v->nx;
-    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+    for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        uint64_t row = 0;
         for (size_t x = 0; x < j->nx; x++) {
             size_t col = y * j->nx + x;
             bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
             bvox__colhull h = c->hulls[(j->y0 + y) * vnx + j->x0 + x];
             if (ring) h = (bvox__colhull){0, 0, 0};
             j->zr[2 * col] = h.lo, j->zr[2 * col + 1] = h.hi;
-            j->first[col + 1] = h.runs;
+            j->first[col] = h.runs;
+            row += h.runs;
         }
+        j->rowsum[y] = row;
+    }
+}
+
+/* The columns' counts turned into their first runs' indices, a row at a
+ * time from the row's own (rowsum, summed). */
+static void offset_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const hull_job *j = ctx;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        uint32_t at = (uint32_t)j->rowsum[y];
+        for (size_t col = y * j->nx; col < (y + 1) * j->nx; col++) {
+            uint32_t n = j->first[col];
+            j->first[col] = at;
+            at += n;
+        }
+    }
 }
 
 bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__colhull *hulls,
@@ -246,33 +334,38 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
     size_t ncol = nx * ny;
     bvox_status st = BVOX_OK;
-    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, 1};
+    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
     size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
     j.zr = bvox__alloc(zr_bytes, false, "column hulls", &st);
     if (j.zr) j.first = bvox__mem_alloc((ncol + 1) * sizeof *j.first);
-    if (j.zr && !j.first) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    if (j.first) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
+    if (j.zr && !j.rowsum) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
     if (hulls) bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
     else bvox__parallel_for((int64_t)ny, 8, choose_hull_rows(), &j);
     uint64_t total = 0;
-    j.first[0] = 0;
-    for (size_t c = 0; c < ncol; c++) {
-        total += j.first[c + 1];
-        if (total >= UINT32_MAX) {
-            st = bvox__fail(BVOX_ETOOBIG, "more than %u background runs: too many to label",
-                            (unsigned)(UINT32_MAX - 1));
-            goto done;
-        }
-        j.first[c + 1] = (uint32_t)total;
+    for (size_t y = 0; y < ny; y++) {
+        uint64_t n = j.rowsum[y];
+        j.rowsum[y] = total;
+        total += n;
+    }
+    if (total >= UINT32_MAX) {
+        st = bvox__fail(BVOX_ETOOBIG, "more than %u background runs: too many to label",
+                        (unsigned)(UINT32_MAX - 1));
+        goto done;
     }
     if (!total) goto done;
-    /* runs, parents and touched flags in one block from the budget */
-    run_bytes = (size_t)total * (sizeof *j.runs + sizeof *j.parent + 1);
+    bvox__parallel_for((int64_t)ny, 64, offset_rows, &j);
+    j.first[ncol] = (uint32_t)total;
+    /* runs, parents, touched and marked flags in one block from the budget */
+    run_bytes = (size_t)total * (sizeof *j.runs + sizeof *j.parent + 2);
     j.runs = bvox__alloc(run_bytes, false, "enclosed background runs", &st);
     if (!j.runs) goto done;
     j.parent = (uint32_t *)(j.runs + total);
     j.touched = (uint8_t *)(j.parent + total);
+    j.marked = j.touched + total;
+    memset(j.marked, 0, total);
     bvox__parallel_for((int64_t)ny - 2, 8, list_rows, &j);
     /* slabs of at least 16 rows: the seams redo one row each */
     int threads = bvox__parallelism();
@@ -286,6 +379,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     st = count_cavities(&j, (uint32_t)total, cav6, cav26);
 done:
     if (j.runs) bvox__free(j.runs, run_bytes);
+    free(j.rowsum);
     free(j.first);
     if (j.zr) bvox__free(j.zr, zr_bytes);
     return st;
