@@ -129,9 +129,10 @@ static inline uint64_t bvox__range_bits(int32_t lo, int32_t hi, size_t k)
 
 /* The runs of a column's words w[k0, k1) in z order (the words below k0
  * and from k1 on taken as 0): bvox__runs_begin, then bvox__runs_next until
- * it returns false. Each word's run starts and ends are found once; the
- * words are read in order, each once, so the caller may clear a run it was
- * given (in words it has passed) before asking for the next. */
+ * it returns false. Each word's run starts and ends are found when the
+ * iterator reaches it (from its bit 63 before and the next word's bit 0),
+ * and a run it gives ends in that word, so the caller may clear the run
+ * before asking for the next: no cleared bit is read again. */
 typedef struct bvox__runs_iter {
     const uint64_t *w;
     size_t k, k1;
