@@ -112,7 +112,7 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
  * border (cav6), and the 26-connected ones (cav26); sc is vol's scan (the
  * object's voxel box, its count and z faces choose the route), the object
  * not empty; hulls, its columns' hulls from bvox__measure_scan_hulls, or
- * NULL (the route that needs them finds them). BVOX_ENOMEM / BVOX_ETOOBIG,
+ * NULL (they are scanned for when the route needs them). BVOX_ENOMEM / BVOX_ETOOBIG,
  * or a progress cancel. */
 bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
                                    const bvox__colhull *hulls, int64_t *cav6, int64_t *cav26);
@@ -307,7 +307,8 @@ extern int bvox__cavity_hull;
 
 /* Both cavity counts of vol from the runs of the background enclosed along z
  * in the columns [x0, x0 + nx) x [y0, y0 + ny) (the object's x-y box grown
- * by one, so its ring of columns is background). measure_hull_runs.c.
+ * by one, so its ring of columns is background), hulls the volume's columns'
+ * from bvox__measure_scan_hulls. measure_hull_runs.c.
  * BVOX_ENOMEM / BVOX_ETOOBIG. */
 bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__colhull *hulls,
                                           size_t x0, size_t y0, size_t nx, size_t ny,
@@ -315,17 +316,10 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
 
 /* U: the background of vol's columns [x0, x0 + nx) x [y0, y0 + ny) strictly
  * between the first and the last object voxel of each column (none in the
- * box's ring of columns), nx * ny columns of wpc words, made a column at a
- * time by bvox__enclosed_column (a bvox__column_maker of
- * components_label.h, ctx a bvox__enclosed) while the labeller counts its
- * runs; zr: per column that z range [lo, hi), 2 int32 each.
- * measure_enclosed.c. */
-typedef struct bvox__enclosed {
-    const bvox_volume *vol;
-    size_t x0, y0, nx, ny;
-    int32_t *zr;
-} bvox__enclosed;
-void bvox__enclosed_column(void *ctx, size_t x, size_t y, uint64_t *u);
+ * box's ring of columns), nx * ny * wpc words; zr: per column that z range
+ * [lo, hi), 2 int32 each. measure_enclosed.c. */
+void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, size_t nx,
+                               size_t ny, uint64_t *u, int32_t *zr);
 
 /* touched[root] = 1 for the component of every run of r, the 6-labelling
  * of U above (box at x0, y0, parents flattened), holding a 6-neighbour of

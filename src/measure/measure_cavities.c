@@ -523,9 +523,8 @@ static bvox_status cavities_in_hull(const bvox_volume *vol, colbox lb, int64_t *
     if (u) zr = bvox__alloc(2 * ncol * sizeof *zr, false, "column hulls", &st);
     bvox__labelruns r;
     if (zr) {
-        bvox__enclosed ej = {vol, lb.x0, lb.y0, lb.nx, lb.ny, zr};
-        st = bvox__labelruns_find_made(bvox__enclosed_column, &ej, u, lb.nx, lb.ny, vol->wpc,
-                                       6, 1, &r);
+        bvox__enclosed_background(vol, lb.x0, lb.y0, lb.nx, lb.ny, u, zr);
+        st = bvox__labelruns_find(u, NULL, lb.nx, lb.ny, vol->wpc, 6, 1, &r);
     }
     if (zr && !st) {
         r.parent[r.nruns] = (uint32_t)r.nruns;
@@ -575,6 +574,25 @@ static bvox_status cavities_by_labelling(const bvox_volume *vol, colbox lb, int6
     return st;
 }
 
+/* The default route (measure_hull_runs.c), the columns' hulls scanned for
+ * when the caller has none. */
+static bvox_status cavities_from_runs(const bvox_volume *vol, const bvox__colhull *hulls,
+                                      colbox lb, int64_t *cav6, int64_t *cav26)
+{
+    if (hulls) return bvox__cavities_from_hull_runs(vol, hulls, lb.x0, lb.y0, lb.nx, lb.ny,
+                                                    cav6, cav26);
+    bvox_status st = BVOX_OK;
+    size_t bytes = (size_t)vol->nx * (size_t)vol->ny * sizeof(bvox__colhull);
+    bvox__colhull *own = bvox__alloc(bytes, true, "column hulls", &st);
+    if (!own) return st;
+    bvox__scan sc;
+    st = bvox__measure_scan_hulls(vol, own, &sc);
+    if (!st)
+        st = bvox__cavities_from_hull_runs(vol, own, lb.x0, lb.y0, lb.nx, lb.ny, cav6, cav26);
+    bvox__free(own, bytes);
+    return st;
+}
+
 bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
                                    const bvox__colhull *hulls, int64_t *cav6, int64_t *cav26)
 {
@@ -593,9 +611,7 @@ bvox_status bvox__measure_cavities(const bvox_volume *vol, const bvox__scan *sc,
         st = cavities_by_flood(vol, lb, sweeps, &settled, cav6, cav26);
         if (st || settled) return st;
     }
-    if (bvox__cavity_hull < 0)
-        return bvox__cavities_from_hull_runs(vol, hulls, lb.x0, lb.y0, lb.nx, lb.ny, cav6,
-                                             cav26);
+    if (bvox__cavity_hull < 0) return cavities_from_runs(vol, hulls, lb, cav6, cav26);
     if (bvox__cavity_hull > 0) return cavities_in_hull(vol, lb, cav6, cav26);
     return cavities_by_labelling(vol, lb, cav6, cav26);
 }

@@ -1,6 +1,7 @@
 /*
  * measure_enclosed.c — the background that can hold a cavity, for the
- * labelling route of measure_cavities.c.
+ * labelled route of measure_cavities.c (bvox__cavity_hull = 1; the
+ * default lists U's runs instead, measure_hull_runs.c).
  *
  * A background voxel with no object voxel below it in its column, or none
  * above, reaches the border along that straight line: it is never in a
@@ -21,20 +22,36 @@
 #include "measure/measure.h"
 #include "ops/components_label.h"
 
-void bvox__enclosed_column(void *ctx, size_t x, size_t y, uint64_t *u)
+typedef struct enclosed_job {
+    const bvox_volume *v;
+    size_t x0, y0, nx, ny;
+    uint64_t *u;
+    int32_t *zr; /* per box column: U's hull [lo, hi) along z */
+} enclosed_job;
+
+static void enclosed_rows(void *ctx, int64_t begin, int64_t end)
 {
-    const bvox__enclosed *j = ctx;
-    const bvox_volume *v = j->vol;
-    size_t wpc = v->wpc, col = y * j->nx + x;
-    const uint64_t *o = v->words + ((j->y0 + y) * (size_t)v->nx + j->x0 + x) * wpc;
-    /* the columns are read in order, yet on the VMs measured the hardware
-     * prefetcher left each one a miss: 1 KiB ahead took the atlas's cavities
-     * from 17 to 14.5 ms at 1 thread */
-    __builtin_prefetch(o + 16 * wpc);
-    int32_t lo, hi;
-    bvox__column_hull(o, wpc, x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny, &lo, &hi);
-    j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
-    for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & bvox__range_bits(lo, hi, k);
+    const enclosed_job *j = ctx;
+    const bvox_volume *v = j->v;
+    size_t wpc = v->wpc;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++)
+        for (size_t x = 0; x < j->nx; x++) {
+            size_t col = y * j->nx + x;
+            const uint64_t *o = v->words + ((j->y0 + y) * (size_t)v->nx + j->x0 + x) * wpc;
+            uint64_t *u = j->u + col * wpc;
+            int32_t lo, hi;
+            bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
+            bvox__column_hull(o, wpc, ring, &lo, &hi);
+            j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
+            for (size_t k = 0; k < wpc; k++) u[k] = ~o[k] & bvox__range_bits(lo, hi, k);
+        }
+}
+
+void bvox__enclosed_background(const bvox_volume *vol, size_t x0, size_t y0, size_t nx,
+                               size_t ny, uint64_t *u, int32_t *zr)
+{
+    enclosed_job j = {vol, x0, y0, nx, ny, u, zr};
+    bvox__parallel_for((int64_t)ny, 8, enclosed_rows, &j);
 }
 
 /* E's words of box column col (the background outside its hull), word k. */

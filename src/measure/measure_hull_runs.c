@@ -7,8 +7,8 @@
  * thousand runs; writing it, the labeller's two passes over it and the
  * search for its contacts with the exterior each streamed all of it. Here:
  *   1. per column, U's hull [lo, hi) and the number of U's runs, from the
- *      scan's records (bvox__measure_scan_hulls) or one read of the
- *      object's words, and the counts' prefix sums a row at a time;
+ *      scan's records (bvox__measure_scan_hulls), and the counts' prefix
+ *      sums a row at a time;
  *   2. per column, its runs (z0, z1) listed, and each marked touched when
  *      one of its voxels is a 6-neighbour across x or y of the exterior E
  *      (the background outside the neighbour columns' hulls; U's runs end
@@ -51,59 +51,6 @@ static inline const uint64_t *object_column(const hull_job *j, size_t x, size_t 
 static inline uint64_t u_word(const uint64_t *o, int32_t lo, int32_t hi, size_t w)
 {
     return ~o[w] & bvox__range_bits(lo, hi, w);
-}
-
-/* 1. Hulls and run counts. popcnt: the instruction (a clone built for it). */
-static inline __attribute__((always_inline)) void hull_body(const hull_job *j, int64_t begin,
-                                                            int64_t end, bool popcnt)
-{
-    size_t wpc = j->v->wpc;
-    for (size_t y = (size_t)begin; y < (size_t)end; y++) {
-        uint64_t row = 0;
-        for (size_t x = 0; x < j->nx; x++) {
-            size_t col = y * j->nx + x;
-            const uint64_t *o = object_column(j, x, y);
-            /* read in order, yet the hardware prefetcher of the VMs
-             * measured left each column a miss */
-            __builtin_prefetch(o + 16 * wpc);
-            int32_t lo, hi;
-            bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
-            bvox__column_hull(o, wpc, ring, &lo, &hi);
-            j->zr[2 * col] = lo, j->zr[2 * col + 1] = hi;
-            uint32_t n = 0;
-            uint64_t carry = 0;
-            for (size_t w = (size_t)lo / 64; hi > lo && w <= (size_t)(hi - 1) / 64; w++) {
-                uint64_t u = u_word(o, lo, hi, w), s = bvox__run_starts(u, carry);
-                n += popcnt ? (uint32_t)__builtin_popcountll(s) : bvox__popcount64(s);
-                carry = u >> 63;
-            }
-            j->first[col] = n;
-            row += n;
-        }
-        j->rowsum[y] = row;
-    }
-}
-
-static void hull_rows_portable(void *ctx, int64_t begin, int64_t end)
-{
-    hull_body(ctx, begin, end, false);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("popcnt"))) static void hull_rows_popcnt(void *ctx, int64_t begin,
-                                                               int64_t end)
-{
-    hull_body(ctx, begin, end, true);
-}
-#endif
-
-static bvox__range_fn choose_hull_rows(void)
-{
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (bvox_simd_active() != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt"))
-        return hull_rows_popcnt;
-#endif
-    return hull_rows_portable;
 }
 
 /* Whether o has a background voxel in [a, b) (within nz). */
@@ -342,8 +289,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (j.zr && !j.rowsum) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
-    if (hulls) bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
-    else bvox__parallel_for((int64_t)ny, 8, choose_hull_rows(), &j);
+    bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
     uint64_t total = 0;
     for (size_t y = 0; y < ny; y++) {
         uint64_t n = j.rowsum[y];

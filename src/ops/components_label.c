@@ -302,22 +302,20 @@ typedef struct count_ctx {
     bvox__labelruns *R;
     const uint64_t *src; /* the words to label; R->words is their copy when they differ */
     uint32_t *counts;    /* per group, shifted by one: counts[grp + 1] */
-    bvox__column_maker make; /* or the words made into R->words by this */
-    void *make_ctx;
 } count_ctx;
 
-/* The columns of group (X, Y) copied from src into R->words when that is a
- * copy, or made there. */
-static void copy_group(const count_ctx *c, size_t X, size_t Y)
+/* The group's columns copied from src into R->words when that is a copy. */
+static void copy_group(const count_ctx *c, size_t grp)
 {
     bvox__labelruns *R = c->R;
-    if (c->src == R->words && !c->make) return;
+    if (c->src == R->words) return;
     size_t g = (size_t)R->g, wpc = R->wpc;
-    for (size_t y = Y * g; y < (Y + 1) * g && y < R->ny; y++)
-        for (size_t x = X * g; x < (X + 1) * g && x < R->nx; x++) {
-            uint64_t *col = (uint64_t *)R->words + (y * R->nx + x) * wpc;
-            if (c->make) c->make(c->make_ctx, x, y, col);
-            else memcpy(col, c->src + (y * R->nx + x) * wpc, wpc * sizeof *col);
+    for (size_t j = 0; j < g; j++)
+        for (size_t i = 0; i < g; i++) {
+            const uint64_t *col = bvox__labelruns_column(R, grp, i, j);
+            if (!col) continue;
+            size_t off = (size_t)(col - R->words);
+            memcpy((uint64_t *)R->words + off, c->src + off, wpc * sizeof *col);
         }
 }
 
@@ -325,10 +323,8 @@ ALWAYS_INLINE void count_body(const count_ctx *c, int64_t begin, int64_t end, in
 {
     bvox__labelruns *R = c->R;
     size_t wpc = R->wpc;
-    size_t X = (size_t)begin % R->gx, Y = (size_t)begin / R->gx;
     for (int64_t grp = begin; grp < end; grp++) {
-        copy_group(c, X, Y);
-        if (++X == R->gx) X = 0, Y++;
+        copy_group(c, (size_t)grp);
         const uint64_t *u = R->words + (size_t)grp * wpc;
         if (R->g == 2) {
             const uint64_t *c00 = bvox__labelruns_column(R, (size_t)grp, 0, 0);
@@ -379,9 +375,8 @@ void bvox__labelruns_free(bvox__labelruns *r)
     memset(r, 0, sizeof *r);
 }
 
-static bvox_status find_runs(const uint64_t *words, uint64_t *copy, bvox__column_maker make,
-                             void *make_ctx, size_t nx, size_t ny, size_t wpc, int conn,
-                             size_t extra, bvox__labelruns *out)
+bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t nx, size_t ny,
+                                 size_t wpc, int conn, size_t extra, bvox__labelruns *out)
 {
     bvox__labelruns *R = out;
     memset(R, 0, sizeof *R);
@@ -406,7 +401,7 @@ static bvox_status find_runs(const uint64_t *words, uint64_t *copy, bvox__column
      * into grp_start[c + 1] and are summed in place; 64-bit total first so
      * that more than 2^32 runs is an error, not a wrap. */
     R->grp_start[0] = 0;
-    count_ctx cc = {R, words, R->grp_start, make, make_ctx};
+    count_ctx cc = {R, words, R->grp_start};
     bvox__parallel_for((int64_t)R->ngrp, 4096 / (R->g * R->g), choose_count_groups(), &cc);
     uint64_t total = 0;
     for (size_t i = 0; i < R->ngrp; i++) {
@@ -440,19 +435,6 @@ fail:
     free(zero);
     bvox__labelruns_free(R);
     return st;
-}
-
-bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t nx, size_t ny,
-                                 size_t wpc, int conn, size_t extra, bvox__labelruns *out)
-{
-    return find_runs(words, copy, NULL, NULL, nx, ny, wpc, conn, extra, out);
-}
-
-bvox_status bvox__labelruns_find_made(bvox__column_maker make, void *ctx, uint64_t *words,
-                                      size_t nx, size_t ny, size_t wpc, int conn, size_t extra,
-                                      bvox__labelruns *out)
-{
-    return find_runs(words, NULL, make, ctx, nx, ny, wpc, conn, extra, out);
 }
 
 /* ---- the border ---- */

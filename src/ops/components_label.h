@@ -36,18 +36,6 @@ typedef struct bvox__labelruns {
  * to. BVOX_ENOMEM / BVOX_ETOOBIG (budget, or 2^32 runs). */
 bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t nx, size_t ny,
                                  size_t wpc, int conn, size_t extra, bvox__labelruns *out);
-
-/* Writes column (x, y) (of nx * ny, wpc words) of the words to label into
- * dst. */
-typedef void (*bvox__column_maker)(void *ctx, size_t x, size_t y, uint64_t *dst);
-
-/* bvox__labelruns_find of words that make (ctx) writes into words (nx * ny
- * columns, the caller's) column by column during the first pass, which
- * counts each column's runs while it is in cache: one pass over them less
- * than writing them all first. */
-bvox_status bvox__labelruns_find_made(bvox__column_maker make, void *ctx, uint64_t *words,
-                                      size_t nx, size_t ny, size_t wpc, int conn, size_t extra,
-                                      bvox__labelruns *out);
 void bvox__labelruns_free(bvox__labelruns *r);
 
 /* The OR words of group grp (the column itself when g == 1). */

@@ -73,7 +73,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
             bvox__cavity_sparse_26 = routes[t / 3][3];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
-            /* and without the scan's column hulls (the route finds them) */
+            /* and without the scan's column hulls (the route scans for them) */
             bvox__scan sc;
             CHECK_OK(bvox__measure_scan(v, &sc));
             int64_t n6 = 0, n26 = 0;
