@@ -64,6 +64,7 @@ typedef struct bvox__scan {
     uint64_t row[6];
     /* When not NULL, the current row's column hulls (bvox__measure_scan_hulls). */
     struct bvox__colhull *hull_row;
+    bool boxed; /* bbox holds a voxel (count may lag: rows are added at their end) */
 } bvox__scan;
 
 /* Per column of a volume: the z range [lo, hi) strictly between its first

@@ -57,6 +57,7 @@ typedef struct scan_job {
     bvox__scan *parts;    /* one per block, reduced in block order */
     bvox__cells_row_fn cells;
     bvox__moments_fn moments;
+    bvox__row_moments_fn row_moments; /* or NULL: moments column by column */
     bvox__colhull *hulls; /* or NULL */
 } scan_job;
 
@@ -202,8 +203,10 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
             j->cells(prev, cur, nx, wpc, extra, j->zero, s);
             if (cur) {
                 s->hull_row = j->hulls ? j->hulls + (size_t)y * nx : NULL;
-                for (size_t x = 0; x < nx; x++)
-                    j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
+                if (j->row_moments) j->row_moments(cur, nx, wpc, (int32_t)y, s);
+                else
+                    for (size_t x = 0; x < nx; x++)
+                        j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
                 bvox__moments_row(s, (int32_t)y);
             }
         }
@@ -230,12 +233,13 @@ bvox_status bvox__measure_scan_hulls(const bvox_volume *vol, bvox__colhull *hull
     }
     bvox__cells_row_fn cells = choose_cells();
     bvox__moments_fn moments = moments_generic;
+    bvox__row_moments_fn row_moments = NULL;
 #ifdef HAVE_POPCNT_CLONE
-    if (cells == bvox__cells_row_avx512) moments = bvox__moments_avx512;
+    if (cells == bvox__cells_row_avx512) row_moments = bvox__row_moments_avx512;
     else if (cells == bvox__cells_row_avx2) moments = bvox__moments_avx2;
     else if (cells != cells_generic) moments = moments_popcnt;
 #endif
-    scan_job job = {vol, zero, nblocks, parts, cells, moments, hulls};
+    scan_job job = {vol, zero, nblocks, parts, cells, moments, row_moments, hulls};
     /* Threads only pay off from about 64K words each. */
     int64_t per_block = (int64_t)((vol->nwords + (size_t)vol->nx * vol->wpc) / (size_t)nblocks) + 1;
     int64_t min_blocks = ((int64_t)1 << 16) / per_block + 1;

@@ -29,7 +29,11 @@ typedef void (*bvox__moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int
  * none; the caller checks the CPU. */
 extern const bvox__cells_row_fn bvox__cells_row_avx512;
 extern const bvox__cells_row_fn bvox__cells_row_avx2; /* AVX2 + POPCNT + BMI2 */
-extern const bvox__moments_fn bvox__moments_avx512;
+/* The moments of the row of nx voxel columns at row, y its index: as
+ * bvox__moments_fn for every column in turn. */
+typedef void (*bvox__row_moments_fn)(const uint64_t *row, size_t nx, size_t wpc, int32_t y,
+                                     bvox__scan *s);
+extern const bvox__row_moments_fn bvox__row_moments_avx512;
 extern const bvox__moments_fn bvox__moments_avx2;
 
 /* The four voxel columns a = (x-1, y-1), b = (x, y-1), c = (x-1, y),
@@ -74,13 +78,11 @@ static const uint64_t bvox__bit_of_index[6] = {0xaaaaaaaaaaaaaaaaull, 0xcccccccc
                                                0xf0f0f0f0f0f0f0f0ull, 0xff00ff00ff00ff00ull,
                                                0xffff0000ffff0000ull, 0xffffffff00000000ull};
 
-/* One column's count n, sums sz and szz of z and z^2, and z range
- * [zlo, zhi) added to s (nothing when n = 0). */
-static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_t n, int64_t sz,
-                                     int64_t szz, int32_t zlo, int32_t zhi)
+/* Column x of row y, with 1-voxels in [zlo, zhi), added to s's box. */
+static inline void bvox__bbox_add(bvox__scan *s, int32_t x, int32_t y, int32_t zlo, int32_t zhi)
 {
-    if (!n) return;
-    if (!s->count && !s->row[0]) {
+    if (!s->boxed) {
+        s->boxed = true;
         s->bbox[0] = s->bbox[3] = x;
         s->bbox[1] = s->bbox[4] = y;
         s->bbox[2] = zlo;
@@ -91,6 +93,15 @@ static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_
     if (y + 1 > s->bbox[4]) s->bbox[4] = y + 1; /* rows come in increasing y */
     if (zlo < s->bbox[2]) s->bbox[2] = zlo;
     if (zhi > s->bbox[5]) s->bbox[5] = zhi;
+}
+
+/* One column's count n, sums sz and szz of z and z^2, and z range
+ * [zlo, zhi) added to s (nothing when n = 0). */
+static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_t n, int64_t sz,
+                                     int64_t szz, int32_t zlo, int32_t zhi)
+{
+    if (!n) return;
+    bvox__bbox_add(s, x, y, zlo, zhi);
     uint64_t X = (uint64_t)x, N = (uint64_t)n, SZ = (uint64_t)sz;
     s->row[0] += N, s->row[1] += X * N, s->row[2] += X * X * N;
     s->row[3] += SZ, s->row[4] += (uint64_t)szz, s->row[5] += X * SZ;

@@ -91,55 +91,105 @@ static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size
     for (int i = 0; i < BVOX__NDIR; i++) s->trans[i] += ts[i] + _mm512_reduce_add_epi64(t[i]);
 }
 
-/* The moments of one column, eight words at a time by popcounts alone
- * (measure_scan.c's many-runs formula, whatever the runs): with k the word
- * index and c, t1, t2 a word's count, sum of bit indices t and of t^2,
- * sz = sum 64 k c + t1 and szz = sum 4096 k^2 c + 128 k t1 + t2. Every
- * lane product fits the 32 x 32 -> 64-bit multiply: k < 1024, c <= 64,
- * t1 < 2^11. */
-static void moments(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *s)
+/* Nibble tables for the moments: bits set, sum of their indices i, sum of
+ * i^2 (i = 0..3), in each 128-bit quarter (vpshufb looks up within one). */
+#define NIB(a, b, c, d, e, f, g, h, i, j, k, l, m, n, o, p)                                  \
+    _mm512_broadcast_i32x4(_mm_setr_epi8(a, b, c, d, e, f, g, h, i, j, k, l, m, n, o, p))
+
+/* 16-bit pair sums of a maddubs result gathered into their 64-bit lanes. */
+static inline __m512i lanes_of16(__m512i v)
 {
-    __m512i vn = _mm512_setzero_si512(), vsz = vn, vszz = vn;
-    __m512i idx = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
-    const __m512i eight = _mm512_set1_epi64(8);
-    int32_t zlo = -1, zhi = -1;
-    for (size_t k = 0; k < wpc; k += 8, idx = _mm512_add_epi64(idx, eight)) {
-        __mmask8 m = wpc - k >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (wpc - k)) - 1);
-        __m512i w = _mm512_maskz_loadu_epi64(m, col + k);
-        __mmask8 nz = _mm512_test_epi64_mask(w, w);
-        if (!nz) continue;
-        size_t first = k + (size_t)__builtin_ctz(nz), last = k + 31 - (size_t)__builtin_clz(nz);
-        if (zlo < 0) zlo = (int32_t)(first * 64 + (size_t)__builtin_ctzll(col[first]));
-        zhi = (int32_t)(last * 64 + 64 - (size_t)__builtin_clzll(col[last]));
-        __m512i c = PC(w), t1 = _mm512_setzero_si512(), t2 = t1;
-        __m512i wb[6];
-        for (int b = 0; b < 6; b++) {
-            wb[b] = _mm512_and_si512(w, _mm512_set1_epi64((long long)bvox__bit_of_index[b]));
-            __m512i cb = PC(wb[b]);
-            t1 = _mm512_add_epi64(t1, _mm512_sll_epi64(cb, _mm_cvtsi32_si128(b)));
-            t2 = _mm512_add_epi64(t2, _mm512_sll_epi64(cb, _mm_cvtsi32_si128(2 * b)));
+    __m512i s32 = _mm512_madd_epi16(v, _mm512_set1_epi16(1));
+    return _mm512_add_epi64(_mm512_and_si512(s32, _mm512_set1_epi64(0xffffffff)),
+                            _mm512_srli_epi64(s32, 32));
+}
+
+/* The moments of one row of columns, eight words at a time, by bytes as in
+ * measure_scan_avx2.c: a byte j of a word with count p, index sum s1 and
+ * square sum s2 (of its bits' indices 0..7; by two nibble look-ups each)
+ * adds p to the word's count c, 8 j p + s1 to t1 and 64 j^2 p + 16 j s1 + s2
+ * to t2; the j-weighted sums are vpmaddubsw's, the plain ones vpsadbw's.
+ * Then per lane (word index k) sz = 64 k c + t1 and szz = 4096 k^2 c +
+ * 128 k t1 + t2. The row's six sums stay lane-wise in registers, the
+ * column's x applied by multiplies, and are reduced once a row; per column
+ * only its z range and runs (for the hull) are reduced. Every product fits
+ * the 32 x 32 -> 64-bit multiply: k < 1024, c <= 64, t1 < 2^11, a lane's sz
+ * over a column < 2^29, x < 2^16. (The bit-mask formula of measure_scan.c,
+ * 22 popcounts a vector, and a reduction per column and sum took twice the
+ * time: VPOPCNTQ has one port.) */
+static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, bvox__scan *s)
+{
+    const __m512i tp = NIB(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
+    const __m512i ts1 = NIB(0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 4, 4, 5, 5, 6, 6);
+    const __m512i ts2 = NIB(0, 0, 1, 1, 4, 4, 5, 5, 9, 9, 10, 10, 13, 13, 14, 14);
+    const __m512i low = _mm512_set1_epi8(0x0f), zero = _mm512_setzero_si512();
+    const __m512i w1 = _mm512_set1_epi64(0x0706050403020100ll);
+    const __m512i w2 = _mm512_set1_epi64(0x3124191009040100ll);
+    const __m512i eight = _mm512_set1_epi64(8), lanes = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+    /* the row's n, x n, x^2 n, sz, szz, x sz (s->row's order), per lane */
+    __m512i acc[6] = {zero, zero, zero, zero, zero, zero};
+    for (size_t x = 0; x < nx; x++) {
+        const uint64_t *col = row + x * wpc;
+        __m512i vn = zero, vsz = zero, vszz = zero, vruns = zero, prev = zero, idx = lanes;
+        int32_t zlo = -1, zhi = -1;
+        for (size_t k = 0; k < wpc; k += 8, idx = _mm512_add_epi64(idx, eight)) {
+            __mmask8 m = wpc - k >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (wpc - k)) - 1);
+            __m512i w = _mm512_maskz_loadu_epi64(m, col + k), below = prev;
+            prev = w;
+            __mmask8 nz = _mm512_test_epi64_mask(w, w);
+            if (!nz) continue;
+            size_t first = k + (size_t)__builtin_ctz(nz), last = k + 31 - (size_t)__builtin_clz(nz);
+            if (zlo < 0) zlo = (int32_t)(first * 64 + (size_t)__builtin_ctzll(col[first]));
+            zhi = (int32_t)(last * 64 + 64 - (size_t)__builtin_clzll(col[last]));
+            /* runs: starts are 1-bits whose lower neighbour (lo_of) is 0 */
+            __m512i starts = _mm512_andnot_si512(lo_of(w, below, m), w);
+            vruns = _mm512_add_epi64(vruns, PC(starts));
+            __m512i lo = _mm512_and_si512(w, low), hi = _mm512_and_si512(_mm512_srli_epi16(w, 4), low);
+            __m512i plo = _mm512_shuffle_epi8(tp, lo), phi = _mm512_shuffle_epi8(tp, hi);
+            __m512i s1hi = _mm512_shuffle_epi8(ts1, hi);
+            __m512i p = _mm512_add_epi8(plo, phi);
+            /* the high nibble's bits sit 4 higher: i + 4 */
+            __m512i s1 = _mm512_add_epi8(_mm512_add_epi8(_mm512_shuffle_epi8(ts1, lo), s1hi),
+                                         _mm512_slli_epi16(phi, 2));
+            __m512i s2 = _mm512_add_epi8(
+                _mm512_add_epi8(_mm512_shuffle_epi8(ts2, lo), _mm512_shuffle_epi8(ts2, hi)),
+                _mm512_add_epi8(_mm512_slli_epi16(s1hi, 3), _mm512_slli_epi16(phi, 4)));
+            __m512i c = _mm512_sad_epu8(p, zero);
+            __m512i jp = lanes_of16(_mm512_maddubs_epi16(p, w1));
+            __m512i jjp = lanes_of16(_mm512_maddubs_epi16(p, w2));
+            __m512i js1 = lanes_of16(_mm512_maddubs_epi16(s1, w1));
+            __m512i t1 = _mm512_add_epi64(_mm512_slli_epi64(jp, 3), _mm512_sad_epu8(s1, zero));
+            __m512i t2 = _mm512_add_epi64(_mm512_add_epi64(_mm512_slli_epi64(jjp, 6),
+                                                           _mm512_slli_epi64(js1, 4)),
+                                          _mm512_sad_epu8(s2, zero));
+            __m512i kc = _mm512_mul_epu32(idx, c);
+            __m512i kkc = _mm512_mul_epu32(_mm512_mul_epu32(idx, idx), c);
+            __m512i kt1 = _mm512_mul_epu32(idx, t1);
+            vn = _mm512_add_epi64(vn, c);
+            vsz = _mm512_add_epi64(vsz, _mm512_add_epi64(_mm512_slli_epi64(kc, 6), t1));
+            vszz = _mm512_add_epi64(
+                vszz, _mm512_add_epi64(_mm512_slli_epi64(kkc, 12),
+                                       _mm512_add_epi64(_mm512_slli_epi64(kt1, 7), t2)));
         }
-        for (int b = 0; b < 6; b++)
-            for (int d = b + 1; d < 6; d++)
-                t2 = _mm512_add_epi64(t2, _mm512_sll_epi64(PC(_mm512_and_si512(wb[b], wb[d])),
-                                                           _mm_cvtsi32_si128(b + d + 1)));
-        __m512i kc = _mm512_mul_epu32(idx, c);
-        __m512i kkc = _mm512_mul_epu32(_mm512_mul_epu32(idx, idx), c);
-        __m512i kt1 = _mm512_mul_epu32(idx, t1);
-        vn = _mm512_add_epi64(vn, c);
-        vsz = _mm512_add_epi64(vsz, _mm512_add_epi64(_mm512_slli_epi64(kc, 6), t1));
-        vszz = _mm512_add_epi64(vszz, _mm512_add_epi64(_mm512_slli_epi64(kkc, 12),
-                                                       _mm512_add_epi64(_mm512_slli_epi64(kt1, 7), t2)));
+        if (zlo < 0) continue;
+        __m512i X = _mm512_set1_epi64((long long)x), XX = _mm512_set1_epi64((long long)x * x);
+        acc[0] = _mm512_add_epi64(acc[0], vn);
+        acc[1] = _mm512_add_epi64(acc[1], _mm512_mul_epu32(X, vn));
+        acc[2] = _mm512_add_epi64(acc[2], _mm512_mul_epu32(XX, vn));
+        acc[3] = _mm512_add_epi64(acc[3], vsz);
+        acc[4] = _mm512_add_epi64(acc[4], vszz);
+        acc[5] = _mm512_add_epi64(acc[5], _mm512_mul_epu32(X, vsz));
+        bvox__bbox_add(s, (int32_t)x, y, zlo, zhi);
+        if (s->hull_row)
+            s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1,
+                                             (uint32_t)_mm512_reduce_add_epi64(vruns) - 1};
     }
-    if (zlo < 0) return;
-    bvox__moments_add(s, x, y, _mm512_reduce_add_epi64(vn), _mm512_reduce_add_epi64(vsz),
-                      _mm512_reduce_add_epi64(vszz), zlo, zhi);
-    if (s->hull_row) bvox__hull_add(s, x, col, zlo, zhi, true);
+    for (int i = 0; i < 6; i++) s->row[i] += (uint64_t)_mm512_reduce_add_epi64(acc[i]);
 }
 
 const bvox__cells_row_fn bvox__cells_row_avx512 = cells_row;
-const bvox__moments_fn bvox__moments_avx512 = moments;
+const bvox__row_moments_fn bvox__row_moments_avx512 = row_moments;
 #else
 const bvox__cells_row_fn bvox__cells_row_avx512 = NULL;
-const bvox__moments_fn bvox__moments_avx512 = NULL;
+const bvox__row_moments_fn bvox__row_moments_avx512 = NULL;
 #endif

@@ -499,33 +499,67 @@ static int scans_equal(const bvox__scan *a, const bvox__scan *b)
     return 0;
 }
 
+/* Per column of r: its hull record by voxels (bvox__colhull: the z range
+ * strictly between its first and last 1-voxel, runs of 1s in it minus one),
+ * compared with h. */
+static int hulls_match_voxels(const voxref *r, const bvox__colhull *h)
+{
+    for (int y = 0; y < r->ny; y++)
+        for (int x = 0; x < r->nx; x++) {
+            int first = -1, last = -1, runs = 0;
+            for (int z = 0; z < r->nz; z++) {
+                if (!*voxref_at(r, x, y, z)) continue;
+                if (first < 0) first = z;
+                runs += z == 0 || !*voxref_at(r, x, y, z - 1);
+                last = z;
+            }
+            const bvox__colhull *c = &h[(size_t)y * (size_t)r->nx + (size_t)x];
+            if (first < 0) {
+                CHECK(c->lo == 0 && c->hi == 0 && c->runs == 0); /* left as zeroed */
+                continue;
+            }
+            CHECK_EQ(c->lo, first + 1);
+            CHECK_EQ(c->hi, last);
+            CHECK_EQ(c->runs, (uint32_t)(runs - 1));
+        }
+    return 0;
+}
+
 /* Scans the volume at every supported level; all must equal the generic
- * scan, and that one (when r is given) the per-voxel reference's Euler
- * number and transitions, so a mistake shared by the kernels cannot hide. */
+ * scan, its column hulls included, and that one (when r is given) the
+ * per-voxel reference's Euler number, transitions and hulls, so a mistake
+ * shared by the kernels cannot hide. */
 static int scan_levels_agree(const voxref *r, const bvox_volume *v)
 {
     const bvox_simd levels[] = {BVOX_SIMD_AVX2, BVOX_SIMD_AVX512};
     bvox_simd saved = bvox_simd_active();
     bvox__scan g, o;
+    size_t ncol = (size_t)v->nx * (size_t)v->ny;
+    bvox__colhull *hg = calloc(ncol, sizeof *hg), *ho = calloc(ncol, sizeof *ho);
+    CHECK(hg && ho);
     CHECK_OK(bvox_simd_set(BVOX_SIMD_GENERIC));
-    CHECK_OK(bvox__measure_scan(v, &g));
+    CHECK_OK(bvox__measure_scan_hulls(v, hg, &g));
     if (r) {
         measref ref;
         measref_compute(r, (const double[3]){1, 1, 1}, &ref);
         CHECK_EQ(g.euler, ref.euler);
         for (int c = 0; c < BVOX__NDIR; c++) CHECK_EQ(g.trans[c], ref.trans[c]);
         CHECK_EQ(g.count, ref.count);
+        CHECK(!hulls_match_voxels(r, hg));
     }
     for (int l = 0; l < 2; l++) {
         if (!bvox_simd_supported(levels[l])) continue;
         CHECK_OK(bvox_simd_set(levels[l]));
-        CHECK_OK(bvox__measure_scan(v, &o));
-        if (scans_equal(&g, &o)) {
+        memset(ho, 0, ncol * sizeof *ho);
+        CHECK_OK(bvox__measure_scan_hulls(v, ho, &o));
+        if (scans_equal(&g, &o) || memcmp(hg, ho, ncol * sizeof *hg) != 0) {
             fprintf(stderr, "  level %s\n", bvox_simd_name(levels[l]));
             bvox_simd_set(saved);
             return 1;
         }
     }
+    free(hg);
+    free(ho);
     CHECK_OK(bvox_simd_set(saved));
     return 0;
 }
