@@ -121,6 +121,29 @@ static bvox__cells_row_fn choose_cells(void)
     return cells_generic;
 }
 
+/* Bit t of a word is in mask b when bit b of t is 1: the moments' sums of
+ * the bit indices t and t^2 over a word are popcounts of the word ANDed
+ * with these. */
+static const uint64_t bit_of_index[6] = {0xaaaaaaaaaaaaaaaaull, 0xccccccccccccccccull,
+                                         0xf0f0f0f0f0f0f0f0ull, 0xff00ff00ff00ff00ull,
+                                         0xffff0000ffff0000ull, 0xffffffff00000000ull};
+
+/* The hull of column x of the current row (s->hull_row), a column with an
+ * object voxel, words col, first and last object voxel zlo and zhi - 1.
+ * popcnt: the instruction may be used. */
+static inline __attribute__((always_inline)) void
+hull_add(bvox__scan *s, int32_t x, const uint64_t *col, int32_t zlo, int32_t zhi, bool popcnt)
+{
+    uint32_t runs = 0;
+    uint64_t carry = 0; /* the words below zlo's are 0 */
+    for (size_t w = (size_t)zlo / 64; w <= (size_t)(zhi - 1) / 64; w++) {
+        uint64_t starts = col[w] & ~((col[w] << 1) | carry);
+        runs += popcnt ? (uint32_t)__builtin_popcountll(starts) : bvox__popcount64(starts);
+        carry = col[w] >> 63;
+    }
+    s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, runs - 1};
+}
+
 /* Prefix sums over z < m of 1, z and z^2 (m <= 65536: fits easily). */
 static inline int64_t p1(int64_t m) { return m * (m - 1) / 2; }
 static inline int64_t p2(int64_t m) { return (m - 1) * m * (2 * m - 1) / 6; }
@@ -158,11 +181,11 @@ moments_body(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *
         }
         int64_t c = pc(w), t1 = 0, t2 = 0;
         for (int b = 0; b < 6; b++) {
-            uint64_t wb = w & bvox__bit_of_index[b];
+            uint64_t wb = w & bit_of_index[b];
             int64_t cb = pc(wb);
             t1 += cb << b;
             t2 += cb << (2 * b);
-            for (int d = b + 1; d < 6; d++) t2 += pc(wb & bvox__bit_of_index[d]) << (b + d + 1);
+            for (int d = b + 1; d < 6; d++) t2 += pc(wb & bit_of_index[d]) << (b + d + 1);
         }
         n += c;
         sz += base * c + t1;
@@ -171,7 +194,7 @@ moments_body(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *
 #undef pc
     if (zlo < 0) return;
     bvox__moments_add(s, x, y, n, sz, szz, zlo, zhi);
-    if (s->hull_row) bvox__hull_add(s, x, col, zlo, zhi, hw);
+    if (s->hull_row) hull_add(s, x, col, zlo, zhi, hw);
 }
 
 static void moments_generic(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
@@ -236,7 +259,7 @@ bvox_status bvox__measure_scan_hulls(const bvox_volume *vol, bvox__colhull *hull
     bvox__row_moments_fn row_moments = NULL;
 #ifdef HAVE_POPCNT_CLONE
     if (cells == bvox__cells_row_avx512) row_moments = bvox__row_moments_avx512;
-    else if (cells == bvox__cells_row_avx2) moments = bvox__moments_avx2;
+    else if (cells == bvox__cells_row_avx2) row_moments = bvox__row_moments_avx2;
     else if (cells != cells_generic) moments = moments_popcnt;
 #endif
     scan_job job = {vol, zero, nblocks, parts, cells, moments, row_moments, hulls};

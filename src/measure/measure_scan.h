@@ -25,16 +25,18 @@ typedef void (*bvox__cells_row_fn)(const uint64_t *prev, const uint64_t *cur, si
 typedef void (*bvox__moments_fn)(const uint64_t *col, size_t wpc, int32_t x, int32_t y,
                                  bvox__scan *s);
 
-/* The AVX-512 (F, BW, VL, VPOPCNTDQ) kernels, NULL where the build has
- * none; the caller checks the CPU. */
-extern const bvox__cells_row_fn bvox__cells_row_avx512;
-extern const bvox__cells_row_fn bvox__cells_row_avx2; /* AVX2 + POPCNT + BMI2 */
 /* The moments of the row of nx voxel columns at row, y its index: as
- * bvox__moments_fn for every column in turn. */
+ * bvox__moments_fn for every column in turn (the vector kernels keep the
+ * row's sums in registers). */
 typedef void (*bvox__row_moments_fn)(const uint64_t *row, size_t nx, size_t wpc, int32_t y,
                                      bvox__scan *s);
+
+/* The AVX-512 (F, BW, VL, VPOPCNTDQ) and AVX2 (+ POPCNT + BMI2) kernels,
+ * NULL where the build has none; the caller checks the CPU. */
+extern const bvox__cells_row_fn bvox__cells_row_avx512;
+extern const bvox__cells_row_fn bvox__cells_row_avx2;
 extern const bvox__row_moments_fn bvox__row_moments_avx512;
-extern const bvox__moments_fn bvox__moments_avx2;
+extern const bvox__row_moments_fn bvox__row_moments_avx2;
 
 /* The four voxel columns a = (x-1, y-1), b = (x, y-1), c = (x-1, y),
  * d = (x, y) of vertex column x, zero where outside. */
@@ -71,13 +73,6 @@ bvox__cells_word(uint64_t ah, uint64_t bh, uint64_t ch, uint64_t dh, uint64_t al
 #undef pc
 }
 
-/* Bit t of a word is in mask b when bit b of t is 1: the moments' sums of
- * the bit indices t and t^2 over a word are popcounts of the word ANDed
- * with these. */
-static const uint64_t bvox__bit_of_index[6] = {0xaaaaaaaaaaaaaaaaull, 0xccccccccccccccccull,
-                                               0xf0f0f0f0f0f0f0f0ull, 0xff00ff00ff00ff00ull,
-                                               0xffff0000ffff0000ull, 0xffffffff00000000ull};
-
 /* Column x of row y, with 1-voxels in [zlo, zhi), added to s's box. */
 static inline void bvox__bbox_add(bvox__scan *s, int32_t x, int32_t y, int32_t zlo, int32_t zhi)
 {
@@ -105,23 +100,6 @@ static inline void bvox__moments_add(bvox__scan *s, int32_t x, int32_t y, int64_
     uint64_t X = (uint64_t)x, N = (uint64_t)n, SZ = (uint64_t)sz;
     s->row[0] += N, s->row[1] += X * N, s->row[2] += X * X * N;
     s->row[3] += SZ, s->row[4] += (uint64_t)szz, s->row[5] += X * SZ;
-}
-
-/* The hull of column x of the current row (s->hull_row), a column with an
- * object voxel, words col, first and last object voxel zlo and zhi - 1.
- * popcnt: the instruction may be used. */
-static inline __attribute__((always_inline)) void
-bvox__hull_add(bvox__scan *s, int32_t x, const uint64_t *col, int32_t zlo, int32_t zhi,
-               bool popcnt)
-{
-    uint32_t runs = 0;
-    uint64_t carry = 0; /* the words below zlo's are 0 */
-    for (size_t w = (size_t)zlo / 64; w <= (size_t)(zhi - 1) / 64; w++) {
-        uint64_t starts = col[w] & ~((col[w] << 1) | carry);
-        runs += popcnt ? (uint32_t)__builtin_popcountll(starts) : bvox__popcount64(starts);
-        carry = col[w] >> 63;
-    }
-    s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, runs - 1};
 }
 
 /* Row y's sums (s->row) moved into s's totals. */

@@ -129,15 +129,24 @@ static inline __m256i lanes_of16(__m256i v)
                             _mm256_srli_epi64(s32, 32));
 }
 
-/* The moments of one column, four words at a time (the many-runs formula of
- * measure_scan.c by bytes instead of bit masks): a byte j of a word with
- * count p, index sum s1 and square sum s2 (of its bits' indices 0..7; by two
- * nibble look-ups each) adds p to the word's count c, 8 j p + s1 to t1 and
- * 64 j^2 p + 16 j s1 + s2 to t2; the j-weighted sums are vpmaddubsw's, the
- * plain ones vpsadbw's. Then sz = sum 64 k c + t1, szz = sum 4096 k^2 c +
- * 128 k t1 + t2 over the word index k (products fit 32 x 32 -> 64: k < 1024,
- * c <= 64, t1 < 2^11). */
-static void moments(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *s)
+/* The four 64-bit lanes of v added. */
+static inline int64_t sum4(__m256i v)
+{
+    __m128i h = _mm_add_epi64(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    return _mm_cvtsi128_si64(h) + _mm_extract_epi64(h, 1);
+}
+
+/* The moments of one row of columns, four words at a time (the many-runs
+ * formula of measure_scan.c by bytes instead of bit masks): a byte j of a
+ * word with count p, index sum s1 and square sum s2 (of its bits' indices
+ * 0..7; by two nibble look-ups each) adds p to the word's count c, 8 j p + s1
+ * to t1 and 64 j^2 p + 16 j s1 + s2 to t2; the j-weighted sums are
+ * vpmaddubsw's, the plain ones vpsadbw's. Then per lane (word index k)
+ * sz = 64 k c + t1 and szz = 4096 k^2 c + 128 k t1 + t2. The row's six sums
+ * stay lane-wise in registers (x applied by multiplies) and are reduced once
+ * a row, as in measure_scan_avx512.c; products fit 32 x 32 -> 64: k < 1024,
+ * c <= 64, t1 < 2^11, a lane's sz over a column < 2^30, x < 2^16. */
+static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, bvox__scan *s)
 {
     const __m256i tp = NIB(0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4);
     const __m256i ts1 = NIB(0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 4, 4, 5, 5, 6, 6);
@@ -145,56 +154,70 @@ static void moments(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox_
     const __m256i low = _mm256_set1_epi8(0x0f), zero = _mm256_setzero_si256();
     const __m256i w1 = _mm256_set1_epi64x(0x0706050403020100ll);
     const __m256i w2 = _mm256_set1_epi64x(0x3124191009040100ll);
-    const __m256i four = _mm256_set1_epi64x(4);
-    __m256i vn = zero, vsz = zero, vszz = zero, idx = _mm256_setr_epi64x(0, 1, 2, 3);
-    int32_t zlo = -1, zhi = -1;
-    for (size_t k = 0; k < wpc; k += 4, idx = _mm256_add_epi64(idx, four)) {
-        __m256i w = load(col + k, wpc - k);
-        __m256i isz = _mm256_cmpeq_epi64(w, zero);
-        unsigned nz = ~(unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(isz)) & 0xf;
-        if (!nz) continue;
-        size_t first = k + (size_t)__builtin_ctz(nz), last = k + 31 - (size_t)__builtin_clz(nz);
-        if (zlo < 0) zlo = (int32_t)(first * 64 + (size_t)__builtin_ctzll(col[first]));
-        zhi = (int32_t)(last * 64 + 64 - (size_t)__builtin_clzll(col[last]));
-        __m256i lo = _mm256_and_si256(w, low), hi = _mm256_and_si256(_mm256_srli_epi16(w, 4), low);
-        __m256i plo = _mm256_shuffle_epi8(tp, lo), phi = _mm256_shuffle_epi8(tp, hi);
-        __m256i s1hi = _mm256_shuffle_epi8(ts1, hi);
-        __m256i p = _mm256_add_epi8(plo, phi);
-        /* the high nibble's bits sit 4 higher: i + 4 */
-        __m256i s1 = _mm256_add_epi8(_mm256_add_epi8(_mm256_shuffle_epi8(ts1, lo), s1hi),
-                                     _mm256_slli_epi16(phi, 2));
-        __m256i s2 = _mm256_add_epi8(
-            _mm256_add_epi8(_mm256_shuffle_epi8(ts2, lo), _mm256_shuffle_epi8(ts2, hi)),
-            _mm256_add_epi8(_mm256_slli_epi16(s1hi, 3), _mm256_slli_epi16(phi, 4)));
-        __m256i c = _mm256_sad_epu8(p, zero);
-        __m256i jp = lanes_of16(_mm256_maddubs_epi16(p, w1));
-        __m256i jjp = lanes_of16(_mm256_maddubs_epi16(p, w2));
-        __m256i js1 = lanes_of16(_mm256_maddubs_epi16(s1, w1));
-        __m256i t1 = _mm256_add_epi64(_mm256_slli_epi64(jp, 3), _mm256_sad_epu8(s1, zero));
-        __m256i t2 = _mm256_add_epi64(_mm256_add_epi64(_mm256_slli_epi64(jjp, 6),
-                                                       _mm256_slli_epi64(js1, 4)),
-                                      _mm256_sad_epu8(s2, zero));
-        __m256i kc = _mm256_mul_epu32(idx, c);
-        __m256i kkc = _mm256_mul_epu32(_mm256_mul_epu32(idx, idx), c);
-        __m256i kt1 = _mm256_mul_epu32(idx, t1);
-        vn = _mm256_add_epi64(vn, c);
-        vsz = _mm256_add_epi64(vsz, _mm256_add_epi64(_mm256_slli_epi64(kc, 6), t1));
-        vszz = _mm256_add_epi64(vszz, _mm256_add_epi64(_mm256_slli_epi64(kkc, 12),
-                                                       _mm256_add_epi64(_mm256_slli_epi64(kt1, 7), t2)));
+    const __m256i four = _mm256_set1_epi64x(4), lanes = _mm256_setr_epi64x(0, 1, 2, 3);
+    /* the row's n, x n, x^2 n, sz, szz, x sz (s->row's order), per lane */
+    __m256i acc[6] = {zero, zero, zero, zero, zero, zero};
+    for (size_t x = 0; x < nx; x++) {
+        const uint64_t *col = row + x * wpc;
+        __m256i vn = zero, vsz = zero, vszz = zero, vruns = zero, prev = zero, idx = lanes;
+        int32_t zlo = -1, zhi = -1;
+        for (size_t k = 0; k < wpc; k += 4, idx = _mm256_add_epi64(idx, four)) {
+            __m256i w = load(col + k, wpc - k), below = prev;
+            prev = w;
+            __m256i isz = _mm256_cmpeq_epi64(w, zero);
+            unsigned nz = ~(unsigned)_mm256_movemask_pd(_mm256_castsi256_pd(isz)) & 0xf;
+            if (!nz) continue;
+            size_t first = k + (size_t)__builtin_ctz(nz), last = k + 31 - (size_t)__builtin_clz(nz);
+            if (zlo < 0) zlo = (int32_t)(first * 64 + (size_t)__builtin_ctzll(col[first]));
+            zhi = (int32_t)(last * 64 + 64 - (size_t)__builtin_clzll(col[last]));
+            /* runs: starts are 1-bits whose lower neighbour (lo_of) is 0 */
+            vruns = widen(vruns, pc8(_mm256_andnot_si256(lo_of(w, below), w)));
+            __m256i lo = _mm256_and_si256(w, low);
+            __m256i hi = _mm256_and_si256(_mm256_srli_epi16(w, 4), low);
+            __m256i plo = _mm256_shuffle_epi8(tp, lo), phi = _mm256_shuffle_epi8(tp, hi);
+            __m256i s1hi = _mm256_shuffle_epi8(ts1, hi);
+            __m256i p = _mm256_add_epi8(plo, phi);
+            /* the high nibble's bits sit 4 higher: i + 4 */
+            __m256i s1 = _mm256_add_epi8(_mm256_add_epi8(_mm256_shuffle_epi8(ts1, lo), s1hi),
+                                         _mm256_slli_epi16(phi, 2));
+            __m256i s2 = _mm256_add_epi8(
+                _mm256_add_epi8(_mm256_shuffle_epi8(ts2, lo), _mm256_shuffle_epi8(ts2, hi)),
+                _mm256_add_epi8(_mm256_slli_epi16(s1hi, 3), _mm256_slli_epi16(phi, 4)));
+            __m256i c = _mm256_sad_epu8(p, zero);
+            __m256i jp = lanes_of16(_mm256_maddubs_epi16(p, w1));
+            __m256i jjp = lanes_of16(_mm256_maddubs_epi16(p, w2));
+            __m256i js1 = lanes_of16(_mm256_maddubs_epi16(s1, w1));
+            __m256i t1 = _mm256_add_epi64(_mm256_slli_epi64(jp, 3), _mm256_sad_epu8(s1, zero));
+            __m256i t2 = _mm256_add_epi64(_mm256_add_epi64(_mm256_slli_epi64(jjp, 6),
+                                                           _mm256_slli_epi64(js1, 4)),
+                                          _mm256_sad_epu8(s2, zero));
+            __m256i kc = _mm256_mul_epu32(idx, c);
+            __m256i kkc = _mm256_mul_epu32(_mm256_mul_epu32(idx, idx), c);
+            __m256i kt1 = _mm256_mul_epu32(idx, t1);
+            vn = _mm256_add_epi64(vn, c);
+            vsz = _mm256_add_epi64(vsz, _mm256_add_epi64(_mm256_slli_epi64(kc, 6), t1));
+            vszz = _mm256_add_epi64(
+                vszz, _mm256_add_epi64(_mm256_slli_epi64(kkc, 12),
+                                       _mm256_add_epi64(_mm256_slli_epi64(kt1, 7), t2)));
+        }
+        if (zlo < 0) continue;
+        __m256i X = _mm256_set1_epi64x((long long)x), XX = _mm256_set1_epi64x((long long)x * x);
+        acc[0] = _mm256_add_epi64(acc[0], vn);
+        acc[1] = _mm256_add_epi64(acc[1], _mm256_mul_epu32(X, vn));
+        acc[2] = _mm256_add_epi64(acc[2], _mm256_mul_epu32(XX, vn));
+        acc[3] = _mm256_add_epi64(acc[3], vsz);
+        acc[4] = _mm256_add_epi64(acc[4], vszz);
+        acc[5] = _mm256_add_epi64(acc[5], _mm256_mul_epu32(X, vsz));
+        bvox__bbox_add(s, (int32_t)x, y, zlo, zhi);
+        if (s->hull_row)
+            s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, (uint32_t)sum4(vruns) - 1};
     }
-    if (zlo < 0) return;
-    int64_t n[4], sz[4], szz[4];
-    _mm256_storeu_si256((__m256i *)n, vn);
-    _mm256_storeu_si256((__m256i *)sz, vsz);
-    _mm256_storeu_si256((__m256i *)szz, vszz);
-    bvox__moments_add(s, x, y, n[0] + n[1] + n[2] + n[3], sz[0] + sz[1] + sz[2] + sz[3],
-                      szz[0] + szz[1] + szz[2] + szz[3], zlo, zhi);
-    if (s->hull_row) bvox__hull_add(s, x, col, zlo, zhi, true);
+    for (int i = 0; i < 6; i++) s->row[i] += (uint64_t)sum4(acc[i]);
 }
 
 const bvox__cells_row_fn bvox__cells_row_avx2 = cells_row;
-const bvox__moments_fn bvox__moments_avx2 = moments;
+const bvox__row_moments_fn bvox__row_moments_avx2 = row_moments;
 #else
 const bvox__cells_row_fn bvox__cells_row_avx2 = NULL;
-const bvox__moments_fn bvox__moments_avx2 = NULL;
+const bvox__row_moments_fn bvox__row_moments_avx2 = NULL;
 #endif

@@ -144,7 +144,8 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
             /* runs: starts are 1-bits whose lower neighbour (lo_of) is 0 */
             __m512i starts = _mm512_andnot_si512(lo_of(w, below, m), w);
             vruns = _mm512_add_epi64(vruns, PC(starts));
-            __m512i lo = _mm512_and_si512(w, low), hi = _mm512_and_si512(_mm512_srli_epi16(w, 4), low);
+            __m512i lo = _mm512_and_si512(w, low);
+            __m512i hi = _mm512_and_si512(_mm512_srli_epi16(w, 4), low);
             __m512i plo = _mm512_shuffle_epi8(tp, lo), phi = _mm512_shuffle_epi8(tp, hi);
             __m512i s1hi = _mm512_shuffle_epi8(ts1, hi);
             __m512i p = _mm512_add_epi8(plo, phi);
