@@ -47,10 +47,16 @@ static inline const uint64_t *object_column(const hull_job *j, size_t x, size_t 
     return j->v->words + ((j->y0 + y) * (size_t)j->v->nx + j->x0 + x) * j->v->wpc;
 }
 
-/* U's word w of a column with object words o and hull [lo, hi). */
-static inline uint64_t u_word(const uint64_t *o, int32_t lo, int32_t hi, size_t w)
+/* The first voxel at or after z whose bit is `bit` (1: object) in the
+ * column o; one exists before the column's last word ends (U's runs lie
+ * between object voxels). */
+static inline int32_t next_voxel(const uint64_t *o, int32_t z, uint64_t bit, size_t last_word)
 {
-    return ~o[w] & bvox__range_bits(lo, hi, w);
+    size_t w = (size_t)z / 64;
+    uint64_t flip = bit - 1; /* ~0 to look for 0s */
+    uint64_t t = (o[w] ^ flip) & (~0ull << (z & 63));
+    while (!t && w < last_word) t = o[++w] ^ flip;
+    return (int32_t)(w * 64 + (size_t)__builtin_ctzll(t));
 }
 
 /* Whether o has a background voxel in [a, b) (within nz). */
@@ -77,24 +83,24 @@ static bool touches_exterior(const hull_job *j, const uint64_t *const onb[4], co
     return false;
 }
 
-/* 2. The runs of column (x, y), an inner one with runs, listed and marked. */
+/* 2. The runs of column (x, y), an inner one with runs, listed and marked:
+ * U's runs are the gaps between the column's object runs after lo (the
+ * voxel after the first object voxel), as many as the record says; they are
+ * found from the object's words directly (building U's words first took
+ * longer). */
 static void list_column(const hull_job *j, size_t x, size_t y)
 {
-    size_t nx = j->nx, col = y * nx + x;
-    int32_t lo = j->zr[2 * col], hi = j->zr[2 * col + 1];
+    size_t nx = j->nx, col = y * nx + x, last_word = j->v->wpc - 1;
+    int32_t z = j->zr[2 * col];
     const uint64_t *o = object_column(j, x, y);
     const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
     const uint64_t *const onb[4] = {object_column(j, x - 1, y), object_column(j, x + 1, y),
                                     object_column(j, x, y - 1), object_column(j, x, y + 1)};
-    uint64_t u[(BVOX_MAX_DIM + 63) / 64];
-    size_t w0 = (size_t)lo / 64, w1 = (size_t)(hi - 1) / 64 + 1;
-    for (size_t w = w0; w < w1; w++) u[w] = u_word(o, lo, hi, w);
-    uint32_t i = j->first[col];
-    bvox__runs_iter it;
-    int32_t z0, z1;
-    for (bool more = bvox__runs_begin(&it, u, w0, w1); more && bvox__runs_next(&it, &z0, &z1);) {
+    for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
+        int32_t z0 = next_voxel(o, z, 0, last_word), z1 = next_voxel(o, z0, 1, last_word);
         j->runs[i] = (bvox__zrun){z0, z1};
-        j->touched[i++] = touches_exterior(j, onb, nb, z0, z1);
+        j->touched[i] = touches_exterior(j, onb, nb, z0, z1);
+        z = z1;
     }
 }
 
