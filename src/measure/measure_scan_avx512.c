@@ -109,13 +109,15 @@ static inline __m512i lanes_of16(__m512i v)
  * square sum s2 (of its bits' indices 0..7; by two nibble look-ups each)
  * adds p to the word's count c, 8 j p + s1 to t1 and 64 j^2 p + 16 j s1 + s2
  * to t2; the j-weighted sums are vpmaddubsw's, the plain ones vpsadbw's.
- * Then per lane (word index k) sz = 64 k c + t1 and szz = 4096 k^2 c +
- * 128 k t1 + t2. The row's six sums stay lane-wise in registers, the
- * column's x applied by multiplies, and are reduced once a row; per column
- * only its z range and runs (for the hull) are reduced. Every product fits
- * the 32 x 32 -> 64-bit multiply: k < 1024, c <= 64, t1 < 2^11, a lane's sz
- * over a column < 2^29, x < 2^16. (The bit-mask formula of measure_scan.c,
- * 22 popcounts a vector, and a reduction per column and sum took twice the
+ * Per column the lanes' c, t1 and t2 are summed over its vectors (vector v
+ * shifting its t1 and t2 to word index 8 v + lane); the row's sums of c,
+ * x c, x^2 c, t1, t2 and x t1 stay lane-wise in registers, x applied by
+ * multiplies, and the lane's own word index i only at the row's end:
+ * sz = 64 i c + t1, szz = 4096 i^2 c + 128 i t1 + t2. Per column only its
+ * z range and runs (for the hull) are reduced. Every product fits the
+ * 32 x 32 -> 64-bit multiply: v < 128, c <= 64, t1 < 2^11, a lane's t1 over
+ * a column < 2^30, x < 2^16. (The bit-mask formula of measure_scan.c, 22
+ * popcounts a vector, and a reduction per column and sum took twice the
  * time: VPOPCNTQ has one port.) */
 static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, bvox__scan *s)
 {
@@ -125,14 +127,13 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
     const __m512i low = _mm512_set1_epi8(0x0f), zero = _mm512_setzero_si512();
     const __m512i w1 = _mm512_set1_epi64(0x0706050403020100ll);
     const __m512i w2 = _mm512_set1_epi64(0x3124191009040100ll);
-    const __m512i eight = _mm512_set1_epi64(8), lanes = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
-    /* the row's n, x n, x^2 n, sz, szz, x sz (s->row's order), per lane */
+    /* the row's c, x c, x^2 c, t1, t2, x t1 per lane (word index mod 8) */
     __m512i acc[6] = {zero, zero, zero, zero, zero, zero};
     for (size_t x = 0; x < nx; x++) {
         const uint64_t *col = row + x * wpc;
-        __m512i vn = zero, vsz = zero, vszz = zero, vruns = zero, prev = zero, idx = lanes;
+        __m512i vn = zero, vt1 = zero, vt2 = zero, vruns = zero, prev = zero;
         int32_t zlo = -1, zhi = -1;
-        for (size_t k = 0; k < wpc; k += 8, idx = _mm512_add_epi64(idx, eight)) {
+        for (size_t k = 0; k < wpc; k += 8) {
             __mmask8 m = wpc - k >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (wpc - k)) - 1);
             __m512i w = _mm512_maskz_loadu_epi64(m, col + k), below = prev;
             prev = w;
@@ -163,29 +164,42 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
             __m512i t2 = _mm512_add_epi64(_mm512_add_epi64(_mm512_slli_epi64(jjp, 6),
                                                            _mm512_slli_epi64(js1, 4)),
                                           _mm512_sad_epu8(s2, zero));
-            __m512i kc = _mm512_mul_epu32(idx, c);
-            __m512i kkc = _mm512_mul_epu32(_mm512_mul_epu32(idx, idx), c);
-            __m512i kt1 = _mm512_mul_epu32(idx, t1);
+            if (k) {
+                /* vector v = k / 8: its lanes' word index is 8 v + lane, so
+                 * t1 += 512 v c, t2 += 1024 v t1 + 2^18 v^2 c (v < 128) */
+                __m512i v = _mm512_set1_epi64((long long)(k / 8));
+                __m512i vv = _mm512_set1_epi64((long long)(k / 8 * (k / 8)));
+                t2 = _mm512_add_epi64(t2, _mm512_slli_epi64(_mm512_mul_epu32(v, t1), 10));
+                t2 = _mm512_add_epi64(t2, _mm512_slli_epi64(_mm512_mul_epu32(vv, c), 18));
+                t1 = _mm512_add_epi64(t1, _mm512_slli_epi64(_mm512_mul_epu32(v, c), 9));
+            }
             vn = _mm512_add_epi64(vn, c);
-            vsz = _mm512_add_epi64(vsz, _mm512_add_epi64(_mm512_slli_epi64(kc, 6), t1));
-            vszz = _mm512_add_epi64(
-                vszz, _mm512_add_epi64(_mm512_slli_epi64(kkc, 12),
-                                       _mm512_add_epi64(_mm512_slli_epi64(kt1, 7), t2)));
+            vt1 = _mm512_add_epi64(vt1, t1);
+            vt2 = _mm512_add_epi64(vt2, t2);
         }
         if (zlo < 0) continue;
         __m512i X = _mm512_set1_epi64((long long)x), XX = _mm512_set1_epi64((long long)x * x);
         acc[0] = _mm512_add_epi64(acc[0], vn);
         acc[1] = _mm512_add_epi64(acc[1], _mm512_mul_epu32(X, vn));
         acc[2] = _mm512_add_epi64(acc[2], _mm512_mul_epu32(XX, vn));
-        acc[3] = _mm512_add_epi64(acc[3], vsz);
-        acc[4] = _mm512_add_epi64(acc[4], vszz);
-        acc[5] = _mm512_add_epi64(acc[5], _mm512_mul_epu32(X, vsz));
+        acc[3] = _mm512_add_epi64(acc[3], vt1);
+        acc[4] = _mm512_add_epi64(acc[4], vt2);
+        acc[5] = _mm512_add_epi64(acc[5], _mm512_mul_epu32(X, vt1));
         bvox__bbox_add(s, (int32_t)x, y, zlo, zhi);
         if (s->hull_row)
             s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1,
                                              (uint32_t)_mm512_reduce_add_epi64(vruns) - 1};
     }
-    for (int i = 0; i < 6; i++) s->row[i] += (uint64_t)_mm512_reduce_add_epi64(acc[i]);
+    /* the lanes' word index i applied: sz = 64 i c + t1, szz = 4096 i^2 c +
+     * 128 i t1 + t2 (and x sz likewise from x c and x t1) */
+    uint64_t a[6][8];
+    for (int i = 0; i < 6; i++) _mm512_storeu_si512(a[i], acc[i]);
+    for (uint64_t i = 0; i < 8; i++) {
+        s->row[0] += a[0][i], s->row[1] += a[1][i], s->row[2] += a[2][i];
+        s->row[3] += 64 * i * a[0][i] + a[3][i];
+        s->row[4] += 4096 * i * i * a[0][i] + 128 * i * a[3][i] + a[4][i];
+        s->row[5] += 64 * i * a[1][i] + a[5][i];
+    }
 }
 
 const bvox__cells_row_fn bvox__cells_row_avx512 = cells_row;
