@@ -180,23 +180,28 @@ static void k_rows(void *ctx, int64_t begin, int64_t end)
     const hull_job *j = k->j;
     int64_t roots = 0;
     for (size_t y = (size_t)begin; y < (size_t)end; y++) {
-        uint64_t n = k->kr ? k->kcount[y] : 0;
-        if (k->kr && n == (y + 1 < j->ny ? k->kcount[y + 1] : k->nk)) {
+        if (!k->kr) {
+            /* the count: the row's runs are one index range */
+            uint64_t n = 0;
+            for (uint32_t i = j->first[y * j->nx]; i < j->first[(y + 1) * j->nx]; i++) {
+                uint32_t r = j->parent[i];
+                n += !j->marked[r], roots += !j->marked[r] && r == i;
+            }
+            k->kcount[y] = n;
+            continue;
+        }
+        uint64_t n = k->kcount[y];
+        if (n == (y + 1 < j->ny ? k->kcount[y + 1] : k->nk)) {
             /* none in this row (most rows: K is a few pockets) */
             for (size_t col = y * j->nx; col < (y + 1) * j->nx; col++)
                 k->kfirst[col + 1] = (uint32_t)n;
             continue;
         }
         for (size_t col = y * j->nx; col < (y + 1) * j->nx; col++) {
-            for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
-                uint32_t r = j->parent[i];
-                if (j->marked[r]) continue;
-                if (k->kr) k->kr[n] = j->runs[i];
-                n++, roots += r == i;
-            }
-            if (k->kr) k->kfirst[col + 1] = (uint32_t)n;
+            for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++)
+                if (!j->marked[j->parent[i]]) k->kr[n++] = j->runs[i];
+            k->kfirst[col + 1] = (uint32_t)n;
         }
-        if (!k->kr) k->kcount[y] = n;
     }
     if (!k->kr) __atomic_fetch_add(&k->roots, roots, __ATOMIC_RELAXED);
 }
