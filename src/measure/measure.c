@@ -167,7 +167,7 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
     bvox__scan s;
     bvox_status st = BVOX_OK;
     size_t hull_bytes = (size_t)vol->nx * (size_t)vol->ny * sizeof(bvox__colhull);
-    bvox__colhull *hulls = bvox__alloc(hull_bytes, true, "column hulls", &st);
+    bvox__colhull *hulls = bvox__alloc(hull_bytes, false, "column hulls", &st);
     if (!hulls) return st;
     st = bvox__measure_scan_hulls(vol, hulls, &s);
     if (!st) st = bvox__progress(0.4); /* then the labellings of topology() */

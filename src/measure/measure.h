@@ -80,9 +80,9 @@ typedef struct bvox__colhull {
  * the thread count. BVOX_ENOMEM if the scratch cannot be allocated. */
 bvox_status bvox__measure_scan(const bvox_volume *vol, bvox__scan *out);
 
-/* The same, with every column's hull written into hulls (nx * ny entries,
- * zeroed by the caller): the cavities' first pass, done while the scan has
- * each column in cache. */
+/* The same, with every column's hull written into hulls (nx * ny entries;
+ * {0, 0, 0} for a column without object voxels): the cavities' first pass,
+ * done while the scan has each column in cache. */
 bvox_status bvox__measure_scan_hulls(const bvox_volume *vol, bvox__colhull *hulls,
                                      bvox__scan *out);
 

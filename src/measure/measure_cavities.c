@@ -583,7 +583,7 @@ static bvox_status cavities_from_runs(const bvox_volume *vol, const bvox__colhul
                                                     cav6, cav26);
     bvox_status st = BVOX_OK;
     size_t bytes = (size_t)vol->nx * (size_t)vol->ny * sizeof(bvox__colhull);
-    bvox__colhull *own = bvox__alloc(bytes, true, "column hulls", &st);
+    bvox__colhull *own = bvox__alloc(bytes, false, "column hulls", &st);
     if (!own) return st;
     bvox__scan sc;
     st = bvox__measure_scan_hulls(vol, own, &sc);

@@ -192,7 +192,10 @@ moments_body(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *
         szz += base * base * c + 2 * base * t1 + t2;
     }
 #undef pc
-    if (zlo < 0) return;
+    if (zlo < 0) {
+        if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
+        return;
+    }
     bvox__moments_add(s, x, y, n, sz, szz, zlo, zhi);
     if (s->hull_row) hull_add(s, x, col, zlo, zhi, hw);
 }

@@ -200,7 +200,10 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
                 vszz, _mm256_add_epi64(_mm256_slli_epi64(kkc, 12),
                                        _mm256_add_epi64(_mm256_slli_epi64(kt1, 7), t2)));
         }
-        if (zlo < 0) continue;
+        if (zlo < 0) {
+            if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
+            continue;
+        }
         __m256i X = _mm256_set1_epi64x((long long)x), XX = _mm256_set1_epi64x((long long)x * x);
         acc[0] = _mm256_add_epi64(acc[0], vn);
         acc[1] = _mm256_add_epi64(acc[1], _mm256_mul_epu32(X, vn));

@@ -177,7 +177,10 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
             vt1 = _mm512_add_epi64(vt1, t1);
             vt2 = _mm512_add_epi64(vt2, t2);
         }
-        if (zlo < 0) continue;
+        if (zlo < 0) {
+            if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
+            continue;
+        }
         __m512i X = _mm512_set1_epi64((long long)x), XX = _mm512_set1_epi64((long long)x * x);
         acc[0] = _mm512_add_epi64(acc[0], vn);
         acc[1] = _mm512_add_epi64(acc[1], _mm512_mul_epu32(X, vn));

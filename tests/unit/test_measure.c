@@ -515,7 +515,7 @@ static int hulls_match_voxels(const voxref *r, const bvox__colhull *h)
             }
             const bvox__colhull *c = &h[(size_t)y * (size_t)r->nx + (size_t)x];
             if (first < 0) {
-                CHECK(c->lo == 0 && c->hi == 0 && c->runs == 0); /* left as zeroed */
+                CHECK(c->lo == 0 && c->hi == 0 && c->runs == 0);
                 continue;
             }
             CHECK_EQ(c->lo, first + 1);
@@ -537,6 +537,7 @@ static int scan_levels_agree(const voxref *r, const bvox_volume *v)
     size_t ncol = (size_t)v->nx * (size_t)v->ny;
     bvox__colhull *hg = calloc(ncol, sizeof *hg), *ho = calloc(ncol, sizeof *ho);
     CHECK(hg && ho);
+    memset(hg, 0xab, ncol * sizeof *hg);
     CHECK_OK(bvox_simd_set(BVOX_SIMD_GENERIC));
     CHECK_OK(bvox__measure_scan_hulls(v, hg, &g));
     if (r) {
@@ -550,7 +551,7 @@ static int scan_levels_agree(const voxref *r, const bvox_volume *v)
     for (int l = 0; l < 2; l++) {
         if (!bvox_simd_supported(levels[l])) continue;
         CHECK_OK(bvox_simd_set(levels[l]));
-        memset(ho, 0, ncol * sizeof *ho);
+        memset(ho, 0xab, ncol * sizeof *ho); /* every record must be written */
         CHECK_OK(bvox__measure_scan_hulls(v, ho, &o));
         if (scans_equal(&g, &o) || memcmp(hg, ho, ncol * sizeof *hg) != 0) {
             fprintf(stderr, "  level %s\n", bvox_simd_name(levels[l]));
