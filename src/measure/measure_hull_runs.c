@@ -96,10 +96,17 @@ static void list_column(const hull_job *j, size_t x, size_t y)
     const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
     const uint64_t *const onb[4] = {object_column(j, x - 1, y), object_column(j, x + 1, y),
                                     object_column(j, x, y - 1), object_column(j, x, y + 1)};
+    /* a run within every neighbour's hull touches no E: most of them */
+    int32_t in_lo = 0, in_hi = INT32_MAX;
+    for (int k = 0; k < 4; k++) {
+        int32_t lo = j->zr[2 * nb[k]], hi = j->zr[2 * nb[k] + 1];
+        in_lo = lo > in_lo ? lo : in_lo;
+        in_hi = hi < in_hi ? hi : in_hi;
+    }
     for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
         int32_t z0 = next_voxel(o, z, 0, last_word), z1 = next_voxel(o, z0, 1, last_word);
         j->runs[i] = (bvox__zrun){z0, z1};
-        j->touched[i] = touches_exterior(j, onb, nb, z0, z1);
+        j->touched[i] = (z0 < in_lo || z1 > in_hi) && touches_exterior(j, onb, nb, z0, z1);
         z = z1;
     }
 }
