@@ -358,11 +358,33 @@ __attribute__((target("popcnt"))) static void count_groups_popcnt(void *ctx, int
 }
 #endif
 
-static bvox__range_fn choose_count_groups(void)
+/* g = 2 with the vector kernel (components_label_avx512.c). */
+static void count_groups_vector(void *ctx, int64_t begin, int64_t end)
+{
+    const count_ctx *c = ctx;
+    bvox__labelruns *R = c->R;
+    for (int64_t grp = begin; grp < end; grp++) {
+        copy_group(c, (size_t)grp);
+        c->counts[grp + 1] = bvox__group_runs_avx512(
+            bvox__labelruns_column(R, (size_t)grp, 0, 0), bvox__labelruns_column(R, (size_t)grp, 1, 0),
+            bvox__labelruns_column(R, (size_t)grp, 0, 1), bvox__labelruns_column(R, (size_t)grp, 1, 1),
+            R->wpc, R->uw + (size_t)grp * R->wpc);
+    }
+}
+
+static bvox__range_fn choose_count_groups(int g)
 {
 #if defined(__x86_64__) || defined(__i386__)
-    if (bvox_simd_active() != BVOX_SIMD_GENERIC) return count_groups_popcnt;
+    bvox_simd level = bvox_simd_active();
+    /* the file's flags (cmake/simd.cmake) name these features */
+    if (g == 2 && level >= BVOX_SIMD_AVX512 && bvox__group_runs_avx512 &&
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vpopcntdq") &&
+        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
+        return count_groups_vector;
+    if (level != BVOX_SIMD_GENERIC) return count_groups_popcnt;
 #endif
+    (void)g;
     return count_groups_portable;
 }
 
@@ -402,7 +424,7 @@ bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t n
      * that more than 2^32 runs is an error, not a wrap. */
     R->grp_start[0] = 0;
     count_ctx cc = {R, words, R->grp_start};
-    bvox__parallel_for((int64_t)R->ngrp, 4096 / (R->g * R->g), choose_count_groups(), &cc);
+    bvox__parallel_for((int64_t)R->ngrp, 4096 / (R->g * R->g), choose_count_groups(R->g), &cc);
     uint64_t total = 0;
     for (size_t i = 0; i < R->ngrp; i++) {
         total += R->grp_start[i + 1];

@@ -62,6 +62,15 @@ void bvox__labelruns_join_border(bvox__labelruns *r, size_t nz, uint32_t outside
 void bvox__labelruns_mark_group(const bvox__labelruns *r, size_t grp, const uint64_t *mask,
                                 uint8_t *touched);
 
+/* The first pass for one 2 x 2 group: the OR of columns c00..c11 (NULL
+ * where outside the volume; c00 never) into dst (wpc words), and the
+ * number of its runs returned. components_label_avx512.c, NULL where the
+ * build has no AVX-512; the caller checks the CPU. */
+typedef uint32_t (*bvox__group_runs_fn)(const uint64_t *c00, const uint64_t *c10,
+                                        const uint64_t *c01, const uint64_t *c11, size_t wpc,
+                                        uint64_t *dst);
+extern const bvox__group_runs_fn bvox__group_runs_avx512;
+
 static inline uint64_t bvox__run_starts(uint64_t w, uint64_t carry)
 {
     return w & ~((w << 1) | carry);
