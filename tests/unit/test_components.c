@@ -1,6 +1,7 @@
 /* test_components.c — run-based labelling against a voxel flood fill, and
  * hand-built cases whose component counts differ by connectivity. */
 #include "harness.h"
+#include "internal.h"
 #include "ref/voxref.h"
 
 #include <stdlib.h>
@@ -269,6 +270,54 @@ static int cmp_ranked(const void *a, const void *b)
     const ranked *p = a, *q = b;
     if (p->voxels != q->voxels) return p->voxels < q->voxels ? 1 : -1;
     return (p->first > q->first) - (p->first < q->first);
+}
+
+/* Columns longer than 512 voxels: the vector kernels (the 26-labelling's
+ * first pass among them) work eight words at a time, and a run crossing
+ * z = 512 must stay one run. Counts and sizes against the flood fill at
+ * every SIMD level, 1 and 3 threads. */
+TEST(long_columns_every_simd_level)
+{
+    static const int sizes[][3] = {{4, 4, 700}, {5, 3, 1100}};
+    static const unsigned dens[] = {3, 5, 9}; /* of 10 */
+    const int conns[3] = {6, 18, 26};
+    const bvox_simd levels[3] = {BVOX_SIMD_GENERIC, BVOX_SIMD_AVX2, BVOX_SIMD_AVX512};
+    for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++)
+        for (int d = 0; d < 3; d++) {
+            const int *sz = sizes[si];
+            voxref *r = voxref_create(sz[0], sz[1], sz[2]);
+            voxref_random(r, dens[d], 10, harness_rand);
+            bvox_volume *v = voxref_to_volume(r);
+            size_t n = (size_t)sz[0] * sz[1] * sz[2];
+            int32_t *labels = malloc(n * sizeof *labels);
+            int64_t *want = malloc((n + 1) * sizeof *want);
+            for (int c = 0; c < 3; c++) {
+                int64_t k = ref_label(r, conns[c], labels, want);
+                qsort(want, (size_t)k, sizeof *want, cmp_desc);
+                for (int li = 0; li < 3; li++)
+                    for (int threads = 1; threads <= 3; threads += 2) {
+                        if (!bvox_simd_supported(levels[li])) continue;
+                        CHECK_OK(bvox_simd_set(levels[li]));
+                        bvox_set_threads(threads);
+                        bvox_components *comps;
+                        CHECK_OK(bvox_components_find(v, conns[c], &comps));
+                        CHECK_EQ(bvox_components_count(comps), k);
+                        for (int64_t i = 0; i < k; i++)
+                            CHECK_EQ(bvox_components_get(comps, i)->voxels, want[i]);
+                        bvox_components_destroy(comps);
+                        int64_t counted = -1;
+                        CHECK_OK(bvox__components_count(v, conns[c], 0, &counted));
+                        CHECK_EQ(counted, k);
+                    }
+            }
+            bvox_simd_set(BVOX_SIMD_AUTO);
+            bvox_set_threads(0);
+            free(labels);
+            free(want);
+            bvox_volume_destroy(v);
+            voxref_destroy(r);
+        }
+    return 0;
 }
 
 /* The documented order: largest first, ties by the first voxel in column
