@@ -31,61 +31,91 @@ static inline __m512i lo_of(__m512i h, __m512i prev, __mmask8 m)
     return _mm512_maskz_or_epi64(m, _mm512_slli_epi64(h, 1), _mm512_srli_epi64(below, 63));
 }
 
+/* The 8 x 64 windows of eight z-words of the columns a, b, c, d (hi words
+ * ah..dh, lo words al..dl) added to the accumulators. */
+static inline __attribute__((always_inline)) void
+windows(__m512i ah, __m512i bh, __m512i ch, __m512i dh, __m512i al, __m512i bl, __m512i cl,
+        __m512i dl, __m512i *vpos, __m512i *vneg, __m512i t[BVOX__NDIR])
+{
+    const __m512i ones = _mm512_set1_epi64(-1);
+    __m512i hor = _mm512_or_si512(OR3(ah, bh, ch), dh);
+    __m512i bdl = OR3(bh, bl, _mm512_or_si512(dh, dl));
+    __m512i cdl = OR3(ch, cl, _mm512_or_si512(dh, dl));
+    __m512i any = OR3(hor, bdl, cdl); /* a.lo is in neither */
+    any = _mm512_or_si512(any, al);
+    if (!_mm512_test_epi64_mask(any, any)) return; /* all 0 */
+    __m512i all = AND3(AND3(ah, bh, ch), AND3(dh, al, bl), _mm512_and_si512(cl, dl));
+    if (!_mm512_cmpneq_epi64_mask(all, ones)) return; /* all 1 */
+    /* V - E + F - C */
+    *vpos = _mm512_add_epi64(*vpos, PC(any));
+    *vpos = _mm512_add_epi64(*vpos, PC(_mm512_or_si512(dl, dh)));
+    *vpos = _mm512_add_epi64(*vpos, PC(_mm512_or_si512(ch, dh)));
+    *vpos = _mm512_add_epi64(*vpos, PC(_mm512_or_si512(bh, dh)));
+    *vneg = _mm512_add_epi64(*vneg, PC(hor));
+    *vneg = _mm512_add_epi64(*vneg, PC(bdl));
+    *vneg = _mm512_add_epi64(*vneg, PC(cdl));
+    *vneg = _mm512_add_epi64(*vneg, PC(dh));
+    /* transitions along the 13 directions */
+    t[BVOX__DIR_X] = _mm512_add_epi64(t[BVOX__DIR_X], PC(_mm512_xor_si512(ch, dh)));
+    t[BVOX__DIR_Y] = _mm512_add_epi64(t[BVOX__DIR_Y], PC(_mm512_xor_si512(bh, dh)));
+    t[BVOX__DIR_Z] = _mm512_add_epi64(t[BVOX__DIR_Z], PC(_mm512_xor_si512(dl, dh)));
+    t[BVOX__DIR_XY] = _mm512_add_epi64(t[BVOX__DIR_XY], PC(_mm512_xor_si512(ah, dh)));
+    t[BVOX__DIR_XY] = _mm512_add_epi64(t[BVOX__DIR_XY], PC(_mm512_xor_si512(bh, ch)));
+    t[BVOX__DIR_XZ] = _mm512_add_epi64(t[BVOX__DIR_XZ], PC(_mm512_xor_si512(cl, dh)));
+    t[BVOX__DIR_XZ] = _mm512_add_epi64(t[BVOX__DIR_XZ], PC(_mm512_xor_si512(ch, dl)));
+    t[BVOX__DIR_YZ] = _mm512_add_epi64(t[BVOX__DIR_YZ], PC(_mm512_xor_si512(bl, dh)));
+    t[BVOX__DIR_YZ] = _mm512_add_epi64(t[BVOX__DIR_YZ], PC(_mm512_xor_si512(bh, dl)));
+    t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(al, dh)));
+    t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(bl, ch)));
+    t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(cl, bh)));
+    t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(dl, ah)));
+}
+
 static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size_t wpc,
                       bool extra, const uint64_t *zero, bvox__scan *s)
 {
-    const __m512i ones = _mm512_set1_epi64(-1);
     __m512i vpos = _mm512_setzero_si512(), vneg = _mm512_setzero_si512();
     __m512i t[BVOX__NDIR];
     for (int i = 0; i < BVOX__NDIR; i++) t[i] = _mm512_setzero_si512();
     int64_t eul = 0, ts[BVOX__NDIR] = {0}; /* the extra words, scalar */
-    for (size_t x = 0; x <= nx; x++) {
-        const uint64_t *col[4];
-        bvox__cells_cols(prev, cur, x, nx, wpc, zero, col);
-        const uint64_t *A = col[0], *B = col[1], *C = col[2], *D = col[3];
-        __m512i pa = _mm512_setzero_si512(), pb = pa, pc = pa, pd = pa;
-        for (size_t k = 0; k < wpc; k += 8) {
-            __mmask8 m = wpc - k >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (wpc - k)) - 1);
-            __m512i ah = _mm512_maskz_loadu_epi64(m, A + k), bh = _mm512_maskz_loadu_epi64(m, B + k);
-            __m512i ch = _mm512_maskz_loadu_epi64(m, C + k), dh = _mm512_maskz_loadu_epi64(m, D + k);
-            __m512i al = lo_of(ah, pa, m), bl = lo_of(bh, pb, m);
-            __m512i cl = lo_of(ch, pc, m), dl = lo_of(dh, pd, m);
-            pa = ah, pb = bh, pc = ch, pd = dh;
-            __m512i hor = _mm512_or_si512(OR3(ah, bh, ch), dh);
-            __m512i bdl = OR3(bh, bl, _mm512_or_si512(dh, dl));
-            __m512i cdl = OR3(ch, cl, _mm512_or_si512(dh, dl));
-            __m512i any = OR3(hor, bdl, cdl); /* a.lo is in neither */
-            any = _mm512_or_si512(any, al);
-            if (!_mm512_test_epi64_mask(any, any)) continue; /* all 0 */
-            __m512i all = AND3(AND3(ah, bh, ch), AND3(dh, al, bl), _mm512_and_si512(cl, dl));
-            if (!_mm512_cmpneq_epi64_mask(all, ones)) continue; /* all 1 */
-            /* V - E + F - C */
-            vpos = _mm512_add_epi64(vpos, PC(any));
-            vpos = _mm512_add_epi64(vpos, PC(_mm512_or_si512(dl, dh)));
-            vpos = _mm512_add_epi64(vpos, PC(_mm512_or_si512(ch, dh)));
-            vpos = _mm512_add_epi64(vpos, PC(_mm512_or_si512(bh, dh)));
-            vneg = _mm512_add_epi64(vneg, PC(hor));
-            vneg = _mm512_add_epi64(vneg, PC(bdl));
-            vneg = _mm512_add_epi64(vneg, PC(cdl));
-            vneg = _mm512_add_epi64(vneg, PC(dh));
-            /* transitions along the 13 directions */
-            t[BVOX__DIR_X] = _mm512_add_epi64(t[BVOX__DIR_X], PC(_mm512_xor_si512(ch, dh)));
-            t[BVOX__DIR_Y] = _mm512_add_epi64(t[BVOX__DIR_Y], PC(_mm512_xor_si512(bh, dh)));
-            t[BVOX__DIR_Z] = _mm512_add_epi64(t[BVOX__DIR_Z], PC(_mm512_xor_si512(dl, dh)));
-            t[BVOX__DIR_XY] = _mm512_add_epi64(t[BVOX__DIR_XY], PC(_mm512_xor_si512(ah, dh)));
-            t[BVOX__DIR_XY] = _mm512_add_epi64(t[BVOX__DIR_XY], PC(_mm512_xor_si512(bh, ch)));
-            t[BVOX__DIR_XZ] = _mm512_add_epi64(t[BVOX__DIR_XZ], PC(_mm512_xor_si512(cl, dh)));
-            t[BVOX__DIR_XZ] = _mm512_add_epi64(t[BVOX__DIR_XZ], PC(_mm512_xor_si512(ch, dl)));
-            t[BVOX__DIR_YZ] = _mm512_add_epi64(t[BVOX__DIR_YZ], PC(_mm512_xor_si512(bl, dh)));
-            t[BVOX__DIR_YZ] = _mm512_add_epi64(t[BVOX__DIR_YZ], PC(_mm512_xor_si512(bh, dl)));
-            t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(al, dh)));
-            t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(bl, ch)));
-            t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(cl, bh)));
-            t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], PC(_mm512_xor_si512(dl, ah)));
+    if (wpc <= 8) {
+        /* one vector a column: vertex column x's a and c are x - 1's b and
+         * d, so each column is loaded and shifted once, not twice */
+        const __m512i z = _mm512_setzero_si512();
+        __mmask8 m = wpc == 8 ? (__mmask8)0xff : (__mmask8)((1u << wpc) - 1);
+        __m512i ah = z, al = z, ch = z, cl = z;
+        uint64_t atop = 0, ctop = 0; /* the top voxels, for the extra word */
+        for (size_t x = 0; x <= nx; x++) {
+            const uint64_t *B = prev && x < nx ? prev + x * wpc : zero;
+            const uint64_t *D = cur && x < nx ? cur + x * wpc : zero;
+            __m512i bh = _mm512_maskz_loadu_epi64(m, B), dh = _mm512_maskz_loadu_epi64(m, D);
+            __m512i bl = lo_of(bh, z, m), dl = lo_of(dh, z, m);
+            windows(ah, bh, ch, dh, al, bl, cl, dl, &vpos, &vneg, t);
+            uint64_t btop = B[wpc - 1] >> 63, dtop = D[wpc - 1] >> 63;
+            if (extra) bvox__cells_word(0, 0, 0, 0, atop, btop, ctop, dtop, &eul, ts, true);
+            ah = bh, al = bl, ch = dh, cl = dl, atop = btop, ctop = dtop;
         }
-        if (extra)
-            bvox__cells_word(0, 0, 0, 0, A[wpc - 1] >> 63, B[wpc - 1] >> 63, C[wpc - 1] >> 63,
-                             D[wpc - 1] >> 63, &eul, ts, true);
+    } else {
+        for (size_t x = 0; x <= nx; x++) {
+            const uint64_t *col[4];
+            bvox__cells_cols(prev, cur, x, nx, wpc, zero, col);
+            const uint64_t *A = col[0], *B = col[1], *C = col[2], *D = col[3];
+            __m512i pa = _mm512_setzero_si512(), pb = pa, pc = pa, pd = pa;
+            for (size_t k = 0; k < wpc; k += 8) {
+                __mmask8 m = wpc - k >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (wpc - k)) - 1);
+                __m512i ah = _mm512_maskz_loadu_epi64(m, A + k);
+                __m512i bh = _mm512_maskz_loadu_epi64(m, B + k);
+                __m512i ch = _mm512_maskz_loadu_epi64(m, C + k);
+                __m512i dh = _mm512_maskz_loadu_epi64(m, D + k);
+                __m512i al = lo_of(ah, pa, m), bl = lo_of(bh, pb, m);
+                __m512i cl = lo_of(ch, pc, m), dl = lo_of(dh, pd, m);
+                pa = ah, pb = bh, pc = ch, pd = dh;
+                windows(ah, bh, ch, dh, al, bl, cl, dl, &vpos, &vneg, t);
+            }
+            if (extra)
+                bvox__cells_word(0, 0, 0, 0, A[wpc - 1] >> 63, B[wpc - 1] >> 63, C[wpc - 1] >> 63,
+                                 D[wpc - 1] >> 63, &eul, ts, true);
+        }
     }
     s->euler += eul + _mm512_reduce_add_epi64(_mm512_sub_epi64(vpos, vneg));
     for (int i = 0; i < BVOX__NDIR; i++) s->trans[i] += ts[i] + _mm512_reduce_add_epi64(t[i]);
