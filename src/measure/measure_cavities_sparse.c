@@ -69,6 +69,36 @@ static bool touches_exterior(const bvox__zrun *kr, const uint32_t *first, size_t
     return false;
 }
 
+/* The touched roots of K's runs, rows in parallel (parent flattened: every
+ * entry a root; a store of 1 by several threads at once is harmless). */
+typedef struct touch_job {
+    const bvox__zrun *kr;
+    const uint32_t *first;
+    size_t nx, ny;
+    const bvox_volume *vol;
+    size_t x0, y0;
+    const uint32_t *parent;
+    uint8_t *touched;
+} touch_job;
+
+static void touch_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const touch_job *t = ctx;
+    const uint32_t *first = t->first;
+    size_t nx = t->nx;
+    for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        if (y == 0 || y + 1 >= t->ny || first[y * nx] == first[(y + 1) * nx]) continue;
+        for (size_t x = 1; x + 1 < nx; x++)
+            for (uint32_t i = first[y * nx + x]; i < first[y * nx + x + 1]; i++) {
+                uint32_t root = t->parent[i];
+                /* its component is out already */
+                if (__atomic_load_n(&t->touched[root], __ATOMIC_RELAXED)) continue;
+                if (touches_exterior(t->kr, first, nx, t->vol, t->x0, t->y0, x, y, t->kr[i]))
+                    __atomic_store_n(&t->touched[root], 1, __ATOMIC_RELAXED);
+            }
+    }
+}
+
 bvox_status bvox__cavities_26_runs(const bvox__zrun *kr, const uint32_t *first, size_t nx,
                                    size_t ny, const bvox_volume *vol, size_t x0, size_t y0,
                                    int64_t *out)
@@ -99,15 +129,9 @@ bvox_status bvox__cavities_26_runs(const bvox__zrun *kr, const uint32_t *first, 
             }
         }
     }
-    for (size_t y = 1; y + 1 < ny; y++) {
-        if (first[y * nx] == first[(y + 1) * nx]) continue;
-        for (size_t x = 1; x + 1 < nx; x++)
-            for (uint32_t i = first[y * nx + x]; i < first[y * nx + x + 1]; i++) {
-                uint32_t root = bvox__uf_find(parent, i);
-                if (touched[root]) continue; /* its component is out already */
-                if (touches_exterior(kr, first, nx, vol, x0, y0, x, y, kr[i])) touched[root] = 1;
-            }
-    }
+    for (uint32_t i = 0; i < nk; i++) parent[i] = parent[parent[i]]; /* roots: parent <= i */
+    touch_job tj = {kr, first, nx, ny, vol, x0, y0, parent, touched};
+    bvox__parallel_for((int64_t)ny, 16, touch_rows, &tj);
     int64_t n = 0;
     for (uint32_t i = 0; i < nk; i++) n += parent[i] == i && !touched[i];
     *out = n;

@@ -203,6 +203,19 @@ TEST(adversarial_vs_reference)
     CHECK(!check_ref(r));
     voxref_destroy(r);
 
+    /* a U-shaped cavity whose right arm (the later root, made a child of the
+     * left arm's when the bar joins them) touches the exterior only along a
+     * diagonal, at rows where its runs are two steps from the root: one
+     * 6-cavity, no 26-cavity (the root of the touched runs must be found) */
+    r = voxref_create(12, 14, 3);
+    voxref_fill_box(r, (bvox_box){0, 0, 0, 12, 14, 3}, 1);
+    voxref_fill_box(r, (bvox_box){3, 2, 1, 4, 12, 2}, 0);
+    voxref_fill_box(r, (bvox_box){7, 2, 1, 8, 12, 2}, 0);
+    voxref_fill_box(r, (bvox_box){3, 11, 1, 8, 12, 2}, 0);
+    vset(r, 8, 6, 0, 0); /* on the volume's face: 26-adjacent to (7, 5..7, 1) */
+    CHECK(!check_ref(r));
+    voxref_destroy(r);
+
     /* a cavity running across the 64-bit word boundaries of its columns */
     r = voxref_create(6, 5, 200);
     voxref_fill_box(r, (bvox_box){1, 1, 1, 5, 4, 199}, 1);
