@@ -189,6 +189,10 @@ typedef struct bvox__kernels {
     void (*op_not)(uint64_t *dst, size_t n);
 } bvox__kernels;
 const bvox__kernels *bvox__simd(void);
+/* Whether the active level is at least level (AVX2 or AVX-512) and the CPU
+ * has every feature the build gives that level's src/DIR/NAME_LEVEL.c
+ * files, so that their kernels may run. */
+bool bvox__simd_files(bvox_simd level);
 extern const bvox__kernels bvox__kernels_generic;
 extern const bvox__kernels bvox__kernels_avx2;
 extern const bvox__kernels bvox__kernels_avx512;

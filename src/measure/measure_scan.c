@@ -106,17 +106,11 @@ cells_popcnt(const uint64_t *prev, const uint64_t *cur, size_t nx, size_t wpc, b
 static bvox__cells_row_fn choose_cells(void)
 {
 #ifdef HAVE_POPCNT_CLONE
-    bvox_simd level = bvox_simd_active();
-    /* the flags cmake/simd.cmake gives *_avx512.c files */
-    if (level >= BVOX_SIMD_AVX512 && bvox__cells_row_avx512 &&
-        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vpopcntdq") &&
-        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
+    if (bvox__cells_row_avx512 && bvox__simd_files(BVOX_SIMD_AVX512))
         return bvox__cells_row_avx512;
-    if (level >= BVOX_SIMD_AVX2 && bvox__cells_row_avx2 && __builtin_cpu_supports("avx2") &&
-        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
-        return bvox__cells_row_avx2;
-    if (level != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt")) return cells_popcnt;
+    if (bvox__cells_row_avx2 && bvox__simd_files(BVOX_SIMD_AVX2)) return bvox__cells_row_avx2;
+    if (bvox_simd_active() != BVOX_SIMD_GENERIC && __builtin_cpu_supports("popcnt"))
+        return cells_popcnt;
 #endif
     return cells_generic;
 }

@@ -40,7 +40,9 @@
  * Two copies of the row loop (and of the run counting): without -mpopcnt (the library is built for any
  * x86-64) __builtin_popcountll is a library call, which took a third of the
  * time; the popcnt copy is used when the CPU has it (every CPU with AVX2
- * does), chosen through the SIMD level so tests can force either.
+ * does), chosen through the SIMD level so tests can force either. The run
+ * counting of 2 x 2 groups has a third, AVX-512 copy
+ * (components_label_avx512.c).
  */
 #include "ops/components_label.h"
 
@@ -363,28 +365,25 @@ static void count_groups_vector(void *ctx, int64_t begin, int64_t end)
 {
     const count_ctx *c = ctx;
     bvox__labelruns *R = c->R;
-    for (int64_t grp = begin; grp < end; grp++) {
-        copy_group(c, (size_t)grp);
-        c->counts[grp + 1] = bvox__group_runs_avx512(
-            bvox__labelruns_column(R, (size_t)grp, 0, 0), bvox__labelruns_column(R, (size_t)grp, 1, 0),
-            bvox__labelruns_column(R, (size_t)grp, 0, 1), bvox__labelruns_column(R, (size_t)grp, 1, 1),
-            R->wpc, R->uw + (size_t)grp * R->wpc);
+    for (int64_t g = begin; g < end; g++) {
+        size_t grp = (size_t)g;
+        copy_group(c, grp);
+        const uint64_t *c00 = bvox__labelruns_column(R, grp, 0, 0);
+        const uint64_t *c10 = bvox__labelruns_column(R, grp, 1, 0);
+        const uint64_t *c01 = bvox__labelruns_column(R, grp, 0, 1);
+        const uint64_t *c11 = bvox__labelruns_column(R, grp, 1, 1);
+        c->counts[grp + 1] =
+            bvox__group_runs_avx512(c00, c10, c01, c11, R->wpc, R->uw + grp * R->wpc);
     }
 }
 
 static bvox__range_fn choose_count_groups(int g)
 {
-#if defined(__x86_64__) || defined(__i386__)
-    bvox_simd level = bvox_simd_active();
-    /* the file's flags (cmake/simd.cmake) name these features */
-    if (g == 2 && level >= BVOX_SIMD_AVX512 && bvox__group_runs_avx512 &&
-        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-        __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vpopcntdq") &&
-        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt"))
+    if (g == 2 && bvox__group_runs_avx512 && bvox__simd_files(BVOX_SIMD_AVX512))
         return count_groups_vector;
-    if (level != BVOX_SIMD_GENERIC) return count_groups_popcnt;
+#if defined(__x86_64__) || defined(__i386__)
+    if (bvox_simd_active() != BVOX_SIMD_GENERIC) return count_groups_popcnt;
 #endif
-    (void)g;
     return count_groups_portable;
 }
 

@@ -270,15 +270,10 @@ bvox_status bvox__morph_ball(const bvox_volume *in, double radius, bool erode, b
     j.gather = bvox__ball_gather_generic;
     j.step = bvox__ball_step_generic;
 #if defined(__x86_64__)
-    bvox_simd level = bvox_simd_active();
-    /* the files' flags (cmake/simd.cmake) name these features */
-    if (level >= BVOX_SIMD_AVX512 && __builtin_cpu_supports("avx512f") &&
-        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") &&
-        __builtin_cpu_supports("bmi2")) {
+    if (bvox__simd_files(BVOX_SIMD_AVX512)) {
         j.gather = bvox__ball_gather_avx512;
         j.step = bvox__ball_step_avx512;
-    } else if (level >= BVOX_SIMD_AVX2 && __builtin_cpu_supports("avx2") &&
-               __builtin_cpu_supports("bmi2")) {
+    } else if (bvox__simd_files(BVOX_SIMD_AVX2)) {
         j.gather = bvox__ball_gather_avx2;
         j.step = bvox__ball_step_avx2;
     }

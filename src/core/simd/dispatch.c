@@ -30,6 +30,21 @@ int bvox_simd_supported(bvox_simd level)
     return 0;
 }
 
+bool bvox__simd_files(bvox_simd level)
+{
+    if (bvox_simd_active() < level) return false;
+#if defined(__x86_64__)
+    /* the flags cmake/simd.cmake gives the src/DIR/NAME_avx2.c and NAME_avx512.c files */
+    bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2") &&
+                __builtin_cpu_supports("popcnt");
+    if (level == BVOX_SIMD_AVX2) return avx2;
+    if (level == BVOX_SIMD_AVX512)
+        return avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+               __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512vpopcntdq");
+#endif
+    return level == BVOX_SIMD_GENERIC;
+}
+
 static bvox_simd best_level(void)
 {
     if (bvox_simd_supported(BVOX_SIMD_AVX512)) return BVOX_SIMD_AVX512;
