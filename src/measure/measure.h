@@ -52,7 +52,8 @@ typedef struct bvox__scan {
     bvox__wide s[3];  /* sum of x, y, z over the 1-voxels */
     bvox__wide ss[6]; /* sum of xx, yy, zz, xy, xz, yz */
     int32_t bbox[6];  /* x0 y0 z0 x1 y1 z1, half-open; meaningless if count == 0 */
-    int64_t euler;    /* V - E + F - C of the union of closed voxel cubes */
+    int64_t euler;    /* V - E + F - C of the union of closed voxel cubes (in a block
+                       * of the scan: V - E only, measure_scan.c) */
     /* Pairs of voxels (p, p + d) with different values, summed over the
      * directions of each class; voxels outside the volume are 0. The three
      * axis classes are the exposed faces. */

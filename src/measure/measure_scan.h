@@ -12,8 +12,9 @@
 #include "measure/measure.h"
 #include <string.h>
 
-/* Adds the Euler number and the transitions of the vertex row between voxel
- * rows prev (y - 1) and cur (y) to s; either may be NULL (outside the
+/* Adds the Euler number's V - E and the transitions of the vertex row
+ * between voxel rows prev (y - 1) and cur (y) to s (its F - C is added once
+ * per scan from the totals, measure_scan.c); either may be NULL (outside the
  * volume). nx + 1 vertex columns; zero is a zero column of wpc words.
  * extra: nz is a multiple of 64, so the top vertex z = nz lies in one more
  * word (hi = 0, lo = the top voxel). */
@@ -49,20 +50,24 @@ static inline void bvox__cells_cols(const uint64_t *prev, const uint64_t *cur, s
     col[3] = cur && x < nx ? cur + x * wpc : zero;
 }
 
-/* The 64 windows of one word: hi words ah..dh, lo words al..dl. Uniform
- * windows (all 0 or all 1) add nothing, so all-uniform words are skipped.
- * hw: use the POPCNT instruction (only inlined into code built for it). */
+/* The 64 windows of one word: hi words ah..dh, lo words al..dl: V - E of
+ * the Euler number into *eul (F - C comes from totals, measure_scan.c) and
+ * the transitions into t. All-0 windows add nothing and are skipped; all-1
+ * ones add only V - E = 1 - 3 each. hw: use the POPCNT instruction (only
+ * inlined into code built for it). */
 static inline __attribute__((always_inline)) void
 bvox__cells_word(uint64_t ah, uint64_t bh, uint64_t ch, uint64_t dh, uint64_t al, uint64_t bl,
                  uint64_t cl, uint64_t dl, int64_t *eul, int64_t t[BVOX__NDIR], bool hw)
 {
 #define pc(w) ((int64_t)(hw ? (unsigned)__builtin_popcountll(w) : bvox__popcount64(w)))
     uint64_t any = ah | bh | ch | dh | al | bl | cl | dl;
-    if (!any || (ah & bh & ch & dh & al & bl & cl & dl) == ~0ull) return;
-    *eul += pc(any)                                                          /* V */
-            - pc(ah | bh | ch | dh) - pc(bh | bl | dh | dl) - pc(ch | cl | dh | dl) /* E */
-            + pc(dl | dh) + pc(ch | dh) + pc(bh | dh)                       /* F */
-            - pc(dh);                                                        /* C */
+    if (!any) return;
+    if ((ah & bh & ch & dh & al & bl & cl & dl) == ~0ull) {
+        *eul -= 64 * 2; /* V - E of 64 full windows: 1 - 3 each */
+        return;
+    }
+    *eul += pc(any)                                                           /* V */
+            - pc(ah | bh | ch | dh) - pc(bh | bl | dh | dl) - pc(ch | cl | dh | dl); /* E */
     t[BVOX__DIR_X] += pc(ch ^ dh);
     t[BVOX__DIR_Y] += pc(bh ^ dh);
     t[BVOX__DIR_Z] += pc(dl ^ dh);

@@ -7,7 +7,7 @@
  * each; the "lo" words (voxels at z - 1) are the hi words shifted up by one
  * bit, each taking the top bit of the word below it: valignq of the vector
  * with the previous group's gives every lane its lower neighbour word. The
- * 21 popcounts of measure_scan.h's bvox__cells_word are counted eight words
+ * 17 popcounts of measure_scan.h's bvox__cells_word are counted eight words
  * at a time into nine vector accumulators, reduced once per vertex row.
  * Lanes past the column's end are zero in hi and lo, and all-zero windows
  * count nothing. The extra top word (nz a multiple of 64: hi = 0, lo = the
@@ -32,10 +32,12 @@ static inline __m512i lo_of(__m512i h, __m512i prev, __mmask8 m)
 }
 
 /* The 8 x 64 windows of eight z-words of the columns a, b, c, d (hi words
- * ah..dh, lo words al..dl) added to the accumulators. */
+ * ah..dh, lo words al..dl) added to the accumulators: V into vpos, E into
+ * vneg (F - C comes from totals, measure_scan.c), the transitions into t;
+ * eight words of all-1 windows only count in *full. */
 static inline __attribute__((always_inline)) void
 windows(__m512i ah, __m512i bh, __m512i ch, __m512i dh, __m512i al, __m512i bl, __m512i cl,
-        __m512i dl, __m512i *vpos, __m512i *vneg, __m512i t[BVOX__NDIR])
+        __m512i dl, __m512i *vpos, __m512i *vneg, __m512i t[BVOX__NDIR], int64_t *full)
 {
     const __m512i ones = _mm512_set1_epi64(-1);
     __m512i hor = _mm512_or_si512(OR3(ah, bh, ch), dh);
@@ -45,16 +47,15 @@ windows(__m512i ah, __m512i bh, __m512i ch, __m512i dh, __m512i al, __m512i bl, 
     any = _mm512_or_si512(any, al);
     if (!_mm512_test_epi64_mask(any, any)) return; /* all 0 */
     __m512i all = AND3(AND3(ah, bh, ch), AND3(dh, al, bl), _mm512_and_si512(cl, dl));
-    if (!_mm512_cmpneq_epi64_mask(all, ones)) return; /* all 1 */
-    /* V - E + F - C */
+    if (!_mm512_cmpneq_epi64_mask(all, ones)) {
+        (*full)++; /* all 1 */
+        return;
+    }
+    /* V - E */
     *vpos = _mm512_add_epi64(*vpos, PC(any));
-    *vpos = _mm512_add_epi64(*vpos, PC(_mm512_or_si512(dl, dh)));
-    *vpos = _mm512_add_epi64(*vpos, PC(_mm512_or_si512(ch, dh)));
-    *vpos = _mm512_add_epi64(*vpos, PC(_mm512_or_si512(bh, dh)));
     *vneg = _mm512_add_epi64(*vneg, PC(hor));
     *vneg = _mm512_add_epi64(*vneg, PC(bdl));
     *vneg = _mm512_add_epi64(*vneg, PC(cdl));
-    *vneg = _mm512_add_epi64(*vneg, PC(dh));
     /* transitions along the 13 directions */
     t[BVOX__DIR_X] = _mm512_add_epi64(t[BVOX__DIR_X], PC(_mm512_xor_si512(ch, dh)));
     t[BVOX__DIR_Y] = _mm512_add_epi64(t[BVOX__DIR_Y], PC(_mm512_xor_si512(bh, dh)));
@@ -78,6 +79,7 @@ static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size
     __m512i t[BVOX__NDIR];
     for (int i = 0; i < BVOX__NDIR; i++) t[i] = _mm512_setzero_si512();
     int64_t eul = 0, ts[BVOX__NDIR] = {0}; /* the extra words, scalar */
+    int64_t full = 0;                       /* vectors of all-1 windows */
     if (wpc <= 8) {
         /* one vector a column: vertex column x's a and c are x - 1's b and
          * d, so each column is loaded and shifted once, not twice */
@@ -90,7 +92,7 @@ static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size
             const uint64_t *D = cur && x < nx ? cur + x * wpc : zero;
             __m512i bh = _mm512_maskz_loadu_epi64(m, B), dh = _mm512_maskz_loadu_epi64(m, D);
             __m512i bl = lo_of(bh, z, m), dl = lo_of(dh, z, m);
-            windows(ah, bh, ch, dh, al, bl, cl, dl, &vpos, &vneg, t);
+            windows(ah, bh, ch, dh, al, bl, cl, dl, &vpos, &vneg, t, &full);
             uint64_t btop = B[wpc - 1] >> 63, dtop = D[wpc - 1] >> 63;
             if (extra) bvox__cells_word(0, 0, 0, 0, atop, btop, ctop, dtop, &eul, ts, true);
             ah = bh, al = bl, ch = dh, cl = dl, atop = btop, ctop = dtop;
@@ -110,14 +112,15 @@ static void cells_row(const uint64_t *prev, const uint64_t *cur, size_t nx, size
                 __m512i al = lo_of(ah, pa, m), bl = lo_of(bh, pb, m);
                 __m512i cl = lo_of(ch, pc, m), dl = lo_of(dh, pd, m);
                 pa = ah, pb = bh, pc = ch, pd = dh;
-                windows(ah, bh, ch, dh, al, bl, cl, dl, &vpos, &vneg, t);
+                windows(ah, bh, ch, dh, al, bl, cl, dl, &vpos, &vneg, t, &full);
             }
             if (extra)
                 bvox__cells_word(0, 0, 0, 0, A[wpc - 1] >> 63, B[wpc - 1] >> 63, C[wpc - 1] >> 63,
                                  D[wpc - 1] >> 63, &eul, ts, true);
         }
     }
-    s->euler += eul + _mm512_reduce_add_epi64(_mm512_sub_epi64(vpos, vneg));
+    /* V - E of a full vector: 8 x 64 x (1 - 3) */
+    s->euler += eul - full * 1024 + _mm512_reduce_add_epi64(_mm512_sub_epi64(vpos, vneg));
     for (int i = 0; i < BVOX__NDIR; i++) s->trans[i] += ts[i] + _mm512_reduce_add_epi64(t[i]);
 }
 
