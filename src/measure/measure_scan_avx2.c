@@ -138,6 +138,16 @@ static inline int64_t sum4(__m256i v)
     return _mm_cvtsi128_si64(h) + _mm_extract_epi64(h, 1);
 }
 
+/* Whether the n words at a and b are equal. */
+static inline bool same_words(const uint64_t *a, const uint64_t *b, size_t n)
+{
+    for (size_t k = 0; k < n; k += 4) {
+        __m256i d = _mm256_xor_si256(load(a + k, n - k), load(b + k, n - k));
+        if (!_mm256_testz_si256(d, d)) return false;
+    }
+    return true;
+}
+
 /* The moments of one row of columns, four words at a time (the many-runs
  * formula of measure_scan.c by bytes instead of bit masks): a byte j of a
  * word with count p, index sum s1 and square sum s2 (of its bits' indices
@@ -146,7 +156,8 @@ static inline int64_t sum4(__m256i v)
  * vpmaddubsw's, the plain ones vpsadbw's. Then per lane (word index k)
  * sz = 64 k c + t1 and szz = 4096 k^2 c + 128 k t1 + t2. The row's six sums
  * stay lane-wise in registers (x applied by multiplies) and are reduced once
- * a row, as in measure_scan_avx512.c; products fit 32 x 32 -> 64: k < 1024,
+ * a row, as in measure_scan_avx512.c, and a column equal to the one before
+ * it reuses that one's sums; products fit 32 x 32 -> 64: k < 1024,
  * c <= 64, t1 < 2^11, a lane's sz over a column < 2^30, x < 2^16. */
 static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, bvox__scan *s)
 {
@@ -159,10 +170,15 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
     const __m256i four = _mm256_set1_epi64x(4), lanes = _mm256_setr_epi64x(0, 1, 2, 3);
     /* the row's n, x n, x^2 n, sz, szz, x sz (s->row's order), per lane */
     __m256i acc[6] = {zero, zero, zero, zero, zero, zero};
+    /* the column's sums; one equal to the column before it keeps them */
+    __m256i vn = zero, vsz = zero, vszz = zero, vruns = zero;
+    int32_t zlo = -1, zhi = -1;
     for (size_t x = 0; x < nx; x++) {
         const uint64_t *col = row + x * wpc;
-        __m256i vn = zero, vsz = zero, vszz = zero, vruns = zero, prev = zero, idx = lanes;
-        int32_t zlo = -1, zhi = -1;
+        if (x && same_words(col, col - wpc, wpc)) goto sums;
+        vn = vsz = vszz = vruns = zero;
+        zlo = zhi = -1;
+        __m256i prev = zero, idx = lanes;
         for (size_t k = 0; k < wpc; k += 4, idx = _mm256_add_epi64(idx, four)) {
             __m256i w = load(col + k, wpc - k), below = prev;
             prev = w;
@@ -202,6 +218,7 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
                 vszz, _mm256_add_epi64(_mm256_slli_epi64(kkc, 12),
                                        _mm256_add_epi64(_mm256_slli_epi64(kt1, 7), t2)));
         }
+    sums:
         if (zlo < 0) {
             if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
             continue;

@@ -568,6 +568,42 @@ static int scan_levels_agree(const voxref *r, const bvox_volume *v)
 /* The scan kernels' raw sums on random densities 0.01..0.99 at awkward
  * sizes: nz < 64, nz a multiple of 64 (the extra top word) and not, wpc
  * below, at and past the AVX-512 kernel's 8 words, thin and odd shapes. */
+/* Columns repeated along x and y (an upsampled volume, where the vector
+ * kernels reuse a column's sums and take the cells of x-equal windows by
+ * their short formula), some copies differing in one voxel, anywhere along
+ * z: every level against the generic scan and the per-voxel reference. */
+TEST(scan_repeated_columns)
+{
+    static const int shapes[][3] = {{17, 9, 512}, {12, 10, 700}, {9, 13, 100}, {11, 8, 1100}};
+    for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
+        for (unsigned dens = 20; dens <= 80; dens += 30) {
+            const int *sh = shapes[i];
+            voxref *r = voxref_create(sh[0], sh[1], sh[2]);
+            voxref_random(r, dens, 100, harness_rand);
+            /* each column becomes the one before it in x (or in y), 2 in 3 */
+            for (int y = 0; y < sh[1]; y++)
+                for (int x = 0; x < sh[0]; x++) {
+                    unsigned pick = (unsigned)(harness_rand() % 3);
+                    int sx = x, sy = y;
+                    if (pick == 0 && x > 0) sx = x - 1;
+                    if (pick == 1 && y > 0) sy = y - 1;
+                    for (int z = 0; z < sh[2]; z++)
+                        *voxref_at(r, x, y, z) = *voxref_at(r, sx, sy, z);
+                    if (harness_rand() % 5 == 0)
+                        *voxref_at(r, x, y, (int)(harness_rand() % (unsigned)sh[2])) ^= 1;
+                }
+            bvox_volume *v = voxref_to_volume(r);
+            CHECK(v);
+            if (scan_levels_agree(r, v)) {
+                fprintf(stderr, "  size %dx%dx%d density %u/100\n", sh[0], sh[1], sh[2], dens);
+                return 1;
+            }
+            bvox_volume_destroy(v);
+            voxref_destroy(r);
+        }
+    return 0;
+}
+
 TEST(scan_kernels_agree)
 {
     static const int shapes[][3] = {{1, 1, 1},   {1, 1, 64},  {2, 1, 63},  {3, 2, 5},
