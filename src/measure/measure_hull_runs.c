@@ -39,6 +39,7 @@ typedef struct hull_job {
     uint8_t *touched; /* per run: it touches E */
     uint8_t *marked;  /* per root: its component holds a touched run */
     uint32_t *parent;
+    uint8_t *same_left; /* per column: it has runs, equal to those of the column at x - 1 */
     int64_t nslabs;
 } hull_job;
 
@@ -103,8 +104,19 @@ static void list_column(const hull_job *j, size_t x, size_t y)
         in_lo = lo > in_lo ? lo : in_lo;
         in_hi = hi < in_hi ? hi : in_hi;
     }
+    /* a column equal to the one before it (most of them on the atlas, an
+     * upsampled volume) has its runs */
+    uint32_t n = j->first[col + 1] - j->first[col];
+    bool same = j->first[col] - j->first[col - 1] == n &&
+                !memcmp(o, o - j->v->wpc, j->v->wpc * sizeof *o);
+    j->same_left[col] = same;
     for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
-        int32_t z0 = next_voxel(o, z, 0, last_word), z1 = next_voxel(o, z0, 1, last_word);
+        int32_t z0, z1;
+        if (same) {
+            z0 = j->runs[i - n].z0, z1 = j->runs[i - n].z1;
+        } else {
+            z0 = next_voxel(o, z, 0, last_word), z1 = next_voxel(o, z0, 1, last_word);
+        }
         j->runs[i] = (bvox__zrun){z0, z1};
         j->touched[i] = (z0 < in_lo || z1 > in_hi) && touches_exterior(j, onb, nb, z0, z1);
         z = z1;
@@ -122,12 +134,23 @@ static void list_rows(void *ctx, int64_t begin, int64_t end)
 }
 
 /* 3. The runs of column col joined with those of col - 1 (when with_left)
- * and col - nx (when with_prev). */
+ * and col - nx (when with_prev). A column equal to col - 1 joins its runs
+ * one to one with that one's, before anything else joins them (parent =
+ * the other's root, no merge). When col - nx equals col - nx - 1 too, the
+ * join with the row before is skipped: col - 1's join with it (or,
+ * further left, that of the streak's first column) already links the same
+ * runs through these one-to-one joins. */
 static void join_column(const hull_job *j, size_t col, bool with_left, bool with_prev)
 {
     const uint32_t *f = j->first;
     uint32_t a = f[col], na = f[col + 1] - a;
     if (!na) return;
+    if (j->same_left[col]) {
+        if (with_left)
+            for (uint32_t i = 0; i < na; i++) j->parent[a + i] = bvox__uf_find(j->parent, a + i - na);
+        if (j->same_left[col - j->nx]) return;
+        with_left = false;
+    }
     const size_t nb[2] = {col - 1, col - j->nx};
     const bool use[2] = {with_left, with_prev};
     for (int k = 0; k < 2; k++) {
@@ -299,12 +322,13 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
     size_t ncol = nx * ny;
     bvox_status st = BVOX_OK;
-    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
+    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
     size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
     j.zr = bvox__alloc(zr_bytes, false, "column hulls", &st);
     if (j.zr) j.first = bvox__mem_alloc((ncol + 1) * sizeof *j.first);
     if (j.first) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
-    if (j.zr && !j.rowsum) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    if (j.rowsum) j.same_left = bvox__mem_zalloc(ncol, 1);
+    if (j.zr && !j.same_left) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
     bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
@@ -343,6 +367,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     st = count_cavities(&j, (uint32_t)total, cav6, cav26);
 done:
     if (j.runs) bvox__free(j.runs, run_bytes);
+    free(j.same_left);
     free(j.rowsum);
     free(j.first);
     if (j.zr) bvox__free(j.zr, zr_bytes);

@@ -159,6 +159,37 @@ TEST(random_densities_vs_reference)
     return 0;
 }
 
+/* Columns copied from the one at x - 1 or y - 1 (an upsampled volume: the
+ * hull route copies the runs of a column equal to its left neighbour and
+ * joins them one to one, and skips the join with the row before where that
+ * row's pair is equal too), some copies then changed in one voxel; rows
+ * enough for several slabs and seams at 3 and 16 threads. */
+TEST(repeated_columns_vs_reference)
+{
+    static const int sizes[][3] = {{40, 70, 70}, {23, 120, 130}};
+    const unsigned dens[] = {4, 5, 6, 7};
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++)
+        for (size_t d = 0; d < sizeof dens / sizeof *dens; d++) {
+            const int *s = sizes[i];
+            voxref *r = voxref_create(s[0], s[1], s[2]);
+            voxref_random(r, dens[d], 10, harness_rand);
+            for (int y = 0; y < s[1]; y++)
+                for (int x = 0; x < s[0]; x++) {
+                    unsigned pick = (unsigned)(harness_rand() % 4);
+                    int sx = pick < 2 && x > 0 ? x - 1 : x, sy = pick == 2 && y > 0 ? y - 1 : y;
+                    for (int z = 0; z < s[2]; z++) vset(r, x, y, z, *voxref_at(r, sx, sy, z));
+                    if (harness_rand() % 8 == 0)
+                        *voxref_at(r, x, y, (int)(harness_rand() % (unsigned)s[2])) ^= 1;
+                }
+            if (check_ref(r)) {
+                fprintf(stderr, "  repeated columns, density %u/10\n", dens[d]);
+                return 1;
+            }
+            voxref_destroy(r);
+        }
+    return 0;
+}
+
 /* Hollow box shell [x0, x1) etc. of thickness 1 (value 1), inside cleared. */
 static void shell(voxref *r, int x0, int y0, int z0, int x1, int y1, int z1)
 {
