@@ -147,7 +147,7 @@ static void join_column(const hull_job *j, size_t col, bool with_left, bool with
     if (!na) return;
     if (j->same_left[col]) {
         if (with_left)
-            for (uint32_t i = 0; i < na; i++) j->parent[a + i] = bvox__uf_find(j->parent, a + i - na);
+            for (uint32_t i = a; i < a + na; i++) j->parent[i] = bvox__uf_find(j->parent, i - na);
         if (j->same_left[col - j->nx]) return;
         with_left = false;
     }

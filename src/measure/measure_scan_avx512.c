@@ -34,8 +34,9 @@ static inline __m512i lo_of(__m512i h, __m512i prev, __mmask8 m)
 }
 
 /* windows() where b = a and d = c (columns x - 1 and x equal in both rows,
- * measure_scan.c's header): V - E = -(a | c) - (c | c.lo); x, xy, xz, xyz
- * pairs repeat y, y, z, yz ones; 6 popcounts, not 17. */
+ * measure_scan.c's header): V - E = -(a | c) - (c | c.lo) in popcounts, no
+ * x transitions, and the xy, xz, xyz ones twice the y, z, yz ones; 6
+ * popcounts, not 17. */
 static inline __attribute__((always_inline)) void
 x_equal(__m512i a, __m512i c, __m512i al, __m512i cl, __m512i *vneg, __m512i t[BVOX__NDIR])
 {
