@@ -107,6 +107,11 @@ BVOX_API void bvox_set_memory_budget(size_t bytes);
 BVOX_API size_t bvox_memory_budget(void);
 /* Bytes currently held through the budgeted allocator. */
 BVOX_API size_t bvox_memory_in_use(void);
+/* Large buffers the library has freed are kept (at most an eighth of the
+ * budget, and 1 GiB) and handed to the next request they fit, so that a loop
+ * of operations does not pay fresh pages each time; they are not counted as
+ * in use. This returns them to the system now. Thread-safe. */
+BVOX_API void bvox_memory_trim(void);
 
 /* Release a buffer the library returned (strings, arrays). Accepts NULL. */
 BVOX_API void bvox_free(void *ptr);

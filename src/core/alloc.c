@@ -9,11 +9,12 @@
  */
 #include "internal.h"
 
+#include "core/big_buffers.h"
+
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 static atomic_size_t budget_bytes;   /* 0 = not yet set: default */
@@ -28,7 +29,13 @@ static size_t default_budget(void)
     return (size_t)pages * (size_t)page / 2;
 }
 
-void bvox_set_memory_budget(size_t bytes) { atomic_store(&budget_bytes, bytes); }
+static size_t cache_limit(void);
+
+void bvox_set_memory_budget(size_t bytes)
+{
+    atomic_store(&budget_bytes, bytes);
+    bvox__big_fit(cache_limit());
+}
 
 size_t bvox_memory_budget(void)
 {
@@ -103,28 +110,17 @@ bool bvox__budget_charge(size_t bytes, const char *what, bvox_status *status)
 
 void bvox__budget_refund(size_t bytes) { atomic_fetch_sub(&in_use_bytes, bytes); }
 
-/* Large buffers ask for transparent huge pages on the 2 MiB pages they
- * span. Debian's kernels give them only on request (THP "madvise"), and
- * without them a fresh 16 MiB buffer costs 4096 page faults: measure on a
- * 512^3 coin toss spent 9 % of its CPU time there (117 -> 104 ms a call with
- * them). The buffer itself stays a plain aligned_alloc one, so that glibc
- * still hands a freed buffer to the next request (aligning to 2 MiB made
- * every such request a fresh mmap, zeroed by the kernel: a 512^3 dilation in
- * a loop went 1.4 -> 2.1 ms). Where THP is off madvise fails and nothing
- * changes. */
-#define HUGE_PAGE ((size_t)2 << 20)
+/* Buffers from BVOX__BIG_MIN on are the library's own mappings, in huge
+ * pages and cached for reuse (big_buffers.c says why); smaller ones come
+ * from libc's heap. Which one a buffer is follows from its size alone, so
+ * bvox__free, which is given the size, knows how to give it back. */
+static bool is_big(size_t bytes) { return bytes >= BVOX__BIG_MIN; }
 
-static void *aligned_buffer(size_t rounded)
+/* At most an eighth of the memory budget, and 1 GiB, stays cached. */
+static size_t cache_limit(void)
 {
-    void *p = aligned_alloc(64, rounded);
-#ifdef MADV_HUGEPAGE
-    if (p && rounded >= 4 * HUGE_PAGE) {
-        uintptr_t lo = ((uintptr_t)p + HUGE_PAGE - 1) & ~(uintptr_t)(HUGE_PAGE - 1);
-        uintptr_t hi = ((uintptr_t)p + rounded) & ~(uintptr_t)(HUGE_PAGE - 1);
-        if (hi > lo) (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
-    }
-#endif
-    return p;
+    size_t b = bvox_memory_budget() / 8, most = (size_t)1 << 30;
+    return b < most ? b : most;
 }
 
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
@@ -137,7 +133,8 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
     if (!bvox__budget_charge(bytes, what, status)) return NULL;
     size_t rounded = (bytes + 63) & ~(size_t)63;
     if (rounded == 0) rounded = 64;
-    void *p = aligned_buffer(rounded);
+    bool fresh = false;
+    void *p = is_big(bytes) ? bvox__big_get(bytes, &fresh) : aligned_alloc(64, rounded);
     if (!p) {
         atomic_fetch_sub(&in_use_bytes, bytes);
         char need[32];
@@ -145,7 +142,7 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
         *status = bvox__fail(BVOX_ENOMEM, "out of memory allocating %s for the %s", need, what);
         return NULL;
     }
-    if (zero) memset(p, 0, rounded);
+    if (zero && !fresh) memset(p, 0, rounded); /* fresh pages read as zeros */
     *status = BVOX_OK;
     return p;
 }
@@ -153,8 +150,15 @@ void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status
 void bvox__free(void *ptr, size_t bytes)
 {
     if (!ptr) return;
-    atomic_fetch_sub(&in_use_bytes, bytes);
-    free(ptr);
+    bvox__free_charged(ptr, bytes, bytes);
+}
+
+void bvox__free_charged(void *ptr, size_t bytes, size_t charged)
+{
+    if (!ptr) return;
+    atomic_fetch_sub(&in_use_bytes, charged);
+    if (is_big(bytes)) bvox__big_put(ptr, bytes, cache_limit());
+    else free(ptr);
 }
 
 void bvox_free(void *ptr) { free(ptr); }

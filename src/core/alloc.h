@@ -28,6 +28,11 @@
  * the message (what names the buffer) and returns NULL with *status set. */
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status);
 void bvox__free(void *ptr, size_t bytes);
+/* Free a buffer of bvox__alloc(bytes) of which only `charged` bytes are
+ * still counted against the budget (the rest was given back earlier with
+ * bvox__budget_refund). bvox__free needs the size the buffer was allocated
+ * with: it tells where the buffer came from. */
+void bvox__free_charged(void *ptr, size_t bytes, size_t charged);
 
 /* malloc/calloc/realloc/strdup/strndup through the fault hook. A failed
  * bvox__mem_resize leaves ptr allocated, as realloc does. */

@@ -244,10 +244,12 @@ static bvox_status count_cavities(const hull_job *j, uint32_t nruns, int64_t *ca
     size_t ncol = j->nx * j->ny, ny = j->ny;
     bvox_status st = BVOX_OK;
     uint64_t *kcount = bvox__mem_alloc(ny * sizeof *kcount);
-    uint32_t *kfirst = bvox__mem_alloc((ncol + 1) * sizeof *kfirst);
+    size_t kfirst_bytes = (ncol + 1) * sizeof(uint32_t);
+    uint32_t *kfirst = bvox__alloc(kfirst_bytes, false, "cavity run index", &st);
     bvox__zrun *kr = NULL;
     uint64_t nk = 0;
-    if (!kcount || !kfirst) {
+    if (!kfirst) goto done;
+    if (!kcount) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
         goto done;
     }
@@ -268,7 +270,7 @@ static bvox_status count_cavities(const hull_job *j, uint32_t nruns, int64_t *ca
     st = bvox__cavities_26_runs(kr, kfirst, j->nx, j->ny, j->v, j->x0, j->y0, cav26);
 done:
     if (kr) bvox__free(kr, (size_t)nk * sizeof *kr);
-    free(kfirst);
+    bvox__free(kfirst, kfirst_bytes);
     free(kcount);
     return st;
 }
@@ -324,11 +326,14 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     bvox_status st = BVOX_OK;
     hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
     size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
+    /* the per-column arrays from the budget, whose cached mappings spare a
+     * call the faults of fresh pages */
+    size_t first_bytes = (ncol + 1) * sizeof *j.first;
     j.zr = bvox__alloc(zr_bytes, false, "column hulls", &st);
-    if (j.zr) j.first = bvox__mem_alloc((ncol + 1) * sizeof *j.first);
-    if (j.first) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
-    if (j.rowsum) j.same_left = bvox__mem_zalloc(ncol, 1);
-    if (j.zr && !j.same_left) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    if (j.zr) j.first = bvox__alloc(first_bytes, false, "column run index", &st);
+    if (j.first) j.same_left = bvox__alloc(ncol, true, "column equalities", &st);
+    if (j.same_left) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
+    if (j.same_left && !j.rowsum) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
     bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
@@ -367,9 +372,9 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     st = count_cavities(&j, (uint32_t)total, cav6, cav26);
 done:
     if (j.runs) bvox__free(j.runs, run_bytes);
-    free(j.same_left);
+    bvox__free(j.same_left, ncol);
     free(j.rowsum);
-    free(j.first);
+    bvox__free(j.first, first_bytes);
     if (j.zr) bvox__free(j.zr, zr_bytes);
     return st;
 }

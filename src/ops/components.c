@@ -275,12 +275,14 @@ static bvox_status sort_by_size(const bvox_component *items, const int64_t *firs
 {
     uint32_t *tmp = bvox__mem_alloc((n ? n : 1) * sizeof *tmp);
     uint64_t *key = bvox__mem_alloc((n ? n : 1) * sizeof *key);
-    size_t *bucket = bvox__mem_alloc(65537 * sizeof *bucket);
+    const size_t bucket_bytes = 65537 * sizeof(size_t);
+    bvox_status st = BVOX_OK;
+    size_t *bucket = bvox__alloc(bucket_bytes, false, "component ranking", &st);
     if (!tmp || !key || !bucket) {
         free(tmp);
         free(key);
-        free(bucket);
-        return bvox__fail(BVOX_ENOMEM, "out of memory ranking components");
+        bvox__free(bucket, bucket_bytes);
+        return st ? st : bvox__fail(BVOX_ENOMEM, "out of memory ranking components");
     }
     for (size_t i = 0; i < n; i++) order[i] = (uint32_t)i;
     if (first) {
@@ -292,7 +294,7 @@ static bvox_status sort_by_size(const bvox_component *items, const int64_t *firs
         if (items[i].voxels > maxv) maxv = items[i].voxels;
     for (size_t i = 0; i < n; i++) key[i] = (uint64_t)(maxv - items[i].voxels);
     radix_sort(order, tmp, bucket, n, key);
-    free(bucket);
+    bvox__free(bucket, bucket_bytes);
     free(key);
     free(tmp);
     return BVOX_OK;

@@ -390,7 +390,7 @@ static bvox__range_fn choose_count_groups(int g)
 void bvox__labelruns_free(bvox__labelruns *r)
 {
     if (!r) return;
-    free(r->grp_start);
+    bvox__free(r->grp_start, (r->ngrp + 1) * sizeof *r->grp_start);
     if (r->uw) bvox__free(r->uw, r->ngrp * r->wpc * sizeof(uint64_t));
     if (r->parent) bvox__free(r->parent, (r->nruns + r->extra ? r->nruns + r->extra : 1) * sizeof(uint32_t));
     memset(r, 0, sizeof *r);
@@ -407,9 +407,14 @@ bvox_status bvox__labelruns_find(const uint64_t *words, uint64_t *copy, size_t n
     R->gy = (ny + (size_t)R->g - 1) / (size_t)R->g;
     R->ngrp = R->gx * R->gy;
     bvox_status st = BVOX_OK;
-    R->grp_start = bvox__mem_alloc((R->ngrp + 1) * sizeof *R->grp_start);
-    uint64_t *zero = bvox__mem_zalloc(wpc, sizeof *zero);
-    if (!R->grp_start || !zero) {
+    uint64_t *zero = NULL;
+    /* per-group arrays are volume-sized: from the budget (and its cache of
+     * mapped buffers; a fresh one from libc costs a fault per 4 KiB) */
+    R->grp_start = bvox__alloc((R->ngrp + 1) * sizeof *R->grp_start, false,
+                               "component group index", &st);
+    if (!R->grp_start) goto fail;
+    zero = bvox__mem_zalloc(wpc, sizeof *zero);
+    if (!zero) {
         st = bvox__fail(BVOX_ENOMEM, "out of memory labelling components");
         goto fail;
     }

@@ -158,7 +158,7 @@ typedef struct bvox__surface_run {
 
 typedef struct bvox__surface_block { /* memory the runs point into, from bvox__alloc */
     uint64_t *at;
-    size_t bytes;    /* charged to the memory budget, and given to bvox__free */
+    size_t bytes;    /* charged to the memory budget (the rest was refunded) */
     size_t capacity; /* entries allocated (a rebuild reuses blocks of its size) */
 } bvox__surface_block;
 

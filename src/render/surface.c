@@ -479,7 +479,10 @@ bvox_status bvox_surface_rebuild(bvox_surface *surf, const bvox_volume *vol)
 
 void bvox__surface_release(bvox_surface *s)
 {
-    for (int h = 0; h < s->nblocks; h++) bvox__free(s->blocks[h].at, s->blocks[h].bytes);
+    for (int h = 0; h < s->nblocks; h++) {
+        const bvox__surface_block *b = s->blocks + h;
+        bvox__free_charged(b->at, b->capacity * sizeof(uint64_t), b->bytes);
+    }
     free(s->blocks);
     free(s->runs);
     s->blocks = NULL;
