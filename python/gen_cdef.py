@@ -37,7 +37,7 @@ bvox_progress_fn""".split()
 TYPES += "bvox_int128 bvox_measure_sums".split()
 
 FUNCS = """bvox_status_name bvox_errmsg bvox_version bvox_set_memory_budget bvox_memory_budget
-bvox_memory_in_use bvox_free bvox_set_threads bvox_threads bvox_simd_active bvox_simd_name
+bvox_memory_in_use bvox_memory_trim bvox_free bvox_set_threads bvox_threads bvox_simd_active bvox_simd_name
 bvox_geometry_default bvox_volume_create bvox_volume_destroy bvox_volume_copy bvox_volume_dims
 bvox_volume_geometry bvox_volume_set_geometry bvox_volume_get bvox_volume_set
 bvox_volume_fill_box bvox_volume_fill bvox_volume_crop bvox_volume_pad bvox_volume_count

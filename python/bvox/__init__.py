@@ -28,7 +28,7 @@ from ._volume import Volume, _binarize
 
 __all__ = ["Canceled", "Volume", "Contours", "read_contours", "reconstruct", "read", "csg", "demo", "render", "render_objects", "write_png", "voxelize", "read_mesh",
            "write_mesh", "mesh_info", "Error", "InvalidArgument", "OutOfMemory", "IOFailure",
-           "FormatError", "TooBig", "NotFound", "Unsupported", "version", "memory_in_use",
+           "FormatError", "TooBig", "NotFound", "Unsupported", "version", "memory_in_use", "memory_trim",
            "memory_budget", "set_memory_budget", "threads", "set_threads", "library_path"]
 
 __version__ = ffi.string(lib.bvox_version()).decode()
@@ -146,6 +146,13 @@ def memory_in_use():
     """Bytes the library holds now through its budgeted allocator (the words
     of every live volume, buffers of running operations)."""
     return int(lib.bvox_memory_in_use())
+
+
+def memory_trim():
+    """Return to the system the large buffers the library keeps after they
+    are freed (for the next operation to reuse; not counted in
+    memory_in_use)."""
+    lib.bvox_memory_trim()
 
 
 def memory_budget():

@@ -412,6 +412,7 @@ const char *bvox_version(void);
 void bvox_set_memory_budget(size_t bytes);
 size_t bvox_memory_budget(void);
 size_t bvox_memory_in_use(void);
+void bvox_memory_trim(void);
 void bvox_free(void *ptr);
 void bvox_set_threads(int threads);
 int bvox_threads(void);
