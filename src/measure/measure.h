@@ -71,10 +71,14 @@ typedef struct bvox__scan {
 /* Per column of a volume: the z range [lo, hi) strictly between its first
  * and last object voxel, which holds its enclosed background, and that
  * background's runs (the object's runs less one); all 0 in a column without
- * object. */
+ * object. twin_row, the same in every column of a row: the row's words equal
+ * those of the row before (an upsampled volume's rows repeat: 64 % of the
+ * AAL atlas's at 512^3); the scan reuses that row's moments, the cavities
+ * its runs. */
 typedef struct bvox__colhull {
     int32_t lo, hi;
-    uint32_t runs;
+    uint32_t runs : 31;
+    uint32_t twin_row : 1;
 } bvox__colhull;
 
 /* One pass, split over the worker threads; the result does not depend on
@@ -306,6 +310,11 @@ extern int bvox__cavity_label_k;
  * (measure_hull_runs.c); 1, it labels that background's words
  * (measure_enclosed.c); 0, all of the box's background. */
 extern int bvox__cavity_hull;
+
+/* Test hook of measure_hull_runs.c: 1 (default), rows equal to the row
+ * before take their twins' runs and touches; 0, every row is listed and
+ * joined on its own. */
+extern int bvox__cavity_twin_rows;
 
 /* Both cavity counts of vol from the runs of the background enclosed along z
  * in the columns [x0, x0 + nx) x [y0, y0 + ny) (the object's x-y box grown

@@ -40,6 +40,7 @@ typedef struct hull_job {
     uint8_t *marked;  /* per root: its component holds a touched run */
     uint32_t *parent;
     uint8_t *same_left; /* per column: it has runs, equal to those of the column at x - 1 */
+    uint8_t *twin;      /* per row: its columns (the ring's too) equal those of the row before */
     int64_t nslabs;
 } hull_job;
 
@@ -73,9 +74,9 @@ static inline bool any_background(const uint64_t *o, int32_t a, int32_t b)
  * the run outside that hull are looked at, and most runs have none (the
  * words were read for every run, 90 ns a column on the atlas). */
 static bool touches_exterior(const hull_job *j, const uint64_t *const onb[4], const size_t nb[4],
-                             int32_t z0, int32_t z1)
+                             int k0, int32_t z0, int32_t z1)
 {
-    for (int k = 0; k < 4; k++) {
+    for (int k = k0; k < 4; k++) {
         int32_t lo = j->zr[2 * nb[k]], hi = j->zr[2 * nb[k] + 1];
         int32_t below = z1 < lo ? z1 : lo, above = z0 > hi ? z0 : hi;
         if (z0 < below && any_background(onb[k], z0, below)) return true;
@@ -88,8 +89,17 @@ static bool touches_exterior(const hull_job *j, const uint64_t *const onb[4], co
  * U's runs are the gaps between the column's object runs after lo (the
  * voxel after the first object voxel), as many as the record says; they are
  * found from the object's words directly (building U's words first took
- * longer). */
-static void list_column(const hull_job *j, size_t x, size_t y)
+ * longer).
+ *
+ * In a twin row (equal to the row before, the rule in an upsampled volume:
+ * 64 % of the AAL atlas's rows at 512^3) each run r has a twin r' in the
+ * column at y - 1 with the same z range, and the two are 6-connected (the
+ * join makes them one, join_slabs). Their neighbours at x - 1 and x + 1 are
+ * twins too, so r touches E across x exactly where r' does, and r lies in
+ * the hull of the column at y - 1 (its own): only the column at y + 1 can
+ * add a touch, and only it is looked at. With copy (the row before is
+ * listed by this task), the runs and the equality with x - 1 are copied. */
+static void list_column(const hull_job *j, size_t x, size_t y, bool twin, bool copy)
 {
     size_t nx = j->nx, col = y * nx + x, last_word = j->v->wpc - 1;
     int32_t z = j->zr[2 * col];
@@ -97,9 +107,10 @@ static void list_column(const hull_job *j, size_t x, size_t y)
     const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
     const uint64_t *const onb[4] = {object_column(j, x - 1, y), object_column(j, x + 1, y),
                                     object_column(j, x, y - 1), object_column(j, x, y + 1)};
-    /* a run within every neighbour's hull touches no E: most of them */
+    int k0 = twin ? 3 : 0; /* the neighbours that can add a touch */
+    /* a run within every such neighbour's hull touches no E: most of them */
     int32_t in_lo = 0, in_hi = INT32_MAX;
-    for (int k = 0; k < 4; k++) {
+    for (int k = k0; k < 4; k++) {
         int32_t lo = j->zr[2 * nb[k]], hi = j->zr[2 * nb[k] + 1];
         in_lo = lo > in_lo ? lo : in_lo;
         in_hi = hi < in_hi ? hi : in_hi;
@@ -107,30 +118,43 @@ static void list_column(const hull_job *j, size_t x, size_t y)
     /* a column equal to the one before it (most of them on the atlas, an
      * upsampled volume) has its runs */
     uint32_t n = j->first[col + 1] - j->first[col];
-    bool same = j->first[col] - j->first[col - 1] == n &&
-                !memcmp(o, o - j->v->wpc, j->v->wpc * sizeof *o);
+    const bvox__zrun *from = NULL;
+    bool same;
+    if (copy) {
+        same = j->same_left[col - nx];
+        from = j->runs + j->first[col - nx];
+    } else {
+        same = j->first[col] - j->first[col - 1] == n &&
+               !memcmp(o, o - j->v->wpc, j->v->wpc * sizeof *o);
+        if (same) from = j->runs + j->first[col] - n;
+    }
     j->same_left[col] = same;
-    for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
+    for (uint32_t i = j->first[col], r = 0; i < j->first[col + 1]; i++, r++) {
         int32_t z0, z1;
-        if (same) {
-            z0 = j->runs[i - n].z0, z1 = j->runs[i - n].z1;
+        if (from) {
+            z0 = from[r].z0, z1 = from[r].z1;
         } else {
             z0 = next_voxel(o, z, 0, last_word), z1 = next_voxel(o, z0, 1, last_word);
         }
         j->runs[i] = (bvox__zrun){z0, z1};
-        j->touched[i] = (z0 < in_lo || z1 > in_hi) && touches_exterior(j, onb, nb, z0, z1);
+        j->touched[i] = (z0 < in_lo || z1 > in_hi) && touches_exterior(j, onb, nb, k0, z0, z1);
         z = z1;
     }
 }
 
+int bvox__cavity_twin_rows = 1;
+
 static void list_rows(void *ctx, int64_t begin, int64_t end)
 {
     const hull_job *j = ctx;
-    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
+    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++) {
+        bool twin = j->twin[y];
+        bool copy = twin && y > (size_t)begin + 1; /* the row before is this task's */
         for (size_t x = 1; x + 1 < j->nx; x++) {
             size_t col = y * j->nx + x;
-            if (j->first[col] < j->first[col + 1]) list_column(j, x, y);
+            if (j->first[col] < j->first[col + 1]) list_column(j, x, y, twin, copy);
         }
+    }
 }
 
 /* 3. The runs of column col joined with those of col - 1 (when with_left)
@@ -170,8 +194,17 @@ static void join_slabs(void *ctx, int64_t begin, int64_t end)
     for (int64_t s = begin; s < end; s++) {
         size_t y0 = slab_row(j, s), y1 = slab_row(j, s + 1);
         for (uint32_t i = j->first[y0 * j->nx]; i < j->first[y1 * j->nx]; i++) j->parent[i] = i;
-        for (size_t y = y0; y < y1; y++)
+        for (size_t y = y0; y < y1; y++) {
+            if (j->twin[y] && y > y0) {
+                /* each run one with its twin at y - 1; the joins across x
+                 * are the twins' already (see list_column) */
+                uint32_t a = j->first[y * j->nx], b = j->first[(y + 1) * j->nx];
+                uint32_t d = a - j->first[(y - 1) * j->nx];
+                for (uint32_t i = a; i < b; i++) j->parent[i] = bvox__uf_find(j->parent, i - d);
+                continue;
+            }
             for (size_t x = 1; x + 1 < j->nx; x++) join_column(j, y * j->nx + x, true, y > y0);
+        }
     }
 }
 
@@ -292,12 +325,16 @@ static void copy_rows(void *ctx, int64_t begin, int64_t end)
             size_t col = y * j->nx + x;
             bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
             bvox__colhull h = c->hulls[(j->y0 + y) * vnx + j->x0 + x];
-            if (ring) h = (bvox__colhull){0, 0, 0};
+            if (ring) h = (bvox__colhull){0, 0, 0, 0};
             j->zr[2 * col] = h.lo, j->zr[2 * col + 1] = h.hi;
             j->first[col] = h.runs;
             row += h.runs;
         }
         j->rowsum[y] = row;
+        /* a twin of an inner row (the scan's flag: the whole row of the
+         * volume equals the one before, so the box's row does) */
+        j->twin[y] = y >= 2 && bvox__cavity_twin_rows &&
+                     c->hulls[(j->y0 + y) * vnx + j->x0].twin_row;
     }
 }
 
@@ -324,7 +361,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
     size_t ncol = nx * ny;
     bvox_status st = BVOX_OK;
-    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
+    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
     size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
     /* the per-column arrays from the budget, whose cached mappings spare a
      * call the faults of fresh pages */
@@ -333,7 +370,8 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (j.zr) j.first = bvox__alloc(first_bytes, false, "column run index", &st);
     if (j.first) j.same_left = bvox__alloc(ncol, true, "column equalities", &st);
     if (j.same_left) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
-    if (j.same_left && !j.rowsum) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    if (j.rowsum) j.twin = bvox__mem_zalloc(ny, 1);
+    if (j.same_left && !j.twin) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
     bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
@@ -373,6 +411,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
 done:
     if (j.runs) bvox__free(j.runs, run_bytes);
     bvox__free(j.same_left, ncol);
+    free(j.twin);
     free(j.rowsum);
     bvox__free(j.first, first_bytes);
     if (j.zr) bvox__free(j.zr, zr_bytes);

@@ -142,7 +142,7 @@ hull_add(bvox__scan *s, int32_t x, const uint64_t *col, int32_t zlo, int32_t zhi
         runs += popcnt ? (uint32_t)__builtin_popcountll(starts) : bvox__popcount64(starts);
         carry = col[w] >> 63;
     }
-    s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, runs - 1};
+    s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, runs - 1, 0};
 }
 
 /* Prefix sums over z < m of 1, z and z^2 (m <= 65536: fits easily). */
@@ -194,7 +194,7 @@ moments_body(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan *
     }
 #undef pc
     if (zlo < 0) {
-        if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
+        if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0, 0};
         return;
     }
     bvox__moments_add(s, x, y, n, sz, szz, zlo, zhi);
@@ -215,6 +215,28 @@ moments_popcnt(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan
 }
 #endif
 
+/* The moments and hulls of voxel row y (words cur) into s. twin: the row
+ * equals row y - 1, whose row sums were last (it is this task's and not
+ * empty: last_n) and whose hulls are written: they are taken over, the box
+ * grown by the row. Then every hull record of the row says twin. */
+static void row_moments_of(const scan_job *j, const uint64_t *cur, int64_t y, bool twin,
+                           bool last_valid, const uint64_t last[6], bvox__scan *s)
+{
+    size_t nx = (size_t)j->v->nx, wpc = j->v->wpc;
+    s->hull_row = j->hulls ? j->hulls + (size_t)y * nx : NULL;
+    if (twin && last_valid) {
+        memcpy(s->row, last, sizeof s->row);
+        if (last[0]) s->bbox[4] = (int32_t)y + 1; /* the row before is in the box */
+        if (s->hull_row) memcpy(s->hull_row, s->hull_row - nx, nx * sizeof *s->hull_row);
+    } else if (j->row_moments) {
+        j->row_moments(cur, nx, wpc, (int32_t)y, s);
+    } else {
+        for (size_t x = 0; x < nx; x++) j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
+    }
+    if (s->hull_row)
+        for (size_t x = 0; x < nx; x++) s->hull_row[x].twin_row = twin;
+}
+
 static void scan_range(void *ctx, int64_t begin, int64_t end)
 {
     scan_job *j = ctx;
@@ -224,16 +246,18 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
     int64_t rows = (int64_t)v->ny + 1;
     for (int64_t b = begin; b < end; b++) {
         bvox__scan *s = &j->parts[b];
-        for (int64_t y = rows * b / j->nblocks; y < rows * (b + 1) / j->nblocks; y++) {
+        int64_t y0 = rows * b / j->nblocks;
+        uint64_t last[6]; /* the sums of the row before, when it is this block's */
+        for (int64_t y = y0; y < rows * (b + 1) / j->nblocks; y++) {
             const uint64_t *prev = y > 0 ? v->words + (size_t)(y - 1) * nx * wpc : NULL;
             const uint64_t *cur = y < v->ny ? v->words + (size_t)y * nx * wpc : NULL;
             j->cells(prev, cur, nx, wpc, extra, j->zero, s);
             if (cur) {
-                s->hull_row = j->hulls ? j->hulls + (size_t)y * nx : NULL;
-                if (j->row_moments) j->row_moments(cur, nx, wpc, (int32_t)y, s);
-                else
-                    for (size_t x = 0; x < nx; x++)
-                        j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
+                /* a row equal to the one before: one compare of words the
+                 * cells kernel just read, against the moments kernel */
+                bool twin = prev && !memcmp(cur, prev, nx * wpc * sizeof *cur);
+                row_moments_of(j, cur, y, twin, y > y0, last, s);
+                memcpy(last, s->row, sizeof last);
                 bvox__moments_row(s, (int32_t)y);
             }
         }
@@ -250,7 +274,9 @@ bvox_status bvox__measure_scan_hulls(const bvox_volume *vol, bvox__colhull *hull
 {
     memset(out, 0, sizeof *out);
     int64_t rows = (int64_t)vol->ny + 1;
-    int64_t nblocks = rows < 256 ? rows : 256;
+    /* blocks of 8 rows or more: a block's first row cannot take over the
+     * sums of a row before it that another block computes (twin rows) */
+    int64_t nblocks = rows / 8 < 256 ? (rows / 8 > 0 ? rows / 8 : 1) : 256;
     uint64_t *zero = bvox__mem_zalloc(vol->wpc, sizeof *zero);
     bvox__scan *parts = bvox__mem_zalloc((size_t)nblocks, sizeof *parts);
     if (!zero || !parts) {

@@ -220,7 +220,7 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
         }
     sums:
         if (zlo < 0) {
-            if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
+            if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0, 0};
             continue;
         }
         __m256i X = _mm256_set1_epi64x((long long)x), XX = _mm256_set1_epi64x((long long)x * x);
@@ -232,7 +232,7 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
         acc[5] = _mm256_add_epi64(acc[5], _mm256_mul_epu32(X, vsz));
         bvox__bbox_add(s, (int32_t)x, y, zlo, zhi);
         if (s->hull_row)
-            s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, (uint32_t)sum4(vruns) - 1};
+            s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1, (uint32_t)sum4(vruns) - 1, 0};
     }
     for (int i = 0; i < 6; i++) s->row[i] += (uint64_t)sum4(acc[i]);
 }

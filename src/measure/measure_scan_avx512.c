@@ -9,8 +9,9 @@
  * with the previous group's gives every lane its lower neighbour word. The
  * 17 popcounts of measure_scan.h's bvox__cells_word are counted eight words
  * at a time into nine vector accumulators, reduced once per vertex row;
- * windows whose columns x - 1 and x are equal in both rows (x_equal: most
- * of a smooth or upsampled object's) take 6.
+ * windows whose columns x - 1 and x are equal in both rows (most of a
+ * smooth or upsampled object's), or whose rows y - 1 and y are (an
+ * upsampled object's rows repeat), take 6 (pair_equal).
  * Lanes past the column's end are zero in hi and lo, and all-zero windows
  * count nothing. The extra top word (nz a multiple of 64: hi = 0, lo = the
  * top voxels) is counted by the scalar formula. All sums are exact integers,
@@ -33,23 +34,28 @@ static inline __m512i lo_of(__m512i h, __m512i prev, __mmask8 m)
     return _mm512_maskz_or_epi64(m, _mm512_slli_epi64(h, 1), _mm512_srli_epi64(below, 63));
 }
 
-/* windows() where b = a and d = c (columns x - 1 and x equal in both rows,
- * measure_scan.c's header): V - E = -(a | c) - (c | c.lo) in popcounts, no
- * x transitions, and the xy, xz, xyz ones twice the y, z, yz ones; 6
- * popcounts, not 17. */
+/* windows() where two columns of each window are equal to the other two
+ * (measure_scan.c's header), by 6 popcounts, not 17: p, q are the columns
+ * that differ (hi and lo words), across the axis along which they differ.
+ * b = a and d = c (columns x - 1 and x equal in both rows): p = a, q = c,
+ * across y; V - E = -(a | c) - (c | c.lo) in popcounts, no x transitions,
+ * and the xy, xz, xyz ones twice the y, z, yz ones. c = a and d = b (rows
+ * y - 1 and y equal, in a row equal to the one before): the same with x and
+ * y swapped, p = a, q = b, across x. */
 static inline __attribute__((always_inline)) void
-x_equal(__m512i a, __m512i c, __m512i al, __m512i cl, __m512i *vneg, __m512i t[BVOX__NDIR])
+pair_equal(__m512i p, __m512i q, __m512i pl, __m512i ql, __m512i *vneg, __m512i t[BVOX__NDIR],
+           int across, int across_z, int along_z)
 {
-    __m512i ty = PC(_mm512_xor_si512(a, c)), tz = PC(_mm512_xor_si512(c, cl));
-    __m512i tyz = _mm512_add_epi64(PC(_mm512_xor_si512(al, c)), PC(_mm512_xor_si512(a, cl)));
-    *vneg = _mm512_add_epi64(*vneg, PC(_mm512_or_si512(a, c)));
-    *vneg = _mm512_add_epi64(*vneg, PC(_mm512_or_si512(c, cl)));
-    t[BVOX__DIR_Y] = _mm512_add_epi64(t[BVOX__DIR_Y], ty);
+    __m512i ta = PC(_mm512_xor_si512(p, q)), tz = PC(_mm512_xor_si512(q, ql));
+    __m512i taz = _mm512_add_epi64(PC(_mm512_xor_si512(pl, q)), PC(_mm512_xor_si512(p, ql)));
+    *vneg = _mm512_add_epi64(*vneg, PC(_mm512_or_si512(p, q)));
+    *vneg = _mm512_add_epi64(*vneg, PC(_mm512_or_si512(q, ql)));
+    t[across] = _mm512_add_epi64(t[across], ta);
     t[BVOX__DIR_Z] = _mm512_add_epi64(t[BVOX__DIR_Z], tz);
-    t[BVOX__DIR_XY] = _mm512_add_epi64(t[BVOX__DIR_XY], _mm512_slli_epi64(ty, 1));
-    t[BVOX__DIR_XZ] = _mm512_add_epi64(t[BVOX__DIR_XZ], _mm512_slli_epi64(tz, 1));
-    t[BVOX__DIR_YZ] = _mm512_add_epi64(t[BVOX__DIR_YZ], tyz);
-    t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], _mm512_slli_epi64(tyz, 1));
+    t[BVOX__DIR_XY] = _mm512_add_epi64(t[BVOX__DIR_XY], _mm512_slli_epi64(ta, 1));
+    t[along_z] = _mm512_add_epi64(t[along_z], _mm512_slli_epi64(tz, 1));
+    t[across_z] = _mm512_add_epi64(t[across_z], taz);
+    t[BVOX__DIR_XYZ] = _mm512_add_epi64(t[BVOX__DIR_XYZ], _mm512_slli_epi64(taz, 1));
 }
 
 /* The 8 x 64 windows of eight z-words of the columns a, b, c, d (hi words
@@ -70,7 +76,13 @@ windows(__m512i ah, __m512i bh, __m512i ch, __m512i dh, __m512i al, __m512i bl, 
     __m512i xd = _mm512_ternarylogic_epi64(_mm512_xor_si512(ah, bh), ch, dh, 0xf6);
     xd = _mm512_or_si512(xd, _mm512_ternarylogic_epi64(_mm512_xor_si512(al, bl), cl, dl, 0xf6));
     if (!_mm512_test_epi64_mask(xd, xd)) {
-        x_equal(ah, ch, al, cl, vneg, t);
+        pair_equal(ah, ch, al, cl, vneg, t, BVOX__DIR_Y, BVOX__DIR_YZ, BVOX__DIR_XZ);
+        return;
+    }
+    __m512i yd = _mm512_ternarylogic_epi64(_mm512_xor_si512(ah, ch), bh, dh, 0xf6);
+    yd = _mm512_or_si512(yd, _mm512_ternarylogic_epi64(_mm512_xor_si512(al, cl), bl, dl, 0xf6));
+    if (!_mm512_test_epi64_mask(yd, yd)) {
+        pair_equal(ah, bh, al, bl, vneg, t, BVOX__DIR_X, BVOX__DIR_XZ, BVOX__DIR_YZ);
         return;
     }
     __m512i all = AND3(AND3(ah, bh, ch), AND3(dh, al, bl), _mm512_and_si512(cl, dl));
@@ -257,7 +269,7 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
         }
     sums:
         if (zlo < 0) {
-            if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0};
+            if (s->hull_row) s->hull_row[x] = (bvox__colhull){0, 0, 0, 0};
             continue;
         }
         __m512i X = _mm512_set1_epi64((long long)x), XX = _mm512_set1_epi64((long long)x * x);
@@ -270,7 +282,7 @@ static void row_moments(const uint64_t *row, size_t nx, size_t wpc, int32_t y, b
         bvox__bbox_add(s, (int32_t)x, y, zlo, zhi);
         if (s->hull_row)
             s->hull_row[x] = (bvox__colhull){zlo + 1, zhi - 1,
-                                             (uint32_t)_mm512_reduce_add_epi64(vruns) - 1};
+                                             (uint32_t)_mm512_reduce_add_epi64(vruns) - 1, 0};
     }
     /* the lanes' word index i applied: sz = 64 i c + t1, szz = 4096 i^2 c +
      * 128 i t1 + t2 (and x sz likewise from x c and x t1) */

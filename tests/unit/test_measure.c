@@ -504,7 +504,12 @@ static int scans_equal(const bvox__scan *a, const bvox__scan *b)
  * compared with h. */
 static int hulls_match_voxels(const voxref *r, const bvox__colhull *h)
 {
-    for (int y = 0; y < r->ny; y++)
+    for (int y = 0; y < r->ny; y++) {
+        /* the row's flag: all of row y equals row y - 1 */
+        int twin = y > 0;
+        for (int x = 0; x < r->nx && twin; x++)
+            for (int z = 0; z < r->nz && twin; z++)
+                twin = *voxref_at(r, x, y, z) == *voxref_at(r, x, y - 1, z);
         for (int x = 0; x < r->nx; x++) {
             int first = -1, last = -1, runs = 0;
             for (int z = 0; z < r->nz; z++) {
@@ -514,6 +519,7 @@ static int hulls_match_voxels(const voxref *r, const bvox__colhull *h)
                 last = z;
             }
             const bvox__colhull *c = &h[(size_t)y * (size_t)r->nx + (size_t)x];
+            CHECK_EQ(c->twin_row, twin);
             if (first < 0) {
                 CHECK(c->lo == 0 && c->hi == 0 && c->runs == 0);
                 continue;
@@ -522,6 +528,7 @@ static int hulls_match_voxels(const voxref *r, const bvox__colhull *h)
             CHECK_EQ(c->hi, last);
             CHECK_EQ(c->runs, (uint32_t)(runs - 1));
         }
+    }
     return 0;
 }
 
@@ -547,6 +554,22 @@ static int scan_levels_agree(const voxref *r, const bvox_volume *v)
         for (int c = 0; c < BVOX__NDIR; c++) CHECK_EQ(g.trans[c], ref.trans[c]);
         CHECK_EQ(g.count, ref.count);
         CHECK(!hulls_match_voxels(r, hg));
+        /* the box and the first moments too (twin rows take them over) */
+        int32_t box[6] = {INT32_MAX, INT32_MAX, INT32_MAX, -1, -1, -1};
+        for (int z = 0; z < r->nz; z++)
+            for (int y = 0; y < r->ny; y++)
+                for (int x = 0; x < r->nx; x++) {
+                    if (!*voxref_at(r, x, y, z)) continue;
+                    const int p[3] = {x, y, z};
+                    for (int a = 0; a < 3; a++) {
+                        if (p[a] < box[a]) box[a] = p[a];
+                        if (p[a] + 1 > box[a + 3]) box[a + 3] = p[a] + 1;
+                    }
+                }
+        if (g.count)
+            for (int a = 0; a < 6; a++) CHECK_EQ(g.bbox[a], box[a]);
+        for (int a = 0; a < 3 && g.count; a++)
+            CHECK_NEAR((double)g.s[a] / (double)g.count, ref.centroid[a], 1e-9);
     }
     for (int l = 0; l < 2; l++) {
         if (!bvox_simd_supported(levels[l])) continue;
@@ -572,6 +595,56 @@ static int scan_levels_agree(const voxref *r, const bvox_volume *v)
  * kernels reuse a column's sums and take the cells of x-equal windows by
  * their short formula), some copies differing in one voxel, anywhere along
  * z: every level against the generic scan and the per-voxel reference. */
+/* Whole rows repeated (an upsampled volume's twin rows: the scan takes over
+ * the row before's moments and hulls, and counts the windows between the
+ * two by the short formula), in streaks longer and shorter than a block of
+ * rows, some twins then changed in one voxel (or two swapped along z, which
+ * keeps the column's count): every level against the generic scan and that
+ * against the per-voxel reference. */
+TEST(scan_repeated_rows)
+{
+    static const int shapes[][3] = {{17, 90, 512}, {12, 70, 700}, {30, 40, 100}, {9, 33, 64}};
+    for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
+        for (unsigned dens = 20; dens <= 80; dens += 30) {
+            const int *sh = shapes[i];
+            voxref *r = voxref_create(sh[0], sh[1], sh[2]);
+            voxref_random(r, dens, 100, harness_rand);
+            int streak = 0;
+            for (int y = 1; y < sh[1]; y++) {
+                if (!streak && harness_rand() % 2) streak = 1 + (int)(harness_rand() % 20);
+                if (!streak) continue;
+                streak--;
+                for (int x = 0; x < sh[0]; x++)
+                    for (int z = 0; z < sh[2]; z++)
+                        *voxref_at(r, x, y, z) = *voxref_at(r, x, y - 1, z);
+                unsigned change = (unsigned)(harness_rand() % 6);
+                int x = (int)(harness_rand() % (unsigned)sh[0]);
+                int z = (int)(harness_rand() % (unsigned)(sh[2] - 1));
+                if (change == 0) *voxref_at(r, x, y, z) ^= 1;
+                if (change == 1) {
+                    uint8_t t = *voxref_at(r, x, y, z);
+                    *voxref_at(r, x, y, z) = *voxref_at(r, x, y, z + 1);
+                    *voxref_at(r, x, y, z + 1) = t;
+                }
+            }
+            bvox_volume *v = voxref_to_volume(r);
+            CHECK(v);
+            for (int t = 0; t < 3; t++) {
+                bvox_set_threads(t == 0 ? 1 : t == 1 ? 3 : 16);
+                if (scan_levels_agree(r, v)) {
+                    fprintf(stderr, "  size %dx%dx%d density %u/100 threads %d\n", sh[0], sh[1],
+                            sh[2], dens, bvox_threads());
+                    bvox_set_threads(0);
+                    return 1;
+                }
+            }
+            bvox_set_threads(0);
+            bvox_volume_destroy(v);
+            voxref_destroy(r);
+        }
+    return 0;
+}
+
 TEST(scan_repeated_columns)
 {
     static const int shapes[][3] = {{17, 9, 512}, {12, 10, 700}, {9, 13, 100}, {11, 8, 1100}};

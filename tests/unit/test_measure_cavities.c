@@ -47,12 +47,14 @@ static const int thread_counts[] = {1, 3, 16};
  * joined (-1, the default), its words labelled (1), or all of the box's
  * background labelled (0); with
  * bvox__cavity_sparse_26, the labelling routes' 26-cavities as chosen (-1),
- * by relabelling K's box (0) or from K's runs alone (1). */
-static const int routes[][4] = {{-1, 0, -1, -1}, {0, 0, -1, -1},     {0, 0, 1, -1},
-                                {0, 0, 0, -1},   {1, 0, -1, -1},      {1, 0, 1, -1},
-                                {1, 0, 0, -1},   {1 << 20, 0, -1, -1}, {1 << 20, 1, -1, -1},
-                                {0, 0, 1, 0},    {0, 0, 0, 0},        {0, 0, 1, 1},
-                                {0, 0, 0, 1}};
+ * by relabelling K's box (0) or from K's runs alone (1); with
+ * bvox__cavity_twin_rows, the listed runs' rows equal to the row before
+ * taking their twins' (1, the default) or not (0). */
+static const int routes[][5] = {
+    {-1, 0, -1, -1, 1}, {0, 0, -1, -1, 1},      {0, 0, 1, -1, 1},       {0, 0, 0, -1, 1},
+    {1, 0, -1, -1, 1},  {1, 0, 1, -1, 1},       {1, 0, 0, -1, 1},       {1 << 20, 0, -1, -1, 1},
+    {1 << 20, 1, -1, -1, 1}, {0, 0, 1, 0, 1},   {0, 0, 0, 0, 1},        {0, 0, 1, 1, 1},
+    {0, 0, 0, 1, 1},    {0, 0, -1, -1, 0},      {0, 0, -1, 1, 0}};
 #define NROUTES (sizeof routes / sizeof *routes)
 
 /* bvox_measure at every SIMD level, thread count and route gives cav6 and
@@ -71,6 +73,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
             bvox__cavity_label_k = routes[t / 3][1];
             bvox__cavity_hull = routes[t / 3][2];
             bvox__cavity_sparse_26 = routes[t / 3][3];
+            bvox__cavity_twin_rows = routes[t / 3][4];
             bvox_measures m;
             CHECK_OK(bvox_measure(v, &m));
             /* and without the scan's column hulls (the route scans for them) */
@@ -87,12 +90,12 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
             if (m.components != comp || m.cavities != cav6 || m.cavities_26 != cav26 ||
                 m.tunnels != m.components + m.cavities - m.euler) {
                 fprintf(stderr,
-                        "  %dx%dx%d simd %s threads %d route %d/%d/%d (flood*100+label_k, "
-                        "hull, sparse 26): components %lld cavities %lld/%lld, expected %lld "
+                        "  %dx%dx%d simd %s threads %d route %d/%d/%d/%d (flood*100+label_k, "
+                        "hull, sparse 26, twin rows): components %lld cavities %lld/%lld, expected %lld "
                         "%lld/%lld\n",
                         v->nx, v->ny, v->nz, bvox_simd_name((bvox_simd)lv), thread_counts[t % 3],
                         routes[t / 3][0] * 100 + routes[t / 3][1], routes[t / 3][2],
-                        routes[t / 3][3],
+                        routes[t / 3][3], routes[t / 3][4],
                         (long long)m.components, (long long)m.cavities,
                         (long long)m.cavities_26, (long long)comp, (long long)cav6,
                         (long long)cav26);
@@ -106,6 +109,7 @@ static int check_all_paths(const bvox_volume *v, int64_t comp, int64_t cav6, int
     bvox__cavity_label_k = 0;
     bvox__cavity_hull = -1;
     bvox__cavity_sparse_26 = -1;
+    bvox__cavity_twin_rows = 1;
     return bad;
 }
 
@@ -187,6 +191,62 @@ TEST(repeated_columns_vs_reference)
             }
             voxref_destroy(r);
         }
+    return 0;
+}
+
+/* Rows equal to the row before (whole rows, the box's ring columns too):
+ * runs of twin rows longer than a listing task's 8 rows and a join slab's
+ * 16, some twins then changed by swapping voxels along z, and a random
+ * volume upsampled 3 x 3 x 2 by nearest neighbour (twins and equal columns,
+ * as the atlas). */
+TEST(repeated_rows_vs_reference)
+{
+    static const int sizes[][3] = {{30, 90, 70}, {17, 140, 130}};
+    const unsigned dens[] = {4, 6, 7};
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++)
+        for (size_t d = 0; d < sizeof dens / sizeof *dens; d++) {
+            const int *s = sizes[i];
+            voxref *r = voxref_create(s[0], s[1], s[2]);
+            voxref_random(r, dens[d], 10, harness_rand);
+            int streak = 0;
+            for (int y = 1; y < s[1]; y++) {
+                if (streak == 0 && harness_rand() % 3 == 0) streak = 1 + (int)(harness_rand() % 30);
+                if (streak == 0) continue;
+                streak--;
+                for (int x = 0; x < s[0]; x++)
+                    for (int z = 0; z < s[2]; z++) vset(r, x, y, z, *voxref_at(r, x, y - 1, z));
+                /* near-twins: a voxel swapped with the one above it mostly
+                 * keeps the column's hull and run count, so only the words
+                 * tell the row from its twin */
+                if (harness_rand() % 3 == 0)
+                    for (int k = 0; k < 4; k++) {
+                        int x = (int)(harness_rand() % (unsigned)s[0]);
+                        int z = (int)(harness_rand() % (unsigned)(s[2] - 1));
+                        uint8_t a = *voxref_at(r, x, y, z);
+                        vset(r, x, y, z, *voxref_at(r, x, y, z + 1));
+                        vset(r, x, y, z + 1, a);
+                    }
+            }
+            if (check_ref(r)) {
+                fprintf(stderr, "  repeated rows, density %u/10\n", dens[d]);
+                return 1;
+            }
+            voxref_destroy(r);
+        }
+    for (unsigned dn = 5; dn <= 7; dn++) {
+        voxref *small = voxref_create(12, 30, 40);
+        voxref_random(small, dn, 10, harness_rand);
+        voxref *r = voxref_create(36, 90, 80);
+        for (int y = 0; y < 90; y++)
+            for (int x = 0; x < 36; x++)
+                for (int z = 0; z < 80; z++) vset(r, x, y, z, *voxref_at(small, x / 3, y / 3, z / 2));
+        voxref_destroy(small);
+        if (check_ref(r)) {
+            fprintf(stderr, "  upsampled, density %u/10\n", dn);
+            return 1;
+        }
+        voxref_destroy(r);
+    }
     return 0;
 }
 
