@@ -22,6 +22,9 @@
  *      26-cavities bvox__cavities_26_runs counts.
  * A run list costs 8 bytes a run against U's 8 bytes a word. The same rule
  * as the labelled route of measure_cavities.c (bvox__cavity_hull = 1).
+ * Rows equal to the row before (twin rows, the scan's flag) own no runs:
+ * they stand on their streak's first row's (see twin_touch_rows), which
+ * halves the runs of an upsampled volume such as the atlas.
  */
 #include "measure/measure.h"
 #include "ops/components_label.h"
@@ -41,6 +44,7 @@ typedef struct hull_job {
     uint32_t *parent;
     uint8_t *same_left; /* per column: it has runs, equal to those of the column at x - 1 */
     uint8_t *twin;      /* per row: its columns (the ring's too) equal those of the row before */
+    uint32_t *base;     /* per row: the row whose runs it has (itself, or its streak's first) */
     int64_t nslabs;
 } hull_job;
 
@@ -89,17 +93,8 @@ static bool touches_exterior(const hull_job *j, const uint64_t *const onb[4], co
  * U's runs are the gaps between the column's object runs after lo (the
  * voxel after the first object voxel), as many as the record says; they are
  * found from the object's words directly (building U's words first took
- * longer).
- *
- * In a twin row (equal to the row before, the rule in an upsampled volume:
- * 64 % of the AAL atlas's rows at 512^3) each run r has a twin r' in the
- * column at y - 1 with the same z range, and the two are 6-connected (the
- * join makes them one, join_slabs). Their neighbours at x - 1 and x + 1 are
- * twins too, so r touches E across x exactly where r' does, and r lies in
- * the hull of the column at y - 1 (its own): only the column at y + 1 can
- * add a touch, and only it is looked at. With copy (the row before is
- * listed by this task), the runs and the equality with x - 1 are copied. */
-static void list_column(const hull_job *j, size_t x, size_t y, bool twin, bool copy)
+ * longer). */
+static void list_column(const hull_job *j, size_t x, size_t y)
 {
     size_t nx = j->nx, col = y * nx + x, last_word = j->v->wpc - 1;
     int32_t z = j->zr[2 * col];
@@ -107,10 +102,9 @@ static void list_column(const hull_job *j, size_t x, size_t y, bool twin, bool c
     const size_t nb[4] = {col - 1, col + 1, col - nx, col + nx};
     const uint64_t *const onb[4] = {object_column(j, x - 1, y), object_column(j, x + 1, y),
                                     object_column(j, x, y - 1), object_column(j, x, y + 1)};
-    int k0 = twin ? 3 : 0; /* the neighbours that can add a touch */
-    /* a run within every such neighbour's hull touches no E: most of them */
+    /* a run within every neighbour's hull touches no E: most of them */
     int32_t in_lo = 0, in_hi = INT32_MAX;
-    for (int k = k0; k < 4; k++) {
+    for (int k = 0; k < 4; k++) {
         int32_t lo = j->zr[2 * nb[k]], hi = j->zr[2 * nb[k] + 1];
         in_lo = lo > in_lo ? lo : in_lo;
         in_hi = hi < in_hi ? hi : in_hi;
@@ -118,41 +112,62 @@ static void list_column(const hull_job *j, size_t x, size_t y, bool twin, bool c
     /* a column equal to the one before it (most of them on the atlas, an
      * upsampled volume) has its runs */
     uint32_t n = j->first[col + 1] - j->first[col];
-    const bvox__zrun *from = NULL;
-    bool same;
-    if (copy) {
-        same = j->same_left[col - nx];
-        from = j->runs + j->first[col - nx];
-    } else {
-        same = j->first[col] - j->first[col - 1] == n &&
-               !memcmp(o, o - j->v->wpc, j->v->wpc * sizeof *o);
-        if (same) from = j->runs + j->first[col] - n;
-    }
+    bool same = j->first[col] - j->first[col - 1] == n &&
+                !memcmp(o, o - j->v->wpc, j->v->wpc * sizeof *o);
     j->same_left[col] = same;
-    for (uint32_t i = j->first[col], r = 0; i < j->first[col + 1]; i++, r++) {
+    for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++) {
         int32_t z0, z1;
-        if (from) {
-            z0 = from[r].z0, z1 = from[r].z1;
+        if (same) {
+            z0 = j->runs[i - n].z0, z1 = j->runs[i - n].z1;
         } else {
             z0 = next_voxel(o, z, 0, last_word), z1 = next_voxel(o, z0, 1, last_word);
         }
         j->runs[i] = (bvox__zrun){z0, z1};
-        j->touched[i] = (z0 < in_lo || z1 > in_hi) && touches_exterior(j, onb, nb, k0, z0, z1);
+        j->touched[i] = (z0 < in_lo || z1 > in_hi) && touches_exterior(j, onb, nb, 0, z0, z1);
         z = z1;
     }
 }
 
+/* Twin rows (equal to the row before: 58 % of the AAL atlas's inner rows
+ * at 512^3, an upsampled volume) own no runs: a streak of them has the runs
+ * of its first row, the base. A twin's run r is the base's run r' moved
+ * along y through equal columns, 6-connected to it, so one node stands for
+ * both. Its neighbours at x - 1 and x + 1 are the base's (equal columns),
+ * and at y - 1 a column equal to its own, whose hull holds r: only the
+ * column at y + 1 can add a touch, which marks r' (twin_touch_rows, after
+ * the listing). The row after a streak joins with the base's runs, and K
+ * (the cavities' runs) lists the base's runs again for each twin. */
 int bvox__cavity_twin_rows = 1;
 
 static void list_rows(void *ctx, int64_t begin, int64_t end)
 {
     const hull_job *j = ctx;
-    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++) {
-        bool twin = j->twin[y];
-        bool copy = twin && y > (size_t)begin + 1; /* the row before is this task's */
+    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++)
         for (size_t x = 1; x + 1 < j->nx; x++) {
             size_t col = y * j->nx + x;
-            if (j->first[col] < j->first[col + 1]) list_column(j, x, y, twin, copy);
+            if (j->first[col] < j->first[col + 1]) list_column(j, x, y);
+        }
+}
+
+/* The touches across y + 1 of the twin rows, marked on their bases' runs
+ * (a store of 1 only: several twins of a streak may mark one run). */
+static void twin_touch_rows(void *ctx, int64_t begin, int64_t end)
+{
+    const hull_job *j = ctx;
+    size_t nx = j->nx;
+    for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++) {
+        if (!j->twin[y]) continue;
+        size_t yb = j->base[y];
+        for (size_t x = 1; x + 1 < nx; x++) {
+            size_t cb = yb * nx + x, up = (y + 1) * nx + x;
+            const size_t nb[4] = {0, 0, 0, up};
+            const uint64_t *const onb[4] = {NULL, NULL, NULL, object_column(j, x, y + 1)};
+            int32_t lo = j->zr[2 * up], hi = j->zr[2 * up + 1];
+            for (uint32_t i = j->first[cb]; i < j->first[cb + 1]; i++) {
+                int32_t z0 = j->runs[i].z0, z1 = j->runs[i].z1;
+                if ((z0 < lo || z1 > hi) && touches_exterior(j, onb, nb, 3, z0, z1))
+                    __atomic_store_n(&j->touched[i], 1, __ATOMIC_RELAXED);
+            }
         }
     }
 }
@@ -169,13 +184,15 @@ static void join_column(const hull_job *j, size_t col, bool with_left, bool with
     const uint32_t *f = j->first;
     uint32_t a = f[col], na = f[col + 1] - a;
     if (!na) return;
+    /* the row before's runs: its base's, when it is a twin */
+    size_t y = col / j->nx, prev = j->base[y - 1] * j->nx + col % j->nx;
     if (j->same_left[col]) {
         if (with_left)
             for (uint32_t i = a; i < a + na; i++) j->parent[i] = bvox__uf_find(j->parent, i - na);
-        if (j->same_left[col - j->nx]) return;
+        if (j->same_left[prev]) return;
         with_left = false;
     }
-    const size_t nb[2] = {col - 1, col - j->nx};
+    const size_t nb[2] = {col - 1, prev};
     const bool use[2] = {with_left, with_prev};
     for (int k = 0; k < 2; k++) {
         uint32_t b = f[nb[k]], n = f[nb[k] + 1] - b;
@@ -195,15 +212,11 @@ static void join_slabs(void *ctx, int64_t begin, int64_t end)
         size_t y0 = slab_row(j, s), y1 = slab_row(j, s + 1);
         for (uint32_t i = j->first[y0 * j->nx]; i < j->first[y1 * j->nx]; i++) j->parent[i] = i;
         for (size_t y = y0; y < y1; y++) {
-            if (j->twin[y] && y > y0) {
-                /* each run one with its twin at y - 1; the joins across x
-                 * are the twins' already (see list_column) */
-                uint32_t a = j->first[y * j->nx], b = j->first[(y + 1) * j->nx];
-                uint32_t d = a - j->first[(y - 1) * j->nx];
-                for (uint32_t i = a; i < b; i++) j->parent[i] = bvox__uf_find(j->parent, i - d);
-                continue;
-            }
-            for (size_t x = 1; x + 1 < j->nx; x++) join_column(j, y * j->nx + x, true, y > y0);
+            if (j->twin[y]) continue; /* no runs of its own */
+            /* the join with the row before when its runs are this slab's;
+             * else the seams do it (a base before the slab) */
+            bool with_prev = y > y0 && j->base[y - 1] >= y0;
+            for (size_t x = 1; x + 1 < j->nx; x++) join_column(j, y * j->nx + x, true, with_prev);
         }
     }
 }
@@ -243,12 +256,14 @@ static void k_rows(void *ctx, int64_t begin, int64_t end)
     const hull_job *j = k->j;
     int64_t roots = 0;
     for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        size_t yb = j->base[y]; /* a twin lists its base's runs again */
         if (!k->kr) {
-            /* the count: the row's runs are one index range */
+            /* the count: the row's runs are one index range; the roots
+             * are counted at the base only */
             uint64_t n = 0;
-            for (uint32_t i = j->first[y * j->nx]; i < j->first[(y + 1) * j->nx]; i++) {
+            for (uint32_t i = j->first[yb * j->nx]; i < j->first[(yb + 1) * j->nx]; i++) {
                 uint32_t r = j->parent[i];
-                n += !j->marked[r], roots += !j->marked[r] && r == i;
+                n += !j->marked[r], roots += !j->marked[r] && r == i && yb == y;
             }
             k->kcount[y] = n;
             continue;
@@ -260,8 +275,8 @@ static void k_rows(void *ctx, int64_t begin, int64_t end)
                 k->kfirst[col + 1] = (uint32_t)n;
             continue;
         }
-        for (size_t col = y * j->nx; col < (y + 1) * j->nx; col++) {
-            for (uint32_t i = j->first[col]; i < j->first[col + 1]; i++)
+        for (size_t col = y * j->nx, cb = yb * j->nx; col < (y + 1) * j->nx; col++, cb++) {
+            for (uint32_t i = j->first[cb]; i < j->first[cb + 1]; i++)
                 if (!j->marked[j->parent[i]]) k->kr[n++] = j->runs[i];
             k->kfirst[col + 1] = (uint32_t)n;
         }
@@ -320,6 +335,11 @@ static void copy_rows(void *ctx, int64_t begin, int64_t end)
     hull_job *j = c->j;
     size_t vnx = (size_t)j->v->nx;
     for (size_t y = (size_t)begin; y < (size_t)end; y++) {
+        /* a twin of an inner row (the scan's flag: the whole row of the
+         * volume equals the one before, so the box's row does) owns no runs */
+        bool twin = y >= 2 && bvox__cavity_twin_rows &&
+                    c->hulls[(j->y0 + y) * vnx + j->x0].twin_row;
+        j->twin[y] = twin;
         uint64_t row = 0;
         for (size_t x = 0; x < j->nx; x++) {
             size_t col = y * j->nx + x;
@@ -327,14 +347,10 @@ static void copy_rows(void *ctx, int64_t begin, int64_t end)
             bvox__colhull h = c->hulls[(j->y0 + y) * vnx + j->x0 + x];
             if (ring) h = (bvox__colhull){0, 0, 0, 0};
             j->zr[2 * col] = h.lo, j->zr[2 * col + 1] = h.hi;
-            j->first[col] = h.runs;
-            row += h.runs;
+            j->first[col] = twin ? 0 : h.runs;
+            row += twin ? 0 : h.runs;
         }
         j->rowsum[y] = row;
-        /* a twin of an inner row (the scan's flag: the whole row of the
-         * volume equals the one before, so the box's row does) */
-        j->twin[y] = y >= 2 && bvox__cavity_twin_rows &&
-                     c->hulls[(j->y0 + y) * vnx + j->x0].twin_row;
     }
 }
 
@@ -361,7 +377,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
     size_t ncol = nx * ny;
     bvox_status st = BVOX_OK;
-    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
+    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
     size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
     /* the per-column arrays from the budget, whose cached mappings spare a
      * call the faults of fresh pages */
@@ -371,10 +387,12 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (j.first) j.same_left = bvox__alloc(ncol, true, "column equalities", &st);
     if (j.same_left) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
     if (j.rowsum) j.twin = bvox__mem_zalloc(ny, 1);
-    if (j.same_left && !j.twin) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
+    if (j.twin) j.base = bvox__mem_alloc(ny * sizeof *j.base);
+    if (j.same_left && !j.base) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
     bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
+    for (size_t y = 0; y < ny; y++) j.base[y] = j.twin[y] ? j.base[y - 1] : (uint32_t)y;
     uint64_t total = 0;
     for (size_t y = 0; y < ny; y++) {
         uint64_t n = j.rowsum[y];
@@ -398,19 +416,25 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     j.marked = j.touched + total;
     memset(j.marked, 0, total);
     bvox__parallel_for((int64_t)ny - 2, 8, list_rows, &j);
+    bvox__parallel_for((int64_t)ny - 2, 8, twin_touch_rows, &j);
     /* slabs of at least 16 rows: the seams redo one row each */
     int threads = bvox__parallelism();
     int64_t max_slabs = (int64_t)(ny - 2) / 16;
     j.nslabs = threads < max_slabs ? threads : (max_slabs > 0 ? max_slabs : 1);
     bvox__parallel_for(j.nslabs, 1, join_slabs, &j);
     for (int64_t s = 1; s < j.nslabs; s++) {
-        size_t y = slab_row(&j, s);
-        for (size_t x = 1; x + 1 < nx; x++) join_column(&j, y * nx + x, false, true);
+        /* the slab's first row with runs of its own, joined with the row
+         * before (or that one's base), which lies in an earlier slab */
+        size_t y = slab_row(&j, s), y1 = slab_row(&j, s + 1);
+        while (y < y1 && j.twin[y]) y++;
+        if (y < y1)
+            for (size_t x = 1; x + 1 < nx; x++) join_column(&j, y * nx + x, false, true);
     }
     st = count_cavities(&j, (uint32_t)total, cav6, cav26);
 done:
     if (j.runs) bvox__free(j.runs, run_bytes);
     bvox__free(j.same_left, ncol);
+    free(j.base);
     free(j.twin);
     free(j.rowsum);
     bvox__free(j.first, first_bytes);

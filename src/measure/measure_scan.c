@@ -248,14 +248,29 @@ static void scan_range(void *ctx, int64_t begin, int64_t end)
         bvox__scan *s = &j->parts[b];
         int64_t y0 = rows * b / j->nblocks;
         uint64_t last[6]; /* the sums of the row before, when it is this block's */
+        /* the cells of the vertex row before, when it lay between two equal
+         * rows (a twin): the next one between the same rows has the same */
+        int64_t twin_eul = 0, twin_t[BVOX__NDIR] = {0};
+        bool twin_cells = false;
         for (int64_t y = y0; y < rows * (b + 1) / j->nblocks; y++) {
             const uint64_t *prev = y > 0 ? v->words + (size_t)(y - 1) * nx * wpc : NULL;
             const uint64_t *cur = y < v->ny ? v->words + (size_t)y * nx * wpc : NULL;
-            j->cells(prev, cur, nx, wpc, extra, j->zero, s);
+            /* a row equal to the one before: one compare of words the
+             * cells kernel reads anyway, against the moments kernel */
+            bool twin = prev && cur && !memcmp(cur, prev, nx * wpc * sizeof *cur);
+            if (twin && twin_cells) {
+                /* rows y - 2, y - 1 and y equal: these windows are the last ones */
+                s->euler += twin_eul;
+                for (int i = 0; i < BVOX__NDIR; i++) s->trans[i] += twin_t[i];
+            } else {
+                int64_t eul = s->euler, t[BVOX__NDIR];
+                memcpy(t, s->trans, sizeof t);
+                j->cells(prev, cur, nx, wpc, extra, j->zero, s);
+                twin_eul = s->euler - eul;
+                for (int i = 0; i < BVOX__NDIR; i++) twin_t[i] = s->trans[i] - t[i];
+            }
+            twin_cells = twin;
             if (cur) {
-                /* a row equal to the one before: one compare of words the
-                 * cells kernel just read, against the moments kernel */
-                bool twin = prev && !memcmp(cur, prev, nx * wpc * sizeof *cur);
                 row_moments_of(j, cur, y, twin, y > y0, last, s);
                 memcpy(last, s->row, sizeof last);
                 bvox__moments_row(s, (int32_t)y);
