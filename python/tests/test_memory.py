@@ -14,12 +14,17 @@ import pytest
 import bvox
 
 
-def _available_bytes():
-    with open("/proc/meminfo") as f:
+def _proc_kib(path, key):
+    """The value of a "Key:   N kB" line of a /proc file, in bytes (0 if none)."""
+    with open(path) as f:
         for line in f:
-            if line.startswith("MemAvailable:"):
+            if line.startswith(key + ":"):
                 return int(line.split()[1]) * 1024
     return 0
+
+
+def _available_bytes():
+    return _proc_kib("/proc/meminfo", "MemAvailable")
 
 
 def test_large_round_trip_without_copy():
@@ -98,11 +103,7 @@ def test_threads_on_distinct_volumes(rng):
 
 
 def _rss_bytes():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) * 1024
-    return 0
+    return _proc_kib("/proc/self/status", "VmRSS")
 
 
 def test_memory_trim_returns_cached_buffers():
