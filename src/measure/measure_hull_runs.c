@@ -156,7 +156,9 @@ static void twin_touch_rows(void *ctx, int64_t begin, int64_t end)
     const hull_job *j = ctx;
     size_t nx = j->nx;
     for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++) {
-        if (!j->twin[y]) continue;
+        /* a twin followed by a twin: the column at y + 1 is its own, whose
+         * hull holds every run (only a streak's last row can touch) */
+        if (!j->twin[y] || j->twin[y + 1]) continue;
         size_t yb = j->base[y];
         for (size_t x = 1; x + 1 < nx; x++) {
             size_t cb = yb * nx + x, up = (y + 1) * nx + x;
@@ -258,12 +260,13 @@ static void k_rows(void *ctx, int64_t begin, int64_t end)
     for (size_t y = (size_t)begin; y < (size_t)end; y++) {
         size_t yb = j->base[y]; /* a twin lists its base's runs again */
         if (!k->kr) {
-            /* the count: the row's runs are one index range; the roots
-             * are counted at the base only */
+            /* the count: the row's runs are one index range (a twin's,
+             * its base's count, is copied after this pass) */
+            if (yb != y) continue;
             uint64_t n = 0;
-            for (uint32_t i = j->first[yb * j->nx]; i < j->first[(yb + 1) * j->nx]; i++) {
+            for (uint32_t i = j->first[y * j->nx]; i < j->first[(y + 1) * j->nx]; i++) {
                 uint32_t r = j->parent[i];
-                n += !j->marked[r], roots += !j->marked[r] && r == i && yb == y;
+                n += !j->marked[r], roots += !j->marked[r] && r == i;
             }
             k->kcount[y] = n;
             continue;
@@ -305,6 +308,7 @@ static bvox_status count_cavities(const hull_job *j, uint32_t nruns, int64_t *ca
     bvox__parallel_for((int64_t)ny, 16, k_rows, &k);
     *cav6 = k.roots;
     if (!k.roots) goto done;
+    for (size_t y = 0; y < ny; y++) kcount[y] = kcount[j->base[y]];
     for (size_t y = 0; y < ny; y++) {
         uint64_t n = kcount[y];
         kcount[y] = nk;
@@ -335,20 +339,30 @@ static void copy_rows(void *ctx, int64_t begin, int64_t end)
     hull_job *j = c->j;
     size_t vnx = (size_t)j->v->nx;
     for (size_t y = (size_t)begin; y < (size_t)end; y++) {
-        /* a twin of an inner row (the scan's flag: the whole row of the
-         * volume equals the one before, so the box's row does) owns no runs */
-        bool twin = y >= 2 && bvox__cavity_twin_rows &&
+        /* an inner row twin of an inner row (the scan's flag: the whole row
+         * of the volume equals the one before, so the box's row does) owns
+         * no runs; the ring's rows never are (their background is E) */
+        bool twin = y >= 2 && y + 1 < j->ny && bvox__cavity_twin_rows &&
                     c->hulls[(j->y0 + y) * vnx + j->x0].twin_row;
         j->twin[y] = twin;
+        size_t nx = j->nx, col0 = y * nx;
+        int32_t *zr = j->zr + 2 * col0;
+        uint32_t *f = j->first + col0;
+        /* the ring's columns have no hull: all their background is E */
+        zr[0] = zr[1] = zr[2 * nx - 2] = zr[2 * nx - 1] = 0;
+        f[0] = f[nx - 1] = 0;
         uint64_t row = 0;
-        for (size_t x = 0; x < j->nx; x++) {
-            size_t col = y * j->nx + x;
-            bool ring = x == 0 || y == 0 || x + 1 == j->nx || y + 1 == j->ny;
-            bvox__colhull h = c->hulls[(j->y0 + y) * vnx + j->x0 + x];
-            if (ring) h = (bvox__colhull){0, 0, 0, 0};
-            j->zr[2 * col] = h.lo, j->zr[2 * col + 1] = h.hi;
-            j->first[col] = twin ? 0 : h.runs;
-            row += twin ? 0 : h.runs;
+        if (y == 0 || y + 1 == j->ny) {
+            memset(zr, 0, 2 * nx * sizeof *zr);
+            memset(f, 0, nx * sizeof *f);
+        } else {
+            const bvox__colhull *h = c->hulls + (j->y0 + y) * vnx + j->x0;
+            for (size_t x = 1; x + 1 < nx; x++) {
+                zr[2 * x] = h[x].lo, zr[2 * x + 1] = h[x].hi;
+                uint32_t n = twin ? 0 : h[x].runs;
+                f[x] = n;
+                row += n;
+            }
         }
         j->rowsum[y] = row;
     }
