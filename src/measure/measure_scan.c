@@ -233,8 +233,9 @@ static void row_moments_of(const scan_job *j, const uint64_t *cur, int64_t y, bo
     } else {
         for (size_t x = 0; x < nx; x++) j->moments(cur + x * wpc, wpc, (int32_t)x, (int32_t)y, s);
     }
-    if (s->hull_row)
-        for (size_t x = 0; x < nx; x++) s->hull_row[x].twin_row = twin;
+    /* the kernels write records saying "no twin" */
+    if (s->hull_row && twin)
+        for (size_t x = 0; x < nx; x++) s->hull_row[x].twin_row = 1;
 }
 
 static void scan_range(void *ctx, int64_t begin, int64_t end)
