@@ -29,7 +29,12 @@ static size_t default_budget(void)
     return (size_t)pages * (size_t)page / 2;
 }
 
-static size_t cache_limit(void);
+/* At most an eighth of the memory budget, and 1 GiB, stays cached. */
+static size_t cache_limit(void)
+{
+    size_t b = bvox_memory_budget() / 8, most = (size_t)1 << 30;
+    return b < most ? b : most;
+}
 
 void bvox_set_memory_budget(size_t bytes)
 {
@@ -115,13 +120,6 @@ void bvox__budget_refund(size_t bytes) { atomic_fetch_sub(&in_use_bytes, bytes);
  * from libc's heap. Which one a buffer is follows from its size alone, so
  * bvox__free, which is given the size, knows how to give it back. */
 static bool is_big(size_t bytes) { return bytes >= BVOX__BIG_MIN; }
-
-/* At most an eighth of the memory budget, and 1 GiB, stays cached. */
-static size_t cache_limit(void)
-{
-    size_t b = bvox_memory_budget() / 8, most = (size_t)1 << 30;
-    return b < most ? b : most;
-}
 
 void *bvox__alloc(size_t bytes, bool zero, const char *what, bvox_status *status)
 {

@@ -18,9 +18,8 @@
  *
  * The cache holds at most CACHE_SLOTS buffers and the limit alloc.c gives
  * (a share of the memory budget); beyond that the oldest go back to the
- * system. bvox_memory_trim() empties
- * it. Cached bytes are not "in use" (bvox_memory_in_use): no caller holds
- * them.
+ * system. bvox_memory_trim() empties it. Cached bytes are not "in use"
+ * (bvox_memory_in_use): no caller holds them.
  *
  * Under AddressSanitizer the part of a buffer past the request, and a whole
  * cached buffer, are poisoned, so overflows and uses after free are still

@@ -9,8 +9,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-/* Buffers of at least this many bytes (after rounding to 64) come from here;
- * smaller ones from libc's heap. */
+/* Requests of at least this many bytes come from here; smaller ones from
+ * libc's heap. */
 #define BVOX__BIG_MIN ((size_t)256 << 10)
 
 /* A buffer of at least bytes (>= BVOX__BIG_MIN), page aligned; NULL when the

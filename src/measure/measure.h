@@ -72,9 +72,9 @@ typedef struct bvox__scan {
  * and last object voxel, which holds its enclosed background, and that
  * background's runs (the object's runs less one); all 0 in a column without
  * object. twin_row, the same in every column of a row: the row's words equal
- * those of the row before (an upsampled volume's rows repeat: 64 % of the
- * AAL atlas's at 512^3); the scan reuses that row's moments, the cavities
- * its runs. */
+ * those of the row before (an upsampled volume's rows repeat: 58 % of the
+ * AAL atlas's inner rows at 512^3); the scan reuses that row's moments, the
+ * cavities its runs. */
 typedef struct bvox__colhull {
     int32_t lo, hi;
     uint32_t runs : 31;
@@ -312,8 +312,8 @@ extern int bvox__cavity_label_k;
 extern int bvox__cavity_hull;
 
 /* Test hook of measure_hull_runs.c: 1 (default), rows equal to the row
- * before take their twins' runs and touches; 0, every row is listed and
- * joined on its own. */
+ * before own no runs (they stand on their streak's first row's); 0, every
+ * row is listed and joined on its own. */
 extern int bvox__cavity_twin_rows;
 
 /* Both cavity counts of vol from the runs of the background enclosed along z

@@ -43,10 +43,14 @@ typedef struct hull_job {
     uint8_t *marked;  /* per root: its component holds a touched run */
     uint32_t *parent;
     uint8_t *same_left; /* per column: it has runs, equal to those of the column at x - 1 */
-    uint8_t *twin;      /* per row: its columns (the ring's too) equal those of the row before */
-    uint32_t *base;     /* per row: the row whose runs it has (itself, or its streak's first) */
+    /* per row: the row whose runs it has, itself or, for a twin row (its
+     * columns, the ring's too, equal those of the row before), the first
+     * row of its streak */
+    uint32_t *base;
     int64_t nslabs;
 } hull_job;
+
+static inline bool twin_row(const hull_job *j, size_t y) { return j->base[y] != y; }
 
 static inline const uint64_t *object_column(const hull_job *j, size_t x, size_t y)
 {
@@ -158,7 +162,7 @@ static void twin_touch_rows(void *ctx, int64_t begin, int64_t end)
     for (size_t y = (size_t)begin + 1; y < (size_t)end + 1; y++) {
         /* a twin followed by a twin: the column at y + 1 is its own, whose
          * hull holds every run (only a streak's last row can touch) */
-        if (!j->twin[y] || j->twin[y + 1]) continue;
+        if (!twin_row(j, y) || twin_row(j, y + 1)) continue;
         size_t yb = j->base[y];
         for (size_t x = 1; x + 1 < nx; x++) {
             size_t cb = yb * nx + x, up = (y + 1) * nx + x;
@@ -214,7 +218,7 @@ static void join_slabs(void *ctx, int64_t begin, int64_t end)
         size_t y0 = slab_row(j, s), y1 = slab_row(j, s + 1);
         for (uint32_t i = j->first[y0 * j->nx]; i < j->first[y1 * j->nx]; i++) j->parent[i] = i;
         for (size_t y = y0; y < y1; y++) {
-            if (j->twin[y]) continue; /* no runs of its own */
+            if (twin_row(j, y)) continue; /* no runs of its own */
             /* the join with the row before when its runs are this slab's;
              * else the seams do it (a base before the slab) */
             bool with_prev = y > y0 && j->base[y - 1] >= y0;
@@ -344,7 +348,7 @@ static void copy_rows(void *ctx, int64_t begin, int64_t end)
          * no runs; the ring's rows never are (their background is E) */
         bool twin = y >= 2 && y + 1 < j->ny && bvox__cavity_twin_rows &&
                     c->hulls[(j->y0 + y) * vnx + j->x0].twin_row;
-        j->twin[y] = twin;
+        j->base[y] = (uint32_t)(twin ? y - 1 : y); /* the streak's first row after this pass */
         size_t nx = j->nx, col0 = y * nx;
         int32_t *zr = j->zr + 2 * col0;
         uint32_t *f = j->first + col0;
@@ -391,7 +395,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (nx < 3 || ny < 3) return BVOX_OK; /* every column in the ring: U is empty */
     size_t ncol = nx * ny;
     bvox_status st = BVOX_OK;
-    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
+    hull_job j = {vol, x0, y0, nx, ny, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, 1};
     size_t zr_bytes = 2 * ncol * sizeof *j.zr, run_bytes = 0;
     /* the per-column arrays from the budget, whose cached mappings spare a
      * call the faults of fresh pages */
@@ -400,13 +404,12 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
     if (j.zr) j.first = bvox__alloc(first_bytes, false, "column run index", &st);
     if (j.first) j.same_left = bvox__alloc(ncol, true, "column equalities", &st);
     if (j.same_left) j.rowsum = bvox__mem_alloc(ny * sizeof *j.rowsum);
-    if (j.rowsum) j.twin = bvox__mem_zalloc(ny, 1);
-    if (j.twin) j.base = bvox__mem_alloc(ny * sizeof *j.base);
+    if (j.rowsum) j.base = bvox__mem_alloc(ny * sizeof *j.base);
     if (j.same_left && !j.base) st = bvox__fail(BVOX_ENOMEM, "out of memory measuring cavities");
     if (st) goto done;
     copy_job cj = {&j, hulls};
     bvox__parallel_for((int64_t)ny, 64, copy_rows, &cj);
-    for (size_t y = 0; y < ny; y++) j.base[y] = j.twin[y] ? j.base[y - 1] : (uint32_t)y;
+    for (size_t y = 0; y < ny; y++) j.base[y] = j.base[j.base[y]]; /* the row before's base */
     uint64_t total = 0;
     for (size_t y = 0; y < ny; y++) {
         uint64_t n = j.rowsum[y];
@@ -440,7 +443,7 @@ bvox_status bvox__cavities_from_hull_runs(const bvox_volume *vol, const bvox__co
         /* the slab's first row with runs of its own, joined with the row
          * before (or that one's base), which lies in an earlier slab */
         size_t y = slab_row(&j, s), y1 = slab_row(&j, s + 1);
-        while (y < y1 && j.twin[y]) y++;
+        while (y < y1 && twin_row(&j, y)) y++;
         if (y < y1)
             for (size_t x = 1; x + 1 < nx; x++) join_column(&j, y * nx + x, false, true);
     }
@@ -449,7 +452,6 @@ done:
     if (j.runs) bvox__free(j.runs, run_bytes);
     bvox__free(j.same_left, ncol);
     free(j.base);
-    free(j.twin);
     free(j.rowsum);
     bvox__free(j.first, first_bytes);
     if (j.zr) bvox__free(j.zr, zr_bytes);

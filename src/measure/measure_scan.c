@@ -216,9 +216,9 @@ moments_popcnt(const uint64_t *col, size_t wpc, int32_t x, int32_t y, bvox__scan
 #endif
 
 /* The moments and hulls of voxel row y (words cur) into s. twin: the row
- * equals row y - 1, whose row sums were last (it is this task's and not
- * empty: last_n) and whose hulls are written: they are taken over, the box
- * grown by the row. Then every hull record of the row says twin. */
+ * equals row y - 1; when that row was this block's (last_valid: its sums
+ * are last[], its hull records written) they are taken over and the box
+ * grown by the row. Every hull record of a twin row then says so. */
 static void row_moments_of(const scan_job *j, const uint64_t *cur, int64_t y, bool twin,
                            bool last_valid, const uint64_t last[6], bvox__scan *s)
 {
