@@ -94,14 +94,15 @@ static void principal(bvox_measures *m)
     }
 }
 
-/* 26-components of vol, and the cavities (measure_cavities.c, which takes
+/* 26-components of vol (counted without its repeated slices,
+ * measure_collapse.c), and the cavities (measure_cavities.c, which takes
  * the object's voxel box and its faces along z from the scan sc, and the
  * columns' hulls from the scan too). */
 static bvox_status topology(const bvox_volume *vol, const bvox__scan *sc,
                             const bvox__colhull *hulls, bvox_measures *m)
 {
     int64_t count = sc->count;
-    bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
+    bvox_status st = bvox__components_count_collapsed(vol, sc->bbox, hulls, &m->components, NULL);
     if (!st) st = bvox__progress(0.6);
     if (st) return st;
     if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */

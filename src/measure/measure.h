@@ -114,6 +114,16 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
                              const double weight[BVOX__NDIR], const int32_t bbox_shift[3],
                              bvox_measures *out);
 
+/* The 26-components of vol (bvox__components_count) counted on a copy
+ * without its repeated x- and y-slices and the empty ones outside bbox, the
+ * scan's box (not empty); hulls: the scan's records, whose twin flags name
+ * the repeated rows. labelled (may be NULL): the dims of the volume
+ * labelled, vol's own when a copy would not have paid. BVOX_ENOMEM /
+ * BVOX_ETOOBIG as the count. */
+bvox_status bvox__components_count_collapsed(const bvox_volume *vol, const int32_t bbox[6],
+                                             const bvox__colhull *hulls, int64_t *count,
+                                             bvox_dims *labelled);
+
 /* Cavities of vol: 6-connected background components not reaching the
  * border (cav6), and the 26-connected ones (cav26); sc is vol's scan (the
  * object's voxel box, its count and z faces choose the route), the object
