@@ -8,8 +8,12 @@
  * (cpu_ms, all threads): on a shared machine the wall clock also counts the
  * time other processes hold the cores, the CPU time much less so. The
  * measure's three parts are also timed alone (wall ms): scan_ms (the one
- * pass: counts, moments, Euler number, faces), components_ms (the 26-count)
- * and cavities_ms (measure_cavities.c, its route chosen as in bvox_measure).
+ * pass: counts, moments, Euler number, faces), components_ms (the 26-count
+ * as bvox_measure does it, on a copy without repeated slices when that pays:
+ * measure_collapse.c; "labelled" gives the copy's x by y columns) and
+ * cavities_ms (measure_cavities.c, its route chosen as in bvox_measure). A
+ * third specimen has no repeated slices: a sphere of radius 0.39 n at
+ * native resolution, a torus-shaped cavity inside.
  *
  *   bench_label [--quick] [--sizes 512] [--runs N] [--threads-list L]
  */
@@ -49,6 +53,21 @@ static bvox_volume *coin_toss(int n)
         cpu = median(c_, n_);                                                          \
     } while (0)
 
+static bvox_volume *sphere_with_cavity(int n)
+{
+    bvox_volume *v = NULL;
+    if (bvox_volume_create((bvox_dims){n, n, n}, &v) != BVOX_OK) return NULL;
+    double c = (n - 1) / 2.0;
+    bvox_shape ball = {BVOX_SHAPE_SPHERE, {c, c, c}, {0}, {0}, 0.39 * n, 0, 0};
+    bvox_shape ring = {BVOX_SHAPE_TORUS, {c, c, c}, {0}, {0, 0, 1}, 0.2 * n, 0.06 * n, 0};
+    if (bvox_shape_draw(v, &ball, BVOX_CSG_UNION) ||
+        bvox_shape_draw(v, &ring, BVOX_CSG_DIFFERENCE)) {
+        bvox_volume_destroy(v);
+        return NULL;
+    }
+    return v;
+}
+
 static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
 {
     bvox_components *c = NULL;
@@ -71,7 +90,10 @@ static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
     bvox__colhull *hulls = calloc(nhull, sizeof *hulls);
     if (!hulls) return 1;
     TIME_BOTH(runs, sw, sc_cpu, bad |= bvox__measure_scan_hulls(a, hulls, &sc) != BVOX_OK);
-    TIME_BOTH(runs, kw, kc, bad |= bvox__components_count(a, 26, 0, &count) != BVOX_OK);
+    bvox_dims kept = {0, 0, 0};
+    TIME_BOTH(runs, kw, kc,
+              bad |= !sc.count || bvox__components_count_collapsed(a, sc.bbox, hulls, &count,
+                                                                   &kept) != BVOX_OK);
     if (!bad && sc.count > 0)
         TIME_BOTH(runs, cw, cc, bad |= bvox__measure_cavities(a, &sc, hulls, &cav6, &cav26) != BVOX_OK);
     else
@@ -90,10 +112,10 @@ static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
            "\"label26_ms\":%.3f,\"label26_cpu_ms\":%.3f,\"measure_ms\":%.3f,"
            "\"measure_cpu_ms\":%.3f,\"ratio\":%.2f,\"ratio_cpu\":%.2f,\"components\":%lld,"
            "\"cavities\":%lld,\"cavities_26\":%lld,\"euler\":%lld,\"scan_ms\":%.3f,"
-           "\"components_ms\":%.3f,\"cavities_ms\":%.3f}\n",
+           "\"components_ms\":%.3f,\"cavities_ms\":%.3f,\"labelled\":\"%dx%d\"}\n",
            n, pattern, bvox_threads(), runs, lw, lc, mw, mc, mw / lw, mc / lc,
            (long long)ncomp, (long long)m.cavities, (long long)m.cavities_26,
-           (long long)m.euler, sw, kw, cw);
+           (long long)m.euler, sw, kw, cw, kept.nx, kept.ny);
     return 0;
 }
 
@@ -135,6 +157,10 @@ static int bench_main(int argc, char **argv)
         bvox_volume *r = coin_toss(n);
         rc = r ? bench_one("random", n, r, runs) : 1;
         bvox_volume_destroy(r);
+        if (rc) break;
+        bvox_volume *sp = sphere_with_cavity(n);
+        rc = sp ? bench_one("sphere", n, sp, runs) : 1;
+        bvox_volume_destroy(sp);
     }
     bvox_volume_destroy(aal);
     return rc;
