@@ -45,9 +45,6 @@ static uint64_t runs_word(const bvox__zrun *r, uint32_t n, int32_t lo, int32_t h
     return bits;
 }
 
-/* Whether voxel z of column o is set. */
-static inline bool voxel(const uint64_t *o, int32_t z) { return (o[z >> 6] >> (z & 63)) & 1; }
-
 /* Whether z lies in one of the runs r[0, n) (z order; a column has few). */
 static inline bool in_runs(const bvox__zrun *r, uint32_t n, int32_t z)
 {
@@ -80,44 +77,45 @@ static bool touches_exterior(const bvox__zrun *kr, const uint32_t *first, size_t
                              const bvox_volume *vol, size_t x0, size_t y0, size_t x, size_t y,
                              bvox__zrun k)
 {
-    size_t wpc = vol->wpc, vnx = (size_t)vol->nx;
-    const uint64_t *o[3][3];
-    const bvox__zrun *r[3][3];
-    uint32_t n[3][3];
-    for (size_t dy = 0; dy < 3; dy++)
-        for (size_t dx = 0; dx < 3; dx++) {
-            size_t cx = x + dx - 1, cy = y + dy - 1, c = cy * nx + cx;
-            o[dy][dx] = vol->words + ((y0 + cy) * vnx + x0 + cx) * wpc;
-            r[dy][dx] = kr + first[c];
-            n[dy][dx] = first[c + 1] - first[c];
-        }
-    /* the two ends (K's runs lie strictly inside the volume along z) */
+    /* the nine columns, j = 3 dy + dx (4: the run's own) */
+    ptrdiff_t wpc = (ptrdiff_t)vol->wpc, row = (ptrdiff_t)vol->nx * wpc;
+    const uint64_t *mid = vol->words + ((y0 + y) * (size_t)vol->nx + x0 + x) * (size_t)wpc;
+    const uint64_t *o[9];
+    for (int j = 0; j < 9; j++) o[j] = mid + (j / 3 - 1) * row + (j % 3 - 1) * wpc;
+    /* the two ends (K's runs lie strictly inside the volume along z): bit j
+     * of at/in, column j's voxel at the end / at the run's voxel next to it;
+     * candidates: background at the end, the face column object next to it,
+     * or a diagonal column's two face columns (1 3 5 7) */
     const int32_t end[2] = {k.z0 - 1, k.z1}, inner[2] = {k.z0, k.z1 - 1};
-    for (int s = 0; s < 2; s++)
-        for (size_t dy = 0; dy < 3; dy++)
-            for (size_t dx = 0; dx < 3; dx++) {
-                if (dx == 1 && dy == 1) continue;
-                if (voxel(o[dy][dx], end[s])) continue;
-                bool face = dx == 1 || dy == 1;
-                if (face ? !voxel(o[dy][dx], inner[s])
-                         : !voxel(o[1][dx], inner[s]) || !voxel(o[dy][1], inner[s]))
-                    continue;
-                if (!in_runs(r[dy][dx], n[dy][dx], end[s])) return true;
-            }
-    /* the diagonal columns along the run */
-    size_t w0 = (size_t)k.z0 / 64, w1 = (size_t)(k.z1 - 1) / 64;
-    for (size_t dy = 0; dy < 3; dy += 2)
-        for (size_t dx = 0; dx < 3; dx += 2)
-            for (size_t w = w0; w <= w1; w++) {
-                uint64_t e = ~o[dy][dx][w] & o[1][dx][w] & o[dy][1][w] &
-                             bvox__range_bits(k.z0, k.z1, w);
-                if (e && n[dy][dx]) {
-                    int32_t lo = (int32_t)w * 64, hi = lo + 64;
-                    e &= ~runs_word(r[dy][dx], n[dy][dx], lo > k.z0 ? lo : k.z0,
-                                    hi < k.z1 ? hi : k.z1, w);
-                }
-                if (e) return true;
-            }
+    for (int s = 0; s < 2; s++) {
+        unsigned at = 0, in = 0;
+        for (int j = 0; j < 9; j++) {
+            at |= (unsigned)(o[j][end[s] >> 6] >> (end[s] & 63) & 1) << j;
+            in |= (unsigned)(o[j][inner[s] >> 6] >> (inner[s] & 63) & 1) << j;
+        }
+        unsigned diag = (in >> 1 & in >> 3 & 1) | (in >> 1 & in >> 5 & 1) << 2 |
+                        (in >> 3 & in >> 7 & 1) << 6 | (in >> 5 & in >> 7 & 1) << 8;
+        for (unsigned c = ~at & ((in & 0xaa) | diag); c; c &= c - 1) {
+            unsigned j = (unsigned)__builtin_ctz(c);
+            size_t col = (y + j / 3 - 1) * nx + x + j % 3 - 1;
+            if (!in_runs(kr + first[col], first[col + 1] - first[col], end[s])) return true;
+        }
+    }
+    /* the diagonal columns along the run, j and its face columns */
+    static const int diag[4][3] = {{0, 1, 3}, {2, 1, 5}, {6, 7, 3}, {8, 7, 5}};
+    for (size_t w = (size_t)k.z0 / 64; w <= (size_t)(k.z1 - 1) / 64; w++) {
+        uint64_t m = bvox__range_bits(k.z0, k.z1, w);
+        for (int d = 0; d < 4; d++) {
+            const int *j = diag[d];
+            uint64_t e = ~o[j[0]][w] & o[j[1]][w] & o[j[2]][w] & m;
+            if (!e) continue;
+            size_t col = (y + (size_t)j[0] / 3 - 1) * nx + x + (size_t)j[0] % 3 - 1;
+            uint32_t n = first[col + 1] - first[col];
+            int32_t lo = (int32_t)w * 64, hi = lo + 64;
+            if (n) e &= ~runs_word(kr + first[col], n, lo > k.z0 ? lo : k.z0, hi < k.z1 ? hi : k.z1, w);
+            if (e) return true;
+        }
+    }
     return false;
 }
 
