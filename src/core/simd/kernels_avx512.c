@@ -8,12 +8,21 @@
 #if defined(__x86_64__) && defined(__AVX512F__) && defined(__AVX512VPOPCNTDQ__)
 #include <immintrin.h>
 
+/* How far ahead the reductions prefetch, in words (8 KiB). A reduction only
+ * reads, and two cores' hardware prefetchers alone kept it at 0.83-0.87 of
+ * the read-and-write bandwidth of a memcpy on the EPYC VM; asking 8 KiB
+ * ahead made it 7-19 % faster at 2 threads (1 thread: within 3 %). A
+ * prefetch past the end of the buffer cannot fault. */
+#define PREFETCH_WORDS 1024
+
 static uint64_t popcount(const uint64_t *w, size_t n)
 {
     __m512i acc = _mm512_setzero_si512();
     size_t i = 0;
-    for (; i + 8 <= n; i += 8)
+    for (; i + 8 <= n; i += 8) {
+        _mm_prefetch((const char *)(w + i + PREFETCH_WORDS), _MM_HINT_T0);
         acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_loadu_si512(w + i)));
+    }
     if (i < n) {
         __mmask8 m = (__mmask8)((1u << (n - i)) - 1);
         acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_maskz_loadu_epi64(m, w + i)));
@@ -25,9 +34,12 @@ static uint64_t popcount_and(const uint64_t *a, const uint64_t *b, size_t n)
 {
     __m512i acc = _mm512_setzero_si512();
     size_t i = 0;
-    for (; i + 8 <= n; i += 8)
+    for (; i + 8 <= n; i += 8) {
+        _mm_prefetch((const char *)(a + i + PREFETCH_WORDS), _MM_HINT_T0);
+        _mm_prefetch((const char *)(b + i + PREFETCH_WORDS), _MM_HINT_T0);
         acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(
                                         _mm512_loadu_si512(a + i), _mm512_loadu_si512(b + i))));
+    }
     if (i < n) {
         __mmask8 m = (__mmask8)((1u << (n - i)) - 1);
         acc = _mm512_add_epi64(acc, _mm512_popcnt_epi64(_mm512_and_si512(
