@@ -9,8 +9,8 @@
  * runs (per column, in z order) are joined 26-connected by a merge of each
  * column's runs with those of its four earlier neighbours, and a run is
  * touched when a voxel of the exterior E (the background minus K) lies in
- * its 26-neighbourhood: the nine columns around it over [z0 - 1, z1 + 1),
- * read as the complement of the object minus K's runs there, word by word.
+ * its 26-neighbourhood, looked for only where K's 6-connectivity allows one
+ * (touches_exterior: the run's ends and the diagonal columns beside it).
  * A 26-component of K is a 26-cavity unless one of its runs is touched; the
  * same rule as the dense route, where T = K & dilate26(E) marks the roots.
  */
