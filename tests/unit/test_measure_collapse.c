@@ -216,3 +216,48 @@ TEST(alloc_failure_is_clean)
     voxref_destroy(r);
     return 0;
 }
+
+/* r resampled to n^3 by nearest neighbour (index i of the copy takes
+ * i * r's size / n), as the benchmarks make the 512^3 atlas. */
+static voxref *resampled(const voxref *r, int n)
+{
+    voxref *o = voxref_create(n, n, n);
+    for (int z = 0; z < n; z++)
+        for (int y = 0; y < n; y++)
+            for (int x = 0; x < n; x++)
+                *voxref_at(o, x, y, z) = *voxref_at(r, (int)((int64_t)x * r->nx / n),
+                                                    (int)((int64_t)y * r->ny / n),
+                                                    (int)((int64_t)z * r->nz / n));
+    return o;
+}
+
+#define AAL "/usr/share/mricron/templates/aal.nii.gz"
+
+/* The atlas (all labels, and a few labels alone) upsampled: collapsed back
+ * to its own grid, the same count as the reference and the labeller. */
+TEST(realdata_aal_upsampled)
+{
+    bvox_volume *v = NULL;
+    bvox_read_opts ro = BVOX_READ_OPTS_INIT;
+    CHECK_OK(bvox_read(AAL, &ro, &v));
+    voxref *r = voxref_from_volume(v);
+    voxref *up = resampled(r, 256);
+    CHECK(!check_volume(up, 1));
+    voxref_destroy(up);
+    voxref_destroy(r);
+    bvox_volume_destroy(v);
+    bvox_labelset *set;
+    CHECK_OK(bvox_labels_read(AAL, NULL, 0, &set));
+    for (int64_t i = 0; i < set->n; i += 23) {
+        r = voxref_from_volume(set->objects[i].volume);
+        up = resampled(r, 2 * (r->nx > r->ny ? r->nx : r->ny));
+        if (check_volume(up, -1)) {
+            fprintf(stderr, "  label %lld\n", (long long)i);
+            return 1;
+        }
+        voxref_destroy(up);
+        voxref_destroy(r);
+    }
+    bvox_labelset_destroy(set);
+    return 0;
+}
