@@ -8,10 +8,12 @@
  * (cpu_ms, all threads): on a shared machine the wall clock also counts the
  * time other processes hold the cores, the CPU time much less so. The
  * measure's three parts are also timed alone (wall ms): scan_ms (the one
- * pass: counts, moments, Euler number, faces), components_ms (the 26-count
- * as bvox_measure does it, on a copy without repeated slices when that pays:
- * measure_collapse.c; "labelled" gives the copy's x by y columns) and
- * cavities_ms (measure_cavities.c, its route chosen as in bvox_measure). A
+ * pass: counts, moments, Euler number, faces), collapse_ms (the copy
+ * without repeated slices, when that pays, and its scan: measure_collapse.c;
+ * "labelled" gives the x by y columns counted on, the copy's or the
+ * volume's), components_ms (the 26-count) and cavities_ms
+ * (measure_cavities.c, its route chosen as in bvox_measure), both on what
+ * "labelled" says. A
  * third specimen has no repeated slices: a sphere of radius 0.39 n at
  * native resolution, a torus-shaped cavity inside.
  *
@@ -84,22 +86,40 @@ static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
     TIME_BOTH(runs, mw, mc, bad |= bvox_measure(a, &m) != BVOX_OK);
     bvox__scan sc;
     int64_t count = 0, cav6 = 0, cav26 = 0;
-    double sw, sc_cpu, kw, kc, cw, cc;
+    double sw, sc_cpu, xw = 0, xc, kw = 0, kc, cw = 0, cc;
     /* the scan as bvox_measure runs it: with the columns' hulls */
     size_t nhull = (size_t)a->nx * (size_t)a->ny;
-    bvox__colhull *hulls = calloc(nhull, sizeof *hulls);
+    bvox__colhull *hulls = calloc(nhull, sizeof *hulls), *own = NULL;
     if (!hulls) return 1;
     TIME_BOTH(runs, sw, sc_cpu, bad |= bvox__measure_scan_hulls(a, hulls, &sc) != BVOX_OK);
-    bvox_dims kept = {0, 0, 0};
-    TIME_BOTH(runs, kw, kc,
-              bad |= !sc.count || bvox__components_count_collapsed(a, sc.bbox, hulls, &count,
-                                                                   &kept) != BVOX_OK);
-    if (!bad && sc.count > 0)
-        TIME_BOTH(runs, cw, cc, bad |= bvox__measure_cavities(a, &sc, hulls, &cav6, &cav26) != BVOX_OK);
-    else
-        cw = 0;
+    /* the topology's steps as bvox__measure_topology takes them: the copy
+     * without repeated slices and its scan, then the counts on it */
+    bvox_volume *copy = NULL;
+    bvox__scan csc = sc;
+    const bvox__colhull *th = hulls;
+    if (!bad && sc.count) {
+        TIME_BOTH(runs, xw, xc, {
+            bvox_volume_destroy(copy);
+            free(own);
+            copy = NULL;
+            own = NULL;
+            bad |= bvox__collapse_repeats(a, sc.bbox, hulls, &copy) != BVOX_OK;
+            if (copy && (own = calloc((size_t)copy->nx * (size_t)copy->ny, sizeof *own)))
+                bad |= bvox__measure_scan_hulls(copy, own, &csc) != BVOX_OK;
+        });
+    }
+    const bvox_volume *t = copy ? copy : a;
+    if (copy) th = own;
+    bad |= copy && !own;
+    if (!bad && sc.count) {
+        TIME_BOTH(runs, kw, kc, bad |= bvox__components_count(t, 26, 0, &count) != BVOX_OK);
+        TIME_BOTH(runs, cw, cc, bad |= bvox__measure_cavities(t, &csc, th, &cav6, &cav26) != BVOX_OK);
+    }
+    bvox_dims kept = bvox_volume_dims(t);
+    if (copy) free(own);
+    bvox_volume_destroy(copy);
     free(hulls);
-    (void)sc_cpu, (void)kc, (void)cc;
+    (void)sc_cpu, (void)xc, (void)kc, (void)cc;
     if (!bad && (count != m.components || cav6 != m.cavities || cav26 != m.cavities_26)) {
         fprintf(stderr, "bench_label: measure's parts alone disagree with bvox_measure\n");
         return 1;
@@ -112,10 +132,11 @@ static int bench_one(const char *pattern, int n, const bvox_volume *a, int runs)
            "\"label26_ms\":%.3f,\"label26_cpu_ms\":%.3f,\"measure_ms\":%.3f,"
            "\"measure_cpu_ms\":%.3f,\"ratio\":%.2f,\"ratio_cpu\":%.2f,\"components\":%lld,"
            "\"cavities\":%lld,\"cavities_26\":%lld,\"euler\":%lld,\"scan_ms\":%.3f,"
-           "\"components_ms\":%.3f,\"cavities_ms\":%.3f,\"labelled\":\"%dx%d\"}\n",
+           "\"collapse_ms\":%.3f,\"components_ms\":%.3f,\"cavities_ms\":%.3f,"
+           "\"labelled\":\"%dx%d\"}\n",
            n, pattern, bvox_threads(), runs, lw, lc, mw, mc, mw / lw, mc / lc,
            (long long)ncomp, (long long)m.cavities, (long long)m.cavities_26,
-           (long long)m.euler, sw, kw, cw, kept.nx, kept.ny);
+           (long long)m.euler, sw, xw, kw, cw, kept.nx, kept.ny);
     return 0;
 }
 

@@ -94,19 +94,38 @@ static void principal(bvox_measures *m)
     }
 }
 
-/* 26-components of vol (counted without its repeated slices,
- * measure_collapse.c), and the cavities (measure_cavities.c, which takes
+/* 26-components of vol and the cavities (measure_cavities.c, which takes
  * the object's voxel box and its faces along z from the scan sc, and the
  * columns' hulls from the scan too). */
 static bvox_status topology(const bvox_volume *vol, const bvox__scan *sc,
                             const bvox__colhull *hulls, bvox_measures *m)
 {
-    int64_t count = sc->count;
-    bvox_status st = bvox__components_count_collapsed(vol, sc->bbox, hulls, &m->components, NULL);
+    bvox_status st = bvox__components_count(vol, 26, 0, &m->components);
     if (!st) st = bvox__progress(0.6);
     if (st) return st;
-    if (count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
+    if (sc->count == (int64_t)vol->nx * vol->ny * vol->nz) return BVOX_OK; /* no background */
     return bvox__measure_cavities(vol, sc, hulls, &m->cavities, &m->cavities_26);
+}
+
+bvox_status bvox__measure_topology(const bvox_volume *vol, const bvox__scan *sc,
+                                   const bvox__colhull *hulls, bvox_measures *m,
+                                   bvox_dims *labelled)
+{
+    if (labelled) *labelled = bvox_volume_dims(vol);
+    bvox_volume *copy = NULL;
+    bvox_status st = bvox__collapse_repeats(vol, sc->bbox, hulls, &copy);
+    if (st || !copy) return st ? st : topology(vol, sc, hulls, m);
+    /* the copy's own scan: its box, z faces and hulls choose the cavities'
+     * route (a tenth of the volume's on the atlas) */
+    size_t bytes = (size_t)copy->nx * (size_t)copy->ny * sizeof(bvox__colhull);
+    bvox__colhull *own = bvox__alloc(bytes, false, "column hulls", &st);
+    bvox__scan csc;
+    if (own) st = bvox__measure_scan_hulls(copy, own, &csc);
+    if (!st) st = topology(copy, &csc, own, m);
+    if (!st && labelled) *labelled = bvox_volume_dims(copy);
+    if (own) bvox__free(own, bytes);
+    bvox_volume_destroy(copy);
+    return st;
 }
 
 void bvox__measure_from_scan(const bvox__scan *sc, const bvox_geometry *geom,
@@ -175,7 +194,7 @@ bvox_status bvox__measure_with(const bvox_volume *vol, const double weight[BVOX_
     bvox_measures m;
     if (!st) {
         bvox__measure_from_scan(&s, &vol->geom, weight, bbox_shift, &m);
-        if (s.count) st = topology(vol, &s, hulls, &m);
+        if (s.count) st = bvox__measure_topology(vol, &s, hulls, &m, NULL);
     }
     bvox__free(hulls, hull_bytes);
     if (st) return st;

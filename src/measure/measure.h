@@ -114,15 +114,20 @@ void bvox__measure_from_scan(const bvox__scan *s, const bvox_geometry *geom,
                              const double weight[BVOX__NDIR], const int32_t bbox_shift[3],
                              bvox_measures *out);
 
-/* The 26-components of vol (bvox__components_count) counted on a copy
- * without its repeated x- and y-slices and the empty ones outside bbox, the
- * scan's box (not empty); hulls: the scan's records, whose twin flags name
- * the repeated rows. labelled (may be NULL): the dims of the volume
- * labelled, vol's own when a copy would not have paid. BVOX_ENOMEM /
- * BVOX_ETOOBIG as the count. */
-bvox_status bvox__components_count_collapsed(const bvox_volume *vol, const int32_t bbox[6],
-                                             const bvox__colhull *hulls, int64_t *count,
-                                             bvox_dims *labelled);
+/* A copy of vol without its repeated x- and y-slices and without the empty
+ * ones outside bbox, the scan's box (not empty): the same components and
+ * cavities (measure_collapse.c). hulls: the scan's records, whose twin
+ * flags name the repeated rows. *out is NULL when the copy would keep more
+ * than three quarters of the box's columns. BVOX_ENOMEM. */
+bvox_status bvox__collapse_repeats(const bvox_volume *vol, const int32_t bbox[6],
+                                   const bvox__colhull *hulls, bvox_volume **out);
+
+/* Components (26) and cavities (6, 26) of vol into m, from its scan sc and
+ * hulls, on its collapsed copy when there is one (its own scan then);
+ * labelled (may be NULL): the dims of the volume counted on. */
+bvox_status bvox__measure_topology(const bvox_volume *vol, const bvox__scan *sc,
+                                   const bvox__colhull *hulls, bvox_measures *m,
+                                   bvox_dims *labelled);
 
 /* Cavities of vol: 6-connected background components not reaching the
  * border (cav6), and the 26-connected ones (cav26); sc is vol's scan (the
