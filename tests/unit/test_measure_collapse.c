@@ -247,8 +247,8 @@ static voxref *resampled(const voxref *r, int n)
 
 #define AAL "/usr/share/mricron/templates/aal.nii.gz"
 
-/* The atlas (all labels, and a few labels alone) upsampled: collapsed back
- * to its own grid, the same count as the reference and the labeller. */
+/* The atlas (all labels, and a few labels alone) upsampled: the copy is
+ * back on the atlas's own grid, and the topology that of the reference. */
 TEST(realdata_aal_upsampled)
 {
     bvox_volume *v = NULL;
