@@ -123,8 +123,9 @@ bvox_status bvox__collapse_repeats(const bvox_volume *vol, const int32_t bbox[6]
                                    const bvox__colhull *hulls, bvox_volume **out);
 
 /* Components (26) and cavities (6, 26) of vol into m, from its scan sc and
- * hulls, on its collapsed copy when there is one (its own scan then);
- * labelled (may be NULL): the dims of the volume counted on. */
+ * hulls, on its collapsed copy when there is one (its own scan then), or
+ * on vol when the copy's way is over the memory budget; labelled (may be
+ * NULL): the dims of the volume counted on. */
 bvox_status bvox__measure_topology(const bvox_volume *vol, const bvox__scan *sc,
                                    const bvox__colhull *hulls, bvox_measures *m,
                                    bvox_dims *labelled);

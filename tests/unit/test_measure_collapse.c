@@ -231,6 +231,48 @@ TEST(alloc_failure_is_clean)
     return 0;
 }
 
+/* Rows of distinct heights but every fourth a repeat, columns of distinct
+ * heights along x: a copy of three quarters of the volume, which needs
+ * more than the volume's own labelling. Under a budget the copy's way
+ * exceeds, the measure goes without the copy, and is right. */
+TEST(over_budget_goes_without_the_copy)
+{
+    voxref *r = voxref_create(64, 64, 1024);
+    for (int y = 0; y < 64; y++)
+        for (int x = 0; x < 64; x++)
+            for (int z = 5; z < 200 + (y % 4 == 3 ? y - 1 : y) + 3 * (x % 7); z++)
+                *voxref_at(r, x, y, z) = 1;
+    bvox_volume *v = voxref_to_volume(r);
+    size_t budget = bvox_memory_budget(), words = v->nwords * sizeof(uint64_t);
+    size_t hull_bytes = 64 * 64 * sizeof(bvox__colhull);
+    bvox_measures m;
+    CHECK_OK(bvox_measure(v, &m));
+    CHECK(m.components == 1 && m.cavities == 0);
+    bvox__colhull *hulls = calloc(64 * 64, sizeof *hulls);
+    bvox__scan sc;
+    CHECK_OK(bvox__measure_scan_hulls(v, hulls, &sc));
+    bvox_volume *c = NULL;
+    CHECK_OK(bvox__collapse_repeats(v, sc.bbox, hulls, &c));
+    CHECK(c && c->nx == 64 && c->ny == 48); /* the copy is made when it fits */
+    bvox_volume_destroy(c);
+    /* room for the hulls and half the words: the labelling of the volume
+     * (a quarter of its words for the groups' ORs) fits, the copy does not */
+    bvox_set_memory_budget(bvox_memory_in_use() + hull_bytes + words / 2);
+    bvox_measures b;
+    bvox_status st = bvox_measure(v, &b);
+    bvox_dims d = {0, 0, 0};
+    bvox_status st_top = bvox__measure_topology(v, &sc, hulls, &b, &d);
+    bvox_set_memory_budget(budget);
+    CHECK_OK(st);
+    CHECK_OK(st_top);
+    CHECK(d.nx == 64 && d.ny == 64);
+    CHECK(b.components == m.components && b.cavities == m.cavities && b.euler == m.euler);
+    free(hulls);
+    bvox_volume_destroy(v);
+    voxref_destroy(r);
+    return 0;
+}
+
 /* r resampled to n^3 by nearest neighbour (index i of the copy takes
  * i * r's size / n), as the benchmarks make the 512^3 atlas. */
 static voxref *resampled(const voxref *r, int n)
