@@ -107,36 +107,43 @@ static bvox_status topology(const bvox_volume *vol, const bvox__scan *sc,
     return bvox__measure_cavities(vol, sc, hulls, &m->cavities, &m->cavities_26);
 }
 
+/* topology() of a collapsed copy, with its own scan: its box, z faces and
+ * hulls choose the cavities' route (a tenth of the volume's on the atlas). */
+static bvox_status topology_of_copy(const bvox_volume *copy, bvox_measures *m)
+{
+    bvox_status st = BVOX_OK;
+    size_t bytes = (size_t)copy->nx * (size_t)copy->ny * sizeof(bvox__colhull);
+    bvox__colhull *own = bvox__alloc(bytes, false, "column hulls", &st);
+    if (!own) return st;
+    bvox__scan sc;
+    st = bvox__measure_scan_hulls(copy, own, &sc);
+    if (!st) st = topology(copy, &sc, own, m);
+    bvox__free(own, bytes);
+    return st;
+}
+
 bvox_status bvox__measure_topology(const bvox_volume *vol, const bvox__scan *sc,
                                    const bvox__colhull *hulls, bvox_measures *m,
                                    bvox_dims *labelled)
 {
-    if (labelled) *labelled = bvox_volume_dims(vol);
     bvox_volume *copy = NULL;
     bvox_status st = bvox__collapse_repeats(vol, sc->bbox, hulls, &copy);
-    if (st == BVOX_ETOOBIG) bvox__clear_error(); /* as below */
-    if (st == BVOX_ETOOBIG || (!st && !copy)) return topology(vol, sc, hulls, m);
-    if (st) return st;
-    /* the copy's own scan: its box, z faces and hulls choose the cavities'
-     * route (a tenth of the volume's on the atlas) */
-    size_t bytes = (size_t)copy->nx * (size_t)copy->ny * sizeof(bvox__colhull);
-    bvox__colhull *own = bvox__alloc(bytes, false, "column hulls", &st);
-    bvox__scan csc;
-    if (own) st = bvox__measure_scan_hulls(copy, own, &csc);
-    if (!st) st = topology(copy, &csc, own, m);
-    if (!st && labelled) *labelled = bvox_volume_dims(copy);
-    if (own) bvox__free(own, bytes);
-    bvox_volume_destroy(copy);
-    if (st == BVOX_ETOOBIG) {
-        /* the copy and its scan can need more than the volume's own
-         * labelling (a copy of three quarters of a volume): a saving of
-         * time, not worth failing a measure over the memory budget */
+    if (copy) {
+        st = topology_of_copy(copy, m);
+        if (!st && labelled) *labelled = bvox_volume_dims(copy);
+        bvox_volume_destroy(copy);
+        if (st != BVOX_ETOOBIG) return st;
+    }
+    if (st && st != BVOX_ETOOBIG) return st;
+    if (st) {
+        /* the copy's way can need more than the volume's own labelling (a
+         * copy of three quarters of a volume): a saving of time, not worth
+         * failing a measure over the memory budget */
         bvox__clear_error();
         m->components = m->cavities = m->cavities_26 = 0;
-        if (labelled) *labelled = bvox_volume_dims(vol);
-        return topology(vol, sc, hulls, m);
     }
-    return st;
+    if (labelled) *labelled = bvox_volume_dims(vol);
+    return topology(vol, sc, hulls, m);
 }
 
 void bvox__measure_from_scan(const bvox__scan *sc, const bvox_geometry *geom,

@@ -28,6 +28,17 @@ static int slice_repeats(const voxref *r, int axis, int i)
     return 1;
 }
 
+/* v's scan into sc with its hull records (calloc'd: free them). */
+static bvox__colhull *scan_hulls(const bvox_volume *v, bvox__scan *sc)
+{
+    bvox__colhull *h = calloc((size_t)v->nx * (size_t)v->ny, sizeof *h);
+    if (h && bvox__measure_scan_hulls(v, h, sc) != BVOX_OK) {
+        free(h);
+        return NULL;
+    }
+    return h;
+}
+
 /* The slices a copy keeps: the box's, less those equal to the one before
  * (xs[0..*kx), ys[0..*ky)). */
 static void expected_kept(const voxref *r, const bvox_box *b, int *xs, int *kx, int *ys, int *ky)
@@ -60,9 +71,6 @@ static int check_volume(const voxref *r, int64_t want_components)
         for (int x = 0; x < kx; x++)
             for (int z = 0; z < r->nz; z++) *voxref_at(want, x, y, z) = *voxref_at(r, xs[x], ys[y], z);
     free(xs);
-    size_t nhull = (size_t)r->nx * (size_t)r->ny;
-    bvox__colhull *hulls = calloc(nhull, sizeof *hulls);
-    CHECK(hulls);
     bvox_simd saved = bvox_simd_active();
     const bvox_simd levels[] = {BVOX_SIMD_GENERIC, BVOX_SIMD_AVX2, BVOX_SIMD_AVX512};
     for (int l = 0; l < 3; l++) {
@@ -71,9 +79,11 @@ static int check_volume(const voxref *r, int64_t want_components)
         for (int t = 0; t < 3; t++) {
             bvox_set_threads(t == 0 ? 1 : t == 1 ? 3 : 16);
             bvox__scan sc;
-            CHECK_OK(bvox__measure_scan_hulls(v, hulls, &sc));
+            bvox__colhull *hulls = scan_hulls(v, &sc);
+            CHECK(hulls);
             bvox_volume *c = NULL;
             CHECK_OK(bvox__collapse_repeats(v, sc.bbox, hulls, &c));
+            free(hulls);
             bool copy_ok = copies ? c && voxref_matches(want, c) : !c;
             bvox_volume_destroy(c);
             bvox_measures m;
@@ -97,7 +107,6 @@ static int check_volume(const voxref *r, int64_t want_components)
     bvox_set_threads(0);
     CHECK_OK(bvox_simd_set(saved));
     voxref_destroy(want);
-    free(hulls);
     bvox_volume_destroy(v);
     return 0;
 }
@@ -111,9 +120,9 @@ TEST(empty_rows_between_objects_kept)
     voxref_fill_box(r, (bvox_box){2, 2, 5, 7, 5, 21}, 1);
     voxref_fill_box(r, (bvox_box){2, 8, 5, 7, 11, 21}, 1);
     bvox_volume *v = voxref_to_volume(r);
-    bvox__colhull *hulls = calloc(10 * 14, sizeof *hulls);
     bvox__scan sc;
-    CHECK_OK(bvox__measure_scan_hulls(v, hulls, &sc));
+    bvox__colhull *hulls = scan_hulls(v, &sc);
+    CHECK(hulls);
     bvox_measures m = {0};
     bvox_dims d;
     CHECK_OK(bvox__measure_topology(v, &sc, hulls, &m, &d));
@@ -202,10 +211,9 @@ TEST(alloc_failure_is_clean)
 {
     voxref *r = upsampled(8, 8, 64, 40, 1, 0);
     bvox_volume *v = voxref_to_volume(r);
-    size_t nhull = (size_t)r->nx * (size_t)r->ny;
-    bvox__colhull *hulls = calloc(nhull, sizeof *hulls);
     bvox__scan sc;
-    CHECK_OK(bvox__measure_scan_hulls(v, hulls, &sc));
+    bvox__colhull *hulls = scan_hulls(v, &sc);
+    CHECK(hulls);
     size_t before = bvox_memory_in_use();
     int failed = 0;
     for (long k = 1; k < 80; k++) {
@@ -248,9 +256,9 @@ TEST(over_budget_goes_without_the_copy)
     bvox_measures m;
     CHECK_OK(bvox_measure(v, &m));
     CHECK(m.components == 1 && m.cavities == 0);
-    bvox__colhull *hulls = calloc(64 * 64, sizeof *hulls);
     bvox__scan sc;
-    CHECK_OK(bvox__measure_scan_hulls(v, hulls, &sc));
+    bvox__colhull *hulls = scan_hulls(v, &sc);
+    CHECK(hulls);
     bvox_volume *c = NULL;
     CHECK_OK(bvox__collapse_repeats(v, sc.bbox, hulls, &c));
     CHECK(c && c->nx == 64 && c->ny == 48); /* the copy is made when it fits */
